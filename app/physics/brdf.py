@@ -1,0 +1,81 @@
+"""The single-bounce microfacet BRDF plus a Lambertian term.
+
+f(l, v) = kd/π + D(h) F(v·h) G2(l, v) / (4 |n·l| |n·v|)        (3-1)..(3-3), corrected
+in MATH.md: h = (l+v)/‖l+v‖, F of the angle between v and h, no cosine in f.
+
+Reflection only: f = 0 unless both l and v are in the closed upper hemisphere.
+Where l = −v the specular term is 0. Where both graze, the height-correlated specular
+term diverges and is +inf (a limit, not an error); every other value is finite.
+
+References
+----------
+Cook & Torrance 1982; Walter et al. 2007, eq. 20; Heitz 2014, eq. 4.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .fresnel import Fresnel
+from .masking import G1, G2Form, Masking
+from .ndf import NDF
+from .numeric import on_mask, where_valid
+from .vectors import dot, half_vector
+
+QUANTITIES = ("f", "D", "G1_i", "G1_o", "G2", "F")
+
+
+@dataclass(frozen=True)
+class BRDF:
+    ndf: NDF
+    masking: Masking
+    g2: G2Form
+    fresnel: Fresnel
+    kd: float = 0.0
+
+    def evaluate(self, l, v, want=("f",)) -> dict[str, np.ndarray]:
+        """The requested quantities (a subset of :data:`QUANTITIES`) at direction pairs.
+
+        ``l`` is the light direction (index i in the API), ``v`` the view (o). D, F and
+        the G terms are taken at the half vector h.
+        """
+        l = np.asarray(l, dtype=float)
+        v = np.asarray(v, dtype=float)
+        h, h_exists = half_vector(l, v)
+        mu_l, mu_v = l[..., 2], v[..., 2]
+        upper = (mu_l >= 0) & (mu_v >= 0)
+        out: dict[str, np.ndarray] = {}
+
+        need_D = "f" in want or "D" in want
+        need_F = "f" in want or "F" in want
+        need_G2 = "f" in want or "G2" in want
+        if need_D:
+            D = on_mask(h_exists, self.ndf.D, h)
+        if need_F:
+            F = self.fresnel.F(dot(v, h))
+        if need_G2 or "G1_i" in want or "G1_o" in want:
+            ml_l = self.masking.mu_Lambda(self.ndf, l)
+            ml_v = self.masking.mu_Lambda(self.ndf, v)
+        if need_G2:
+            G2, V = self.g2.G2_and_V(np.maximum(mu_l, 0.0), np.maximum(mu_v, 0.0), ml_l, ml_v)
+            G2 = np.where(upper & h_exists, G2, 0.0)
+        if "f" in want:
+            specular = where_valid(upper & h_exists & (D * F > 0), [D, F, V],
+                                   lambda d, fr, vis: d * fr * vis, 0.0)
+            out["f"] = specular + np.where(upper, self.kd / np.pi, 0.0)
+        if "D" in want:
+            out["D"] = D
+        if "F" in want:
+            out["F"] = F
+        if "G2" in want:
+            out["G2"] = G2
+        # G1(ω, h) = χ⁺(ω·h) G1(ω): ω·h > 0 wherever h exists and ω is upper.
+        if "G1_i" in want:
+            out["G1_i"] = np.where(h_exists, G1(mu_l, ml_l), 0.0)
+        if "G1_o" in want:
+            out["G1_o"] = np.where(h_exists, G1(mu_v, ml_v), 0.0)
+        return out
+
+    def f(self, l, v) -> np.ndarray:
+        return self.evaluate(l, v, ("f",))["f"]

@@ -1,0 +1,119 @@
+"""The NDF interface and the shape-invariant base class.
+
+Everything a BRDF needs from an NDF is D(m) and μΛ(ω) — the Smith Λ times μ = cosθ,
+which is finite everywhere (Λ itself diverges at grazing, μΛ tends to a constant).
+G1, G2 and the BRDF are built from those in ``masking.py`` and ``brdf.py``, as pbrt-v4
+builds them from ``Lambda``.
+
+References
+----------
+Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
+JCGT 3(2), sections 3-5 (seed 000, (3-4)..(3-27)).
+"""
+from __future__ import annotations
+
+from typing import ClassVar
+
+import numpy as np
+
+from ..numeric import where_valid
+from ..params import Param
+
+ALPHA = Param(
+    "alpha", "α (roughness, x)", 1e-4, 1.0, 0.3,
+    "Microfacet roughness α of the formulas (α_x when anisotropic); α = r² for "
+    "perceptual roughness r.", scale="log")
+ALPHA_Y = Param(
+    "alpha_y", "α_y (roughness, y)", 1e-4, 1.0, 0.3,
+    "Roughness along the bitangent y; absent means isotropic (α_y = α).", scale="log")
+
+
+class NDF:
+    """A normal distribution function bound to its parameters.
+
+    Subclasses set the class attributes and implement :meth:`D` and :meth:`mu_Lambda`.
+    Registering a subclass (``@register`` in ``ndf/__init__.py``) is all it takes for
+    it to appear in ``/api/v1/models``, the API and the page's menus.
+    """
+
+    name: ClassVar[str]
+    label: ClassVar[str]
+    description: ClassVar[str]
+    reference: ClassVar[str]
+    shape_params: ClassVar[tuple[Param, ...]] = ()
+    menu_order: ClassVar[int] = 100  # position in menus; lower first
+    anisotropic: ClassVar[bool] = True
+
+    def __init__(self, alpha: float, alpha_y: float | None = None, **shape: float):
+        self.alpha_x = float(alpha)
+        self.alpha_y = float(alpha if alpha_y is None else alpha_y)
+        names = {p.name for p in self.shape_params}
+        if set(shape) - names:
+            raise TypeError(f"{self.name} takes no parameter(s) {sorted(set(shape) - names)}")
+        for p in self.shape_params:
+            setattr(self, p.name, float(shape.get(p.name, p.default)))
+
+    @property
+    def isotropic(self) -> bool:
+        return self.alpha_x == self.alpha_y
+
+    def D(self, m) -> np.ndarray:
+        """D(m), normalised so that ∫ D(m)(n·m) dm = 1; 0 for n·m < 0."""
+        raise NotImplementedError
+
+    def mu_Lambda(self, w) -> np.ndarray:
+        """μ Λ(ω) for n·ω = μ ≥ 0: finite everywhere, 0 at normal incidence."""
+        raise NotImplementedError
+
+    def Lambda(self, w) -> np.ndarray:
+        """Smith Λ(ω) (3-5); +inf at μ = 0, where it truly diverges."""
+        mu = np.asarray(w)[..., 2]
+        return where_valid(mu > 0, [self.mu_Lambda(w), mu], lambda ml, m: ml / m, np.inf)
+
+    def __repr__(self) -> str:
+        shape = "".join(f", {p.name}={getattr(self, p.name):g}" for p in self.shape_params)
+        return f"{type(self).__name__}(alpha_x={self.alpha_x:g}, alpha_y={self.alpha_y:g}{shape})"
+
+
+class ShapeInvariantNDF(NDF):
+    """An NDF that is a stretch of one α = 1 slope distribution (3-19..3-25).
+
+    D(m) = P22(x̃, ỹ) / (α_x α_y cos⁴θ_m) with stretched slopes x̃ = −m_x/(α_x m_z),
+    ỹ = −m_y/(α_y m_z), and Λ(ω) = Λ₁(a), a = μ / s with s² = α_x² ω_x² + α_y² ω_y²
+    (s = α(φ) sinθ). Subclasses give the α = 1 forms as functions of
+    q² = m_x²/α_x² + m_y²/α_y² (so that r² = q²/m_z²) and of (μ, s):
+
+    * ``_D(mz, q2)``: D without the α_x α_y factor, for m_z ≥ 0, including its limit
+      at m_z = 0;
+    * ``_mu_Lambda(mu, s)``: μ Λ₁(μ/s), finite for μ ≥ 0, s ≥ 0, μ² + s² > 0;
+    * ``radial_cdf(r2)`` / ``radial_cdf_inv(u)``: C(r̃) = ∫∫_{x̃²+ỹ²≤r̃²} P22, the
+      mass of stretched slopes within radius r̃ (and its inverse, returning r̃²), used by
+      quadrature and by D·cos sampling.
+    """
+
+    def D(self, m):
+        m = np.asarray(m, dtype=float)
+        mz = m[..., 2]
+        q2 = m[..., 0] ** 2 / self.alpha_x ** 2 + m[..., 1] ** 2 / self.alpha_y ** 2
+        return where_valid(mz >= 0, [mz, q2], self._D, 0.0) / (self.alpha_x * self.alpha_y)
+
+    def mu_Lambda(self, w):
+        w = np.asarray(w, dtype=float)
+        s = np.sqrt((self.alpha_x * w[..., 0]) ** 2 + (self.alpha_y * w[..., 1]) ** 2)
+        return self._mu_Lambda(np.maximum(w[..., 2], 0.0), s)
+
+    @staticmethod
+    def _D(mz, q2):
+        raise NotImplementedError
+
+    @staticmethod
+    def _mu_Lambda(mu, s):
+        raise NotImplementedError
+
+    @staticmethod
+    def radial_cdf(r2):
+        raise NotImplementedError
+
+    @staticmethod
+    def radial_cdf_inv(u):
+        raise NotImplementedError

@@ -1,0 +1,44 @@
+"""Evaluate a formula only where it is valid (the idea of scipy's ``_lazywhere``).
+
+Every special case in the physics layer goes through :func:`where_valid`, so a formula is
+never evaluated on inputs where it would divide by zero or overflow, and no NaN is
+cleaned up after the fact.
+"""
+from __future__ import annotations
+
+from typing import Callable
+
+import numpy as np
+
+
+def where_valid(cond, arrays, formula: Callable, fill) -> np.ndarray:
+    """``formula(*arrays)`` where ``cond`` holds, ``fill`` (scalar or array) elsewhere.
+
+    ``arrays`` are broadcast against ``cond``; ``formula`` only ever sees the entries
+    where ``cond`` is true, so it may assume its preconditions.
+    """
+    cond, *args = np.broadcast_arrays(np.asarray(cond, dtype=bool),
+                                      *[np.asarray(a, dtype=float) for a in arrays])
+    if cond.all():
+        return np.array(np.broadcast_to(formula(*args), cond.shape), dtype=float)
+    out = np.array(np.broadcast_to(np.asarray(fill, dtype=float), cond.shape))
+    if cond.any():
+        out[cond] = formula(*[a[cond] for a in args])
+    return out
+
+
+def on_mask(mask, func: Callable, vectors, fill: float = 0.0) -> np.ndarray:
+    """``func(vectors)`` for the direction arrays (..., 3) where ``mask`` (...) holds.
+
+    The vector counterpart of :func:`where_valid`, for formulas that take whole
+    directions (an NDF at a half vector that may not exist).
+    """
+    mask = np.asarray(mask, dtype=bool)
+    vectors = np.asarray(vectors, dtype=float)
+    mask = np.broadcast_to(mask, vectors.shape[:-1])
+    if mask.all():
+        return np.asarray(func(vectors), dtype=float)
+    out = np.full(mask.shape, fill, dtype=float)
+    if mask.any():
+        out[mask] = func(vectors[mask])
+    return out
