@@ -1,0 +1,1 @@
+"""HTTP layer: routes, query schemas, error handling, JSON encoding. No math here."""

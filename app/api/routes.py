@@ -1,0 +1,112 @@
+"""Routes of API v1. Each parses, checks limits, calls one computation, encodes."""
+from typing import Annotated
+
+import numpy as np
+from fastapi import APIRouter, Body, Query, Request, Response
+
+from .. import __version__, figures, quantities
+from ..physics.model import COMMON_PARAMS, OPTIONS, choice_params, make_spec
+from ..physics.vectors import direction_deg
+from . import schemas
+from .encode import json_response
+from .errors import ParamError
+from .views import VIEWS, View
+
+router = APIRouter(prefix="/api/v1")
+
+GEOMETRY = [
+    {"name": "theta_i_deg", "label": "θ_i (incidence, degrees)", "lo": 0.0, "hi": 90.0,
+     "default": 45.0, "description": "Polar angle of the light direction l.", "lo_open": False,
+     "scale": "linear", "unit": "°"},
+    {"name": "phi_i_deg", "label": "φ_i (azimuth, degrees)", "lo": -360.0, "hi": 360.0,
+     "default": 0.0, "description": "Azimuth of l from the tangent x (direction of α_x).",
+     "lo_open": False, "scale": "linear", "unit": "°"},
+]
+
+
+@router.get("/health", tags=["meta"], summary="Liveness and version")
+def health():
+    return {"status": "ok", "version": __version__}
+
+
+def _choice(option: str, name: str, entry) -> dict:
+    out = {"name": name, "label": entry.label, "description": entry.description,
+           "params": [p.as_dict() for p in choice_params(option, name)]}
+    for attr in ("reference", "applies_to", "anisotropic"):
+        if hasattr(entry, attr):
+            out[attr] = getattr(entry, attr)
+    return out
+
+
+@router.get("/models", tags=["meta"], summary="Every option with its parameters, ranges and defaults")
+def models():
+    return {
+        "version": __version__,
+        "params": [p.as_dict() for p in COMMON_PARAMS],
+        "geometry": GEOMETRY,
+        "options": {
+            option: {"label": label, "default": default,
+                     "choices": [_choice(option, name, entry) for name, entry in registry.items()]}
+            for option, (label, registry, default) in OPTIONS.items()
+        },
+    }
+
+
+def _evaluate(q: schemas.EvalQuery, limit: int, status: int, env: str):
+    lists = {name: getattr(q, name) for name in ("theta_i_deg", "phi_i_deg", "theta_o_deg", "phi_o_deg")}
+    sizes = {name: len(v) for name, v in lists.items()}
+    for name, size in sizes.items():
+        if size == 0:
+            raise ParamError(name, f"{name} is empty: give at least one value")
+        if size > limit:
+            raise ParamError(name, f"{name} has {size} values; the limit is {limit} (setting {env})",
+                             status_code=status)
+    n = max(sizes.values())
+    for name, size in sizes.items():
+        if size not in (1, n):
+            raise ParamError(name, f"{name} has {size} values but another list has {n}: "
+                                   "lists must have equal length, or one value to broadcast")
+    spec = make_spec(**schemas.model_values(q))
+    arrays = {k: np.asarray(v, dtype=float) for k, v in lists.items()}
+    return json_response(quantities.evaluate(
+        spec.brdf(), arrays["theta_i_deg"], arrays["phi_i_deg"],
+        arrays["theta_o_deg"], arrays["phi_o_deg"], tuple(dict.fromkeys(q.quantities))))
+
+
+@router.get("/eval", tags=["data"], summary="BRDF terms at direction pairs (i = light l, o = view v)",
+            description="f, D(h), G1(l,h), G1(v,h), G2, F(v·h). A divergence (f where both "
+                        "directions graze) is null.")
+def eval_get(request: Request, q: Annotated[schemas.EvalQuery, Query()]):
+    s = request.app.state.settings
+    return _evaluate(q, s.max_query_list, 422, "BRDF_MAX_QUERY_LIST")
+
+
+@router.post("/eval", tags=["data"], summary="BRDF terms for a large batch, as a JSON body")
+def eval_post(request: Request, q: Annotated[schemas.EvalQuery, Body()]):
+    s = request.app.state.settings
+    return _evaluate(q, s.max_batch, 413, "BRDF_MAX_BATCH")
+
+
+def _data_route(view: View):
+    def route(request: Request, q: Annotated[view.query, Query()]) -> Response:
+        view.check(q, request.app.state.settings)
+        spec = make_spec(**schemas.model_values(q))
+        return json_response(view.compute(spec, q))
+    return route
+
+
+def _figure_route(view: View):
+    def route(request: Request, q: Annotated[view.figure_query, Query()]) -> Response:
+        view.check(q, request.app.state.settings)
+        spec = make_spec(**schemas.model_values(q))
+        figure = view.figure(view.compute(spec, q), spec, q)
+        return Response(figures.to_json(figure), media_type="application/json")
+    return route
+
+
+for _view in VIEWS.values():
+    router.add_api_route(f"/{_view.name}", _data_route(_view), methods=["GET"], tags=["data"],
+                         summary=_view.summary, name=f"data_{_view.name}")
+    router.add_api_route(f"/figures/{_view.name}", _figure_route(_view), methods=["GET"],
+                         tags=["figures"], summary=f"Plotly figure: {_view.summary}",
+                         name=f"figure_{_view.name}")

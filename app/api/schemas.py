@@ -1,0 +1,124 @@
+"""Query models generated from the physics registry.
+
+``ModelQuery`` has one field per option and parameter the registry declares, so a new
+NDF (or a new shape parameter) appears in the API, its validation and ``/docs`` with no
+change here. Exact per-choice ranges and applicability are checked by
+:func:`app.physics.model.make_spec`.
+"""
+from typing import Annotated, Literal, Optional
+
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
+
+from ..physics.model import COMMON_PARAMS, OPTIONS, choice_param_names
+
+STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+
+def _split_commas(value):
+    """Accept ``?x=1,2,3``, ``?x=1&x=2`` and JSON lists alike."""
+    if isinstance(value, str):
+        value = [value]
+    if isinstance(value, (list, tuple)):
+        out = []
+        for item in value:
+            if isinstance(item, str):
+                parts = [p.strip() for p in item.split(",")]
+                if any(p == "" for p in parts):
+                    raise ValueError("empty list element (lists are comma-separated numbers)")
+                out.extend(parts)
+            else:
+                out.append(item)
+        return out
+    return value
+
+
+def float_list(lo: float, hi: float, description: str):
+    item = Annotated[float, Field(ge=lo, le=hi, allow_inf_nan=False)]
+    return Annotated[list[item], BeforeValidator(_split_commas), Field(description=description)]
+
+
+ThetaList = float_list(0.0, 90.0, "polar angles in degrees, [0, 90]; comma-separated")
+PhiList = float_list(-360.0, 360.0, "azimuths in degrees, [-360, 360]; comma-separated")
+MuList = float_list(0.0, 1.0, "cosines μ in [0, 1]; comma-separated")
+
+Theta = Annotated[float, Field(ge=0.0, le=90.0, description="polar angle in degrees, [0, 90]")]
+Phi = Annotated[float, Field(ge=-360.0, le=360.0, description="azimuth in degrees, [-360, 360]")]
+
+
+def _model_fields() -> dict:
+    fields: dict = {}
+    for option, (label, registry, default) in OPTIONS.items():
+        names = tuple(registry)
+        fields[option] = (Literal[names], Field(default, description=f"{label}: {', '.join(names)}"))
+    for p in COMMON_PARAMS:
+        if p.name == "alpha_y":
+            fields[p.name] = (Optional[float], Field(None, ge=p.lo, le=p.hi, description=p.description))
+        else:
+            fields[p.name] = (float, Field(p.default, ge=p.lo, le=p.hi, description=p.description))
+    for name, owners in choice_param_names().items():
+        lo = min(p.lo for p in owners.values())
+        hi = max(p.hi for p in owners.values())
+        first = next(iter(owners.values()))
+        where = " or ".join(owners)
+        fields[name] = (Optional[float], Field(
+            None, ge=lo, le=hi,
+            description=f"{first.description} Applies with {where}; default {first.default:g}."))
+    return fields
+
+
+ModelQuery = create_model("ModelQuery", __config__=STRICT, **_model_fields())
+ModelQuery.__doc__ = "The BRDF model: options and parameters, as every evaluating endpoint takes them."
+
+
+def model_values(q: BaseModel) -> dict:
+    """The model part of a query (for make_spec)."""
+    return {name: getattr(q, name) for name in ModelQuery.model_fields}
+
+
+class EvalQuery(ModelQuery):
+    theta_i_deg: ThetaList = [45.0]
+    phi_i_deg: PhiList = [0.0]
+    theta_o_deg: ThetaList = [45.0]
+    phi_o_deg: PhiList = [180.0]
+    quantities: Annotated[list[Literal["f", "D", "G1_i", "G1_o", "G2", "F"]],
+                          BeforeValidator(_split_commas),
+                          Field(description="which quantities to return; default all")] = \
+        ["f", "D", "G1_i", "G1_o", "G2", "F"]
+
+
+class CurveQuery(ModelQuery):
+    phi_deg: Phi = 0.0
+    n: Annotated[int, Field(ge=2, description="number of angles, both ends included")] = 181
+
+
+class NdfFigureQuery(CurveQuery):
+    log: bool = True
+
+
+class LobeQuery(ModelQuery):
+    theta_i_deg: Theta = 45.0
+    phi_i_deg: Phi = 0.0
+    n: Annotated[int, Field(ge=3, description="number of θ_o samples over [−90°, 90°]")] = 181
+    cosine: bool = False
+
+
+class LobeFigureQuery(LobeQuery):
+    log: bool = False
+
+
+class Lobe3dQuery(ModelQuery):
+    theta_i_deg: Theta = 45.0
+    phi_i_deg: Phi = 0.0
+    n_theta: Annotated[int, Field(ge=2)] = 46
+    n_phi: Annotated[int, Field(ge=3)] = 91
+
+
+class Lobe3dFigureQuery(Lobe3dQuery):
+    log: bool = False
+
+
+class AlbedoQuery(ModelQuery):
+    n: Annotated[int, Field(ge=2, description="μ_k = k/(n−1), k = 0..n−1 (ignored when mu is given)")] = 17
+    mu: Optional[MuList] = None
+    phi_deg: Annotated[Phi, Field(description="azimuth of v (matters when anisotropic)")] = 0.0
+    tol: Annotated[float, Field(ge=1e-7, le=1e-2, description="target quadrature error")] = 1e-5

@@ -1,0 +1,76 @@
+"""The views: for each, its query model, the arrays it computes and its figure.
+
+Each view gives a data route ``/api/v1/{name}`` and a figure route
+``/api/v1/figures/{name}``. Limits are checked here, before any work is done.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
+
+from .. import figures, quantities
+from ..config import Settings
+from ..physics.model import ModelSpec
+from . import schemas
+from .errors import ParamError
+
+
+def _limit(name: str, value: int, limit: int, env: str) -> None:
+    if value > limit:
+        raise ParamError(name, f"{name}={value} exceeds the limit {limit} (setting {env})")
+
+
+@dataclass(frozen=True)
+class View:
+    name: str
+    summary: str
+    query: type
+    figure_query: type
+    check: Callable[[object, Settings], None]
+    compute: Callable[[ModelSpec, object], dict]
+    figure: Callable[[dict, ModelSpec, object], dict]
+
+
+def _check_curve(q, s: Settings):
+    _limit("n", q.n, s.max_curve_points, "BRDF_MAX_CURVE_POINTS")
+
+
+def _check_grid(q, s: Settings):
+    _limit("n_theta×n_phi", q.n_theta * q.n_phi, s.max_grid_points, "BRDF_MAX_GRID_POINTS")
+
+
+def _albedo_mu(q) -> np.ndarray:
+    return np.asarray(q.mu, dtype=float) if q.mu is not None else np.linspace(0.0, 1.0, q.n)
+
+
+def _check_albedo(q, s: Settings):
+    if q.mu is not None and len(q.mu) == 0:
+        raise ParamError("mu", "mu must hold at least one value in [0, 1]")
+    count = len(q.mu) if q.mu is not None else q.n
+    _limit("mu" if q.mu is not None else "n", count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
+
+
+VIEWS: dict[str, View] = {v.name: v for v in [
+    View("ndf", "D(θ_m) at azimuth φ, θ_m = 0..90°",
+         schemas.CurveQuery, schemas.NdfFigureQuery, _check_curve,
+         lambda spec, q: quantities.ndf_curve(spec.brdf(), q.phi_deg, q.n),
+         lambda data, spec, q: figures.ndf_figure(data, spec.values, q.log)),
+    View("g1", "Λ(θ_v) and G1(θ_v) = 1/(1+Λ) for θ_v = 0..90°",
+         schemas.CurveQuery, schemas.CurveQuery, _check_curve,
+         lambda spec, q: quantities.g1_curve(spec.brdf(), q.phi_deg, q.n),
+         lambda data, spec, q: figures.g1_figure(data, spec.values)),
+    View("lobe", "f in the plane of incidence, θ_o = −90..90° (positive on the mirror side)",
+         schemas.LobeQuery, schemas.LobeFigureQuery, _check_curve,
+         lambda spec, q: quantities.lobe_curve(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n, q.cosine),
+         lambda data, spec, q: figures.lobe_figure(data, spec.values, q.theta_i_deg, q.log)),
+    View("lobe3d", "f over the hemisphere of v (θ rows × φ columns)",
+         schemas.Lobe3dQuery, schemas.Lobe3dFigureQuery, _check_grid,
+         lambda spec, q: quantities.lobe_grid(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n_theta, q.n_phi),
+         lambda data, spec, q: figures.lobe3d_figure(data, spec.values, q.theta_i_deg, q.phi_i_deg, q.log)),
+    View("albedo", "Directional albedo E(μ) by quadrature, with error estimate and cost",
+         schemas.AlbedoQuery, schemas.AlbedoQuery, _check_albedo,
+         lambda spec, q: quantities.albedo_curve(spec.brdf(), _albedo_mu(q), q.phi_deg, q.tol),
+         lambda data, spec, q: figures.albedo_figure(data, spec.values)),
+]}

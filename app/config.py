@@ -1,0 +1,40 @@
+"""Settings: limits and CORS, from environment variables (documented in the README).
+
+Every limit bounds the work one request may cause, so no request can hang a worker.
+"""
+from __future__ import annotations
+
+import os
+from dataclasses import dataclass, field, fields
+
+
+def _env(name: str, default, cast):
+    raw = os.environ.get(name)
+    return default if raw is None else cast(raw)
+
+
+@dataclass(frozen=True)
+class Settings:
+    #: points of a 1-D curve (ndf, g1, lobe): BRDF_MAX_CURVE_POINTS
+    max_curve_points: int = 4001
+    #: n_theta × n_phi of a 2-D grid (lobe3d): BRDF_MAX_GRID_POINTS
+    max_grid_points: int = 250_000
+    #: direction pairs in one GET /eval (query string): BRDF_MAX_QUERY_LIST
+    max_query_list: int = 4096
+    #: direction pairs in one POST /eval: BRDF_MAX_BATCH
+    max_batch: int = 1_000_000
+    #: μ values in one albedo request: BRDF_MAX_ALBEDO_POINTS
+    max_albedo_points: int = 257
+    #: origins allowed to GET cross-origin (embedding): BRDF_CORS_ORIGINS, comma-separated
+    cors_origins: tuple[str, ...] = field(default=("*",))
+
+    @classmethod
+    def from_env(cls) -> "Settings":
+        values = {}
+        for f in fields(cls):
+            env = "BRDF_" + f.name.upper()
+            if f.name == "cors_origins":
+                values[f.name] = _env(env, ("*",), lambda s: tuple(x.strip() for x in s.split(",") if x.strip()))
+            else:
+                values[f.name] = _env(env, f.default, int)
+        return cls(**values)

@@ -1,0 +1,76 @@
+"""Figures of curves over an angle: D(θ), Λ and G1(θ), E(μ)."""
+from __future__ import annotations
+
+import numpy as np
+
+from .style import PALETTE, axis, base_layout, gaps, model_title
+
+
+def ndf_figure(data: dict, spec: dict, log: bool = True) -> dict:
+    theta = np.asarray(data["theta_deg"])
+    return {
+        "data": [{"type": "scatter", "mode": "lines", "name": "D(θ_m)", "x": theta,
+                  "y": gaps(data["D"]), "line": {"color": PALETTE[0], "width": 2},
+                  "hovertemplate": "θ_m=%{x:.2f}°<br>D=%{y:.4g}<extra></extra>"}],
+        "layout": base_layout(
+            f"D(θ_m) — {model_title(spec)}",
+            xaxis=axis("θ_m (degrees)", range=[0, 90], dtick=15),
+            yaxis=axis("D (1/sr)", type="log" if log else "linear",
+                       exponentformat="power"),
+            showlegend=False),
+    }
+
+
+def g1_figure(data: dict, spec: dict) -> dict:
+    theta = np.asarray(data["theta_deg"])
+    return {
+        "data": [
+            {"type": "scatter", "mode": "lines", "name": "G1(θ_v)", "x": theta,
+             "y": gaps(data["G1"]), "line": {"color": PALETTE[0], "width": 2},
+             "hovertemplate": "θ=%{x:.2f}°<br>G1=%{y:.5f}<extra></extra>"},
+            {"type": "scatter", "mode": "lines", "name": "Λ(θ_v) (right axis, log)",
+             "x": theta, "y": gaps(data["Lambda"]), "yaxis": "y2",
+             "line": {"color": PALETTE[1], "width": 2, "dash": "dash"},
+             "hovertemplate": "θ=%{x:.2f}°<br>Λ=%{y:.4g}<extra></extra>"},
+        ],
+        "layout": base_layout(
+            f"Smith G1 and Λ — {model_title(spec)}",
+            xaxis=axis("θ_v (degrees)", range=[0, 90], dtick=15),
+            yaxis=axis("G1", range=[0, 1.05]),
+            yaxis2=axis("Λ", overlaying="y", side="right", type="log", showgrid=False,
+                        exponentformat="power"),
+            margin={"l": 60, "r": 60, "t": 46, "b": 50}),
+    }
+
+
+def albedo_figure(data: dict, spec: dict) -> dict:
+    mu = np.asarray(data["mu"])
+    E, err = np.asarray(data["E"]), np.asarray(data["E_error"])
+    traces = [
+        {"type": "scatter", "mode": "lines", "x": np.concatenate([mu, mu[::-1]]),
+         "y": np.concatenate([E + err, (E - err)[::-1]]), "fill": "toself",
+         "fillcolor": "rgba(0,114,178,0.2)", "line": {"width": 0}, "hoverinfo": "skip",
+         "name": "± error estimate", "showlegend": False},
+        {"type": "scatter", "mode": "lines+markers", "name": "E(μ)", "x": mu, "y": E,
+         "error_y": {"type": "data", "array": err, "visible": True, "thickness": 1},
+         "line": {"color": PALETTE[0], "width": 2}, "marker": {"size": 5},
+         "hovertemplate": "μ=%{x:.3f}<br>E=%{y:.6f}<extra></extra>"},
+        {"type": "scatter", "mode": "lines", "name": f"E_avg = {data['E_avg']:.5f}",
+         "x": [0, 1], "y": [data["E_avg"]] * 2,
+         "line": {"color": PALETTE[2], "width": 1.5, "dash": "dot"}, "hoverinfo": "skip"},
+    ]
+    annotations = []
+    if np.max(E - err) > 1.0:
+        annotations.append({
+            "text": "E > 1: this model is not energy-conserving (k_d + specular exceeds 1)",
+            "xref": "paper", "yref": "paper", "x": 0.5, "y": 1.0, "showarrow": False,
+            "font": {"color": "#B00020", "size": 12}, "bgcolor": "rgba(255,255,255,0.85)"})
+    top = max(1.05, float(np.max(E + err)) + 0.03)
+    return {
+        "data": traces,
+        "layout": base_layout(
+            f"Directional albedo E(μ) — {model_title(spec)}",
+            xaxis=axis("μ = cos θ_v", range=[0, 1], dtick=0.1),
+            yaxis=axis("E (fraction of energy reflected)", range=[0, top]),
+            annotations=annotations),
+    }

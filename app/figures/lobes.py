@@ -1,0 +1,95 @@
+"""Figures of the lobe: f in the plane of incidence (polar) and over the hemisphere (3D)."""
+from __future__ import annotations
+
+import numpy as np
+
+from .style import DIRECTION_COLORS, PALETTE, base_layout, gaps, model_title
+
+
+def _polar_radius_range(r: np.ndarray, log: bool):
+    finite = r[np.isfinite(r) & (r > 0)]
+    if finite.size == 0:
+        return None
+    if log:
+        hi = np.log10(finite.max())
+        return [hi - 6.0, hi + 0.1]  # six decades below the peak
+    return [0, float(finite.max()) * 1.05]
+
+
+def lobe_figure(data: dict, spec: dict, theta_i_deg: float, log: bool = False) -> dict:
+    key = "f_cos" if "f_cos" in data else "f"
+    theta_o = np.asarray(data["theta_o_deg"])
+    r = gaps(data[key])
+    if log:
+        r = np.where(r > 0, r, np.nan)
+    rng = _polar_radius_range(r, log)
+    top = (10 ** rng[1]) if (log and rng) else (rng[1] if rng else 1.0)
+    directions = [("normal n", 0.0, DIRECTION_COLORS["normal"]),
+                  ("incident l", -theta_i_deg, DIRECTION_COLORS["incident"]),
+                  ("mirror", theta_i_deg, DIRECTION_COLORS["mirror"])]
+    bottom = 10 ** rng[0] if (log and rng) else 0.0
+    traces = [{"type": "scatterpolar", "mode": "lines", "name": "f·cos θ_i" if key == "f_cos" else "f",
+               "theta": theta_o, "r": r, "line": {"color": PALETTE[0], "width": 2.5},
+               "fill": "toself" if not log else None, "fillcolor": "rgba(0,114,178,0.12)",
+               "hovertemplate": "θ_o=%{theta:.1f}°<br>%{r:.4g}<extra></extra>"}]
+    for name, angle, color in directions:
+        traces.append({"type": "scatterpolar", "mode": "lines", "name": name,
+                       "theta": [angle, angle], "r": [bottom, top],
+                       "line": {"color": color, "width": 1.5, "dash": "dash"},
+                       "hoverinfo": "skip"})
+    radial = {"type": "log" if log else "linear", "angle": 90, "tickangle": 90,
+              "exponentformat": "power", "gridcolor": "#e5e5e5",
+              "title": {"text": ("f·cos θ_i" if key == "f_cos" else "f") + " (1/sr)"}}
+    if rng:
+        radial["range"] = rng
+    label = "f·cos θ_i" if key == "f_cos" else "f(l, v)"
+    return {
+        "data": traces,
+        "layout": base_layout(
+            f"{label} in the plane of incidence — {model_title(spec)}, θ_i={theta_i_deg:g}°",
+            polar={"sector": [0, 180], "bgcolor": "white",
+                   "angularaxis": {"rotation": 90, "direction": "clockwise", "dtick": 15,
+                                   "gridcolor": "#e5e5e5", "ticksuffix": "°"},
+                   "radialaxis": radial},
+            margin={"l": 30, "r": 30, "t": 50, "b": 10},
+            legend={"orientation": "h", "y": 0.02, "x": 0.5, "xanchor": "center"}),
+    }
+
+
+def lobe3d_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: float,
+                  log: bool = False) -> dict:
+    theta = np.deg2rad(np.asarray(data["theta_deg"]))[:, None]
+    phi = np.deg2rad(np.asarray(data["phi_deg"]))[None, :]
+    f = gaps(data["f"])
+    if log:
+        positive = f[np.isfinite(f) & (f > 0)]
+        floor = positive.max() * 1e-6 if positive.size else 1.0
+        # gaps (NaN) stay gaps: np.maximum and log10 propagate NaN silently.
+        radius = np.log10(np.maximum(f, floor) / floor)
+    else:
+        radius = f
+    x = radius * np.sin(theta) * np.cos(phi)
+    y = radius * np.sin(theta) * np.sin(phi)
+    z = radius * np.cos(theta)
+    rmax = float(np.nanmax(radius)) if np.isfinite(radius).any() else 1.0
+    ti, pi = np.deg2rad(theta_i_deg), np.deg2rad(phi_i_deg)
+    l = np.array([np.sin(ti) * np.cos(pi), np.sin(ti) * np.sin(pi), np.cos(ti)])
+    mirror = np.array([-l[0], -l[1], l[2]])
+    traces = [{"type": "surface", "x": x, "y": y, "z": z, "surfacecolor": radius,
+               "colorscale": "Viridis", "showscale": False, "name": "f",
+               "hovertemplate": "f-radius=%{surfacecolor:.4g}<extra></extra>"}]
+    for name, d, color in [("normal n", np.array([0, 0, 1.0]), DIRECTION_COLORS["normal"]),
+                           ("incident l", l, DIRECTION_COLORS["incident"]),
+                           ("mirror", mirror, DIRECTION_COLORS["mirror"])]:
+        traces.append({"type": "scatter3d", "mode": "lines", "name": name,
+                       "x": [0, d[0] * rmax * 1.1], "y": [0, d[1] * rmax * 1.1],
+                       "z": [0, d[2] * rmax * 1.1], "line": {"color": color, "width": 5}})
+    return {
+        "data": traces,
+        "layout": base_layout(
+            f"3D lobe {'(log radius, 6 decades)' if log else 'f(l, v)'} — {model_title(spec)}",
+            scene={"aspectmode": "data", "xaxis": {"title": {"text": "x (t)"}},
+                   "yaxis": {"title": {"text": "y (b)"}}, "zaxis": {"title": {"text": "z (n)"}},
+                   "camera": {"eye": {"x": 1.4, "y": -1.4, "z": 0.9}}},
+            margin={"l": 0, "r": 0, "t": 46, "b": 0}),
+    }

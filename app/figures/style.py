@@ -1,0 +1,42 @@
+"""Shared look of every figure: colour-blind-safe palette, fonts, margins."""
+from __future__ import annotations
+
+import numpy as np
+
+# Okabe & Ito 2008, "Color Universal Design": distinguishable by colour-blind readers.
+PALETTE = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"]
+DIRECTION_COLORS = {"normal": "#555555", "incident": "#E69F00", "mirror": "#009E73"}
+
+
+def base_layout(title: str, **extra) -> dict:
+    layout = {
+        "title": {"text": title, "x": 0.02, "xanchor": "left", "font": {"size": 15}},
+        "font": {"family": "Inter, Segoe UI, Helvetica, Arial, sans-serif", "size": 12},
+        "margin": {"l": 60, "r": 20, "t": 46, "b": 50},
+        "paper_bgcolor": "white",
+        "plot_bgcolor": "white",
+        "colorway": PALETTE,
+        "legend": {"orientation": "h", "y": -0.18, "x": 0},
+        "hovermode": "closest",
+    }
+    layout.update(extra)
+    return layout
+
+
+def axis(title: str, **extra) -> dict:
+    out = {"title": {"text": title}, "showgrid": True, "gridcolor": "#e5e5e5",
+           "zeroline": False, "linecolor": "#888", "ticks": "outside"}
+    out.update(extra)
+    return out
+
+
+def gaps(values) -> np.ndarray:
+    """Values for plotting: a divergence (+inf) becomes a gap (NaN is Plotly's gap)."""
+    v = np.asarray(values, dtype=float)
+    return np.where(np.isfinite(v), v, np.nan)
+
+
+def model_title(spec_values: dict) -> str:
+    v = spec_values
+    a = f"α={v['alpha']:g}" if v.get("alpha_y") is None else f"α=({v['alpha']:g}, {v['alpha_y']:g})"
+    return f"{v['ndf']} {a}"

@@ -1,0 +1,53 @@
+"""The application: routers, static files, error handlers. Nothing else."""
+from __future__ import annotations
+
+import os
+from pathlib import Path
+
+import plotly
+from fastapi import FastAPI
+from fastapi.middleware.cors import CORSMiddleware
+from fastapi.responses import FileResponse
+from fastapi.staticfiles import StaticFiles
+
+from . import __version__
+from .api import errors
+from .api.routes import router
+from .config import Settings
+
+STATIC_DIR = Path(os.environ.get("BRDF_STATIC_DIR", Path(__file__).resolve().parent.parent / "static"))
+PLOTLY_JS = Path(plotly.__file__).resolve().parent / "package_data" / "plotly.min.js"
+
+
+def create_app(settings: Settings | None = None) -> FastAPI:
+    app = FastAPI(
+        title="BRDF Lobe Explorer",
+        version=__version__,
+        description="Microfacet BRDFs — NDFs, Smith masking, G2, Fresnel, albedo — as numbers "
+                    "and Plotly figures. Angles in degrees; α is the microfacet roughness.",
+    )
+    app.state.settings = settings or Settings.from_env()
+    errors.install(app)
+    app.add_middleware(CORSMiddleware, allow_origins=list(app.state.settings.cors_origins),
+                       allow_methods=["GET"], allow_headers=[])
+    app.include_router(router)
+
+    @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
+    def plotly_js():
+        # plotly.js from the installed plotly package: the page works offline and the
+        # figure JSON always matches the plotly.js that draws it.
+        return FileResponse(PLOTLY_JS, media_type="application/javascript")
+
+    @app.get("/", include_in_schema=False)
+    def index():
+        return FileResponse(STATIC_DIR / "index.html", media_type="text/html")
+
+    @app.get("/favicon.ico", include_in_schema=False)
+    def favicon():
+        return FileResponse(STATIC_DIR / "favicon.svg", media_type="image/svg+xml")
+
+    app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
+    return app
+
+
+app = create_app()
