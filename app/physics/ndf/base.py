@@ -98,9 +98,11 @@ class ShapeInvariantNDF(NDF):
         return where_valid(mz >= 0, [mz, q2], self._D, 0.0) / (self.alpha_x * self.alpha_y)
 
     def mu_Lambda(self, w):
+        # Defined on the closed upper hemisphere; below it masking is 0 through χ⁺ and
+        # μΛ is not used, so it is 0 there (and ω = −n never reaches 0/0).
         w = np.asarray(w, dtype=float)
         s = np.sqrt((self.alpha_x * w[..., 0]) ** 2 + (self.alpha_y * w[..., 1]) ** 2)
-        return self._mu_Lambda(np.maximum(w[..., 2], 0.0), s)
+        return where_valid(w[..., 2] >= 0, [w[..., 2], s], self._mu_Lambda, 0.0)
 
     @staticmethod
     def _D(mz, q2):
