@@ -40,6 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..physics.brdf import BRDF
+from ..physics.g2 import azimuth_difference
 from ..physics.numeric import where_valid
 from .gauss import gauss_legendre_01
 
@@ -123,7 +124,9 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
     ml_v = brdf.masking.mu_Lambda(ndf, vb)
     inside = mu_l > 0
     mu_l_c = np.where(inside, mu_l, 0.0)
-    _, V = brdf.g2.G2_and_V(mu_l_c, np.broadcast_to(vz, mu_l.shape), ml_l, ml_v)
+    phi = azimuth_difference(l, vb) if brdf.g2.needs_phi else None
+    _, V = brdf.g2.G2_and_V(mu_l_c, np.broadcast_to(vz, mu_l.shape), ml_l, ml_v,
+                            phi=phi, ndf=ndf, lambda_phi=brdf.lambda_phi)
     F = brdf.fresnel.F(k * np.sqrt(inv_len2))
     g = where_valid(inside, [F, V, mu_l_c, k], lambda f, vis, ml, kk: 4.0 * f * vis * ml * kk, 0.0)
     return np.einsum("npu,npu,npu->n", g, du, np.broadcast_to(w_psi, g.shape)) / (2.0 * np.pi)

@@ -14,11 +14,13 @@ Cook & Torrance 1982; Walter et al. 2007, eq. 20; Heitz 2014, eq. 4.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
 
 import numpy as np
 
 from .fresnel import Fresnel
-from .masking import G1, G2Form, Masking
+from .g2 import G2Form, azimuth_difference
+from .masking import G1, Masking
 from .ndf import NDF
 from .numeric import on_mask, where_valid
 from .vectors import dot, half_vector
@@ -33,6 +35,7 @@ class BRDF:
     g2: G2Form
     fresnel: Fresnel
     kd: float = 0.0
+    lambda_phi: Callable | None = None  # λ(φ) for the direction-correlated G2 forms
 
     def evaluate(self, l, v, want=("f",)) -> dict[str, np.ndarray]:
         """The requested quantities (a subset of :data:`QUANTITIES`) at direction pairs.
@@ -58,7 +61,9 @@ class BRDF:
             ml_l = self.masking.mu_Lambda(self.ndf, l)
             ml_v = self.masking.mu_Lambda(self.ndf, v)
         if need_G2:
-            G2, V = self.g2.G2_and_V(np.maximum(mu_l, 0.0), np.maximum(mu_v, 0.0), ml_l, ml_v)
+            phi = azimuth_difference(l, v) if self.g2.needs_phi else None
+            G2, V = self.g2.G2_and_V(np.maximum(mu_l, 0.0), np.maximum(mu_v, 0.0), ml_l, ml_v,
+                                     phi=phi, ndf=self.ndf, lambda_phi=self.lambda_phi)
             G2 = np.where(upper & h_exists, G2, 0.0)
         if "f" in want:
             specular = where_valid(upper & h_exists & (D * F > 0), [D, F, V],

@@ -3,16 +3,12 @@
 With a = μ(1 + Λ) = μ + μΛ (> 0 for any α > 0):
 
 * G1(ω) = μ / a                                            (3-5), (3-8)
-* separable          G2 = G1(l) G1(v)                      (3-10)
-* height-correlated  G2 = 1 / (1 + Λ(l) + Λ(v))            (3-17)
 
-Each G2 form also returns the visibility V = G2 / (4 μ_l μ_v), written so that it stays
-finite when one direction grazes (it tends to a constant there); it diverges only where
-both directions graze under the height-correlated form, and is +inf there.
+The joint masking-shadowing forms built on it are in ``g2.py``.
 
 References
 ----------
-Heitz 2014, JCGT 3(2), eq. 43 (G1), 98 (separable), 99 (height-correlated).
+Heitz 2014, JCGT 3(2), eq. 43.
 """
 from __future__ import annotations
 
@@ -47,46 +43,3 @@ def G1(mu, mu_Lambda):
     """G1 = 1/(1+Λ) = μ/(μ + μΛ); 0 at μ ≤ 0 (χ⁺ of (3-8))."""
     mu = np.asarray(mu, dtype=float)
     return where_valid(mu > 0, [mu, mu_Lambda], lambda m, ml: m / (m + ml), 0.0)
-
-
-def _ratio(num, den):
-    """num/den where den > 0; where den = 0 the caller's quantity is 0 (for G2) ."""
-    return where_valid(den > 0, [num, den], lambda n, d: n / d, 0.0)
-
-
-def _visibility(den4):
-    """V = 1/den4 where den4 > 0, +inf where it is 0 (a true divergence)."""
-    return where_valid(den4 > 0, [den4], lambda d: 1.0 / d, np.inf)
-
-
-def separable(mu_l, mu_v, ml_l, ml_v):
-    """G2 = G1(l) G1(v) (3-10), V = 1 / (4 (μ_l + μ_lΛ_l)(μ_v + μ_vΛ_v))."""
-    a_l, a_v = mu_l + ml_l, mu_v + ml_v
-    return _ratio(mu_l * mu_v, a_l * a_v), _visibility(4.0 * a_l * a_v)
-
-
-def height_correlated(mu_l, mu_v, ml_l, ml_v):
-    """G2 = 1/(1 + Λ_l + Λ_v) (3-17), times μ_l μ_v over itself:
-    G2 = μ_l μ_v / (μ_l μ_v + μ_v·μ_lΛ_l + μ_l·μ_vΛ_v)."""
-    den = mu_l * mu_v + mu_v * ml_l + mu_l * ml_v
-    return _ratio(mu_l * mu_v, den), _visibility(4.0 * den)
-
-
-@dataclass(frozen=True)
-class G2Form:
-    name: str
-    label: str
-    description: str
-    G2_and_V: Callable  # (mu_l, mu_v, ml_l, ml_v) -> (G2, V)
-
-
-G2_FORMS: dict[str, G2Form] = {
-    g.name: g for g in [
-        G2Form("separable", "Separable",
-               "G1(l)·G1(v): ignores the correlation of masking and shadowing (3-10).",
-               separable),
-        G2Form("height_correlated", "Height-correlated",
-               "1/(1+Λ(l)+Λ(v)): the recommended form (Heitz 2014, eq. 99; (3-17)).",
-               height_correlated),
-    ]
-}

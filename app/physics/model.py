@@ -9,7 +9,8 @@ from dataclasses import dataclass
 
 from .brdf import BRDF
 from .fresnel import FRESNELS
-from .masking import G2_FORMS, MASKINGS
+from .g2 import G2_FORMS
+from .masking import MASKINGS
 from .ndf import ALPHA, ALPHA_Y, NDFS
 from .params import Param
 

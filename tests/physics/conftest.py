@@ -17,7 +17,8 @@ import pytest
 
 from app.physics.brdf import BRDF
 from app.physics.fresnel import FRESNELS
-from app.physics.masking import G2_FORMS, MASKINGS
+from app.physics.g2 import G2_FORMS
+from app.physics.masking import MASKINGS
 from app.physics.ndf import NDFS, make_ndf
 
 # (α_x, α_y): isotropic from 1e-3 to 1 and two anisotropic pairs (10:1 either way).

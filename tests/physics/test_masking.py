@@ -10,7 +10,8 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from app.physics.masking import G1, G2_FORMS, MASKINGS
+from app.physics.g2 import G2_FORMS
+from app.physics.masking import G1, MASKINGS
 from app.physics.ndf import make_ndf
 from app.physics.vectors import direction_deg
 
