@@ -28,7 +28,9 @@ def _clean_validation(errors) -> list[dict]:
         loc = list(e.get("loc", ()))
         msg = e.get("msg", "")
         name = next((x for x in loc[1:] if isinstance(x, str)), None)
-        if name in ALLOWED and e.get("type") != "literal_error":
+        if e.get("type") == "extra_forbidden":
+            msg = f"{name}: unknown parameter for this endpoint"
+        elif name in ALLOWED and e.get("type") != "literal_error":
             msg = f"{name}: {msg}; allowed: {ALLOWED[name]}"
         elif name:
             msg = f"{name}: {msg}"

@@ -3,7 +3,11 @@ from __future__ import annotations
 
 import numpy as np
 
-from .style import PALETTE, axis, base_layout, gaps, model_title
+from .style import PALETTE, axis, base_layout, gaps, log_axis, model_title
+
+# How many decades below the peak a log axis shows.
+D_DECADES = 10
+LAMBDA_DECADES = 8
 
 
 def ndf_figure(data: dict, spec: dict, log: bool = True) -> dict:
@@ -15,8 +19,7 @@ def ndf_figure(data: dict, spec: dict, log: bool = True) -> dict:
         "layout": base_layout(
             f"D(θ_m) — {model_title(spec)}",
             xaxis=axis("θ_m (degrees)", range=[0, 90], dtick=15),
-            yaxis=axis("D (1/sr)", type="log" if log else "linear",
-                       exponentformat="power"),
+            yaxis=log_axis("D (1/sr)", data["D"], D_DECADES) if log else axis("D (1/sr)"),
             showlegend=False),
     }
 
@@ -37,8 +40,8 @@ def g1_figure(data: dict, spec: dict) -> dict:
             f"Smith G1 and Λ — {model_title(spec)}",
             xaxis=axis("θ_v (degrees)", range=[0, 90], dtick=15),
             yaxis=axis("G1", range=[0, 1.05]),
-            yaxis2=axis("Λ", overlaying="y", side="right", type="log", showgrid=False,
-                        exponentformat="power"),
+            yaxis2=log_axis("Λ", data["Lambda"], LAMBDA_DECADES, overlaying="y", side="right",
+                            showgrid=False),
             margin={"l": 60, "r": 60, "t": 46, "b": 50}),
     }
 

@@ -5,6 +5,9 @@ import numpy as np
 
 from .style import DIRECTION_COLORS, PALETTE, base_layout, gaps, model_title
 
+# Decades below the peak shown by the log-scale polar lobe.
+LOBE_DECADES = 5
+
 
 def _polar_radius_range(r: np.ndarray, log: bool):
     finite = r[np.isfinite(r) & (r > 0)]
@@ -12,7 +15,7 @@ def _polar_radius_range(r: np.ndarray, log: bool):
         return None
     if log:
         hi = np.log10(finite.max())
-        return [hi - 6.0, hi + 0.1]  # six decades below the peak
+        return [hi - LOBE_DECADES, hi + 0.1]
     return [0, float(finite.max()) * 1.05]
 
 
@@ -28,7 +31,8 @@ def lobe_figure(data: dict, spec: dict, theta_i_deg: float, log: bool = False) -
                   ("incident l", -theta_i_deg, DIRECTION_COLORS["incident"]),
                   ("mirror", theta_i_deg, DIRECTION_COLORS["mirror"])]
     bottom = 10 ** rng[0] if (log and rng) else 0.0
-    traces = [{"type": "scatterpolar", "mode": "lines", "name": "f·cos θ_i" if key == "f_cos" else "f",
+    traces = [{"type": "scatterpolar", "mode": "lines",
+               "name": "f·cos θ_i (1/sr)" if key == "f_cos" else "f (1/sr)",
                "theta": theta_o, "r": r, "line": {"color": PALETTE[0], "width": 2.5},
                "fill": "toself" if not log else None, "fillcolor": "rgba(0,114,178,0.12)",
                "hovertemplate": "θ_o=%{theta:.1f}°<br>%{r:.4g}<extra></extra>"}]
@@ -37,9 +41,12 @@ def lobe_figure(data: dict, spec: dict, theta_i_deg: float, log: bool = False) -
                        "theta": [angle, angle], "r": [bottom, top],
                        "line": {"color": color, "width": 1.5, "dash": "dash"},
                        "hoverinfo": "skip"})
+    # No radial title: it collides with the tick labels along the normal; the legend and
+    # the figure title say what r is.
     radial = {"type": "log" if log else "linear", "angle": 90, "tickangle": 90,
-              "exponentformat": "power", "gridcolor": "#e5e5e5",
-              "title": {"text": ("f·cos θ_i" if key == "f_cos" else "f") + " (1/sr)"}}
+              "exponentformat": "power", "gridcolor": "#e5e5e5"}
+    if log:
+        radial["dtick"] = 1
     if rng:
         radial["range"] = rng
     label = "f·cos θ_i" if key == "f_cos" else "f(l, v)"

@@ -40,3 +40,18 @@ def model_title(spec_values: dict) -> str:
     v = spec_values
     a = f"α={v['alpha']:g}" if v.get("alpha_y") is None else f"α=({v['alpha']:g}, {v['alpha_y']:g})"
     return f"{v['ndf']} {a}"
+
+
+def log_axis(title: str, values, decades: float, **extra) -> dict:
+    """A log axis, one labelled tick per decade, spanning at most ``decades`` below the
+    largest finite positive value (a Beckmann tail underflows to 1e-300; nobody wants
+    to see that), and at least one decade either side of a constant curve."""
+    v = np.asarray(values, dtype=float)
+    v = v[np.isfinite(v) & (v > 0)]
+    out = axis(title, type="log", dtick=1, exponentformat="power", **extra)
+    if v.size:
+        hi, lo = np.log10(v.max()), np.log10(v.min())
+        if hi - lo < 1.0:
+            lo, hi = lo - 1.0, hi + 1.0
+        out["range"] = [max(lo, hi - decades), hi + 0.15]
+    return out

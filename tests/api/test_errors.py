@@ -23,7 +23,7 @@ def detail(r):
     ("fresnel=exact", "fresnel", "schlick"),
     ("masking=walter", "masking", "smith"),
     ("fresnel=none&f0=0.3", "f0", "fresnel=schlick"),
-    ("bogus=1", "bogus", "not permitted"),
+    ("bogus=1", "bogus", "unknown parameter"),
     ("theta_i_deg=91", "theta_i_deg", "[0, 90]"),
     ("theta_i_deg=-1", "theta_i_deg", "[0, 90]"),
     ("phi_i_deg=nan", "phi_i_deg", "finite"),
