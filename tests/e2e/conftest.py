@@ -1,0 +1,150 @@
+"""Browser tests: the real app in a uvicorn process, Debian's Chromium driven by Playwright.
+
+Playwright's own browser download is not used (it cannot be fetched here); the tests
+launch the system Chromium at $BRDF_CHROMIUM (default /usr/bin/chromium); without it
+the run stops with a message saying what to install.
+"""
+from __future__ import annotations
+
+import os
+import shutil
+import socket
+import subprocess
+import sys
+import time
+import urllib.request
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import pytest
+
+CHROMIUM = os.environ.get("BRDF_CHROMIUM", "/usr/bin/chromium")
+CHROMIUM_ARGS = [
+    "--no-sandbox",
+    "--disable-gpu",
+    "--disable-background-networking",
+    "--disable-component-update",
+    "--disable-sync",
+    "--no-first-run",
+]
+VIEWPORT = {"width": 1280, "height": 800}
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def _have_chromium() -> bool:
+    return os.path.exists(CHROMIUM) or shutil.which(CHROMIUM) is not None
+
+
+def pytest_collection_modifyitems(config, items):
+    # No skip: a browser test that did not run must not look like one that passed.
+    # The README's test command installs Chromium; without it these tests fail loudly.
+    if any("e2e" in item.keywords for item in items) and not _have_chromium():
+        raise pytest.UsageError(
+            f"no Chromium at {CHROMIUM}: install it (apt-get install -y chromium) "
+            "or set BRDF_CHROMIUM; deselect browser tests with -m 'not e2e'")
+
+
+@pytest.fixture(scope="session")
+def browser_type_launch_args(browser_type_launch_args):
+    return {**browser_type_launch_args, "executable_path": CHROMIUM, "args": CHROMIUM_ARGS}
+
+
+@pytest.fixture(scope="session")
+def browser_context_args(browser_context_args):
+    return {**browser_context_args, "viewport": VIEWPORT}
+
+
+def _free_port() -> int:
+    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+        sock.bind(("127.0.0.1", 0))
+        return sock.getsockname()[1]
+
+
+def _healthy(url: str) -> bool:
+    try:
+        with urllib.request.urlopen(f"{url}/api/v1/health", timeout=2) as res:
+            return res.status == 200
+    except OSError:
+        return False
+
+
+@pytest.fixture(scope="session")
+def live_server(tmp_path_factory):
+    """The real app (uvicorn --factory app.main:create_app) in its own process, so
+    that timings are not skewed by sharing the test process's interpreter."""
+    log_path = tmp_path_factory.mktemp("server") / "uvicorn.log"
+    for _attempt in range(3):                     # a free port can be taken meanwhile
+        port = _free_port()
+        url = f"http://127.0.0.1:{port}"
+        log = open(log_path, "ab")
+        proc = subprocess.Popen(
+            [sys.executable, "-m", "uvicorn", "--factory", "app.main:create_app",
+             "--host", "127.0.0.1", "--port", str(port), "--log-level", "warning"],
+            cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
+        deadline = time.monotonic() + 30
+        while proc.poll() is None and time.monotonic() < deadline and not _healthy(url):
+            time.sleep(0.1)
+        if proc.poll() is None and _healthy(url):
+            break
+        proc.kill()
+        proc.wait()
+        log.close()
+    else:
+        raise RuntimeError(f"uvicorn did not start; see {log_path}:\n{log_path.read_text()}")
+    yield url
+    proc.terminate()
+    try:
+        proc.wait(timeout=10)
+    except subprocess.TimeoutExpired:
+        proc.kill()
+        proc.wait()
+    log.close()
+
+
+@pytest.fixture(scope="session")
+def base_url(live_server):
+    """Lets tests write page.goto("/?alpha=0.2")."""
+    return live_server
+
+
+@dataclass
+class PageLog:
+    """What went wrong in the page: console errors, exceptions, failed or bad requests,
+    and any request that left the app's own origin."""
+    origin: str
+    console_errors: list[str] = field(default_factory=list)
+    page_errors: list[str] = field(default_factory=list)
+    failed_requests: list[str] = field(default_factory=list)
+    bad_responses: list[str] = field(default_factory=list)
+    external_requests: list[str] = field(default_factory=list)
+    requests: list[str] = field(default_factory=list)
+
+    def problems(self) -> list[str]:
+        return [*self.console_errors, *self.page_errors, *self.failed_requests,
+                *self.bad_responses, *(f"external request: {u}" for u in self.external_requests)]
+
+
+@pytest.fixture
+def page_log(page, live_server):
+    log = PageLog(live_server)
+
+    def on_console(msg):
+        if msg.type == "error":
+            log.console_errors.append(f"console {msg.type}: {msg.text}")
+
+    def on_request(req):
+        log.requests.append(req.url)
+        if not (req.url.startswith(live_server) or req.url.startswith(("data:", "blob:"))):
+            log.external_requests.append(req.url)
+
+    def on_response(res):
+        if res.status >= 400:
+            log.bad_responses.append(f"HTTP {res.status}: {res.url}")
+
+    page.on("console", on_console)
+    page.on("pageerror", lambda err: log.page_errors.append(f"page error: {err}"))
+    page.on("requestfailed", lambda req: log.failed_requests.append(
+        f"request failed: {req.url} ({req.failure})"))
+    page.on("request", on_request)
+    page.on("response", on_response)
+    return log
