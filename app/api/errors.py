@@ -5,7 +5,7 @@ from fastapi import Request
 from fastapi.exceptions import RequestValidationError
 from fastapi.responses import JSONResponse
 
-from ..physics.model import ModelError
+from ..model import ModelError
 
 
 class ParamError(Exception):
@@ -64,7 +64,7 @@ def install(app) -> None:
 
 
 def _allowed() -> dict[str, str]:
-    from ..physics.model import COMMON_PARAMS, choice_param_names
+    from ..model import COMMON_PARAMS, choice_param_names
     out = {p.name: p.range_text() for p in COMMON_PARAMS}
     for name, owners in choice_param_names().items():
         out[name] = "; ".join(f"{p.range_text()} with {who}" for who, p in owners.items())

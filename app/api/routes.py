@@ -5,7 +5,7 @@ import numpy as np
 from fastapi import APIRouter, Body, Query, Request, Response
 
 from .. import __version__, figures, quantities
-from ..physics.model import COMMON_PARAMS, OPTIONS, choice_params, make_spec
+from ..model import COMMON_PARAMS, OPTIONS, choice_params, make_spec
 from ..physics.vectors import direction_deg
 from . import schemas
 from .encode import json_response

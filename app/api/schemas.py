@@ -3,13 +3,13 @@
 ``ModelQuery`` has one field per option and parameter the registry declares, so a new
 NDF (or a new shape parameter) appears in the API, its validation and ``/docs`` with no
 change here. Exact per-choice ranges and applicability are checked by
-:func:`app.physics.model.make_spec`.
+:func:`app.model.make_spec`.
 """
 from typing import Annotated, Literal, Optional
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
-from ..physics.model import COMMON_PARAMS, OPTIONS, choice_param_names
+from ..model import COMMON_PARAMS, OPTIONS, choice_param_names
 
 STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
 

@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import figures, quantities
 from ..config import Settings
-from ..physics.model import ModelSpec
+from ..model import ModelSpec
 from . import schemas
 from .errors import ParamError
 

@@ -7,12 +7,12 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
-from .brdf import BRDF
-from .fresnel import FRESNELS
-from .g2 import G2_FORMS
-from .masking import MASKINGS
-from .ndf import ALPHA, ALPHA_Y, NDFS
-from .params import Param
+from .physics.brdf import BRDF
+from .physics.fresnel import FRESNELS
+from .physics.g2 import G2_FORMS
+from .physics.masking import MASKINGS
+from .physics.ndf import ALPHA, ALPHA_Y, NDFS
+from .physics.params import Param
 
 KD = Param("kd", "k_d (Lambertian weight)", 0.0, 1.0, 0.0,
            "Weight of a Lambertian term kd/π added to the specular lobe.")
