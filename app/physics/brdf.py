@@ -18,6 +18,7 @@ from typing import Callable
 
 import numpy as np
 
+from . import fast
 from .fresnel import Fresnel
 from .g2 import G2Form, azimuth_difference
 from .masking import G1, Masking
@@ -45,6 +46,11 @@ class BRDF:
         """
         l = np.asarray(l, dtype=float)
         v = np.asarray(v, dtype=float)
+        if set(want) == {"f"}:
+            # The common models have a fused, compiled f (fast.py; same formulas).
+            args = fast.spec_args(self)
+            if args is not None:
+                return {"f": fast.evaluate_f(args, l, v)}
         h, h_exists = half_vector(l, v)
         mu_l, mu_v = l[..., 2], v[..., 2]
         upper = (mu_l >= 0) & (mu_v >= 0)
