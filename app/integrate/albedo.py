@@ -42,6 +42,7 @@ import numpy as np
 from ..physics.brdf import BRDF
 from ..physics.g2 import azimuth_difference
 from ..physics.numeric import where_valid
+from . import albedo_kernel
 from .gauss import gauss_legendre_01
 
 # Orders (Gauss points per half of ψ, and along u); each level doubles both.
@@ -109,6 +110,11 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
     # u = U (1 − (1 − s)²), du = 2U(1 − s) ds
     s, ws = gauss_legendre_01(order)
     s, ws = s[None, None, :], ws[None, None, :]
+    fast_args = albedo_kernel.spec_args(brdf)
+    if fast_args is not None:   # the same integrand at the same nodes, compiled
+        return albedo_kernel.integrate(fast_args, v, cp[..., 0], sp[..., 0], U[..., 0],
+                                       1.0 - (1.0 - s) ** 2, 2.0 * (1.0 - s) * ws,
+                                       w_psi.ravel())
     u = U * (1.0 - (1.0 - s) ** 2)
     du = 2.0 * U * (1.0 - s) * ws
     rho = np.sqrt(ndf.radial_cdf_inv(u))

@@ -257,10 +257,10 @@ def _f_loop_serial(l, v, out, ndf_kind, ax, ay, g2_kind, f0, f90, p, kd_over_pi)
 
 
 _prange = range
-_JIT_OPTIONS = dict(nogil=True, error_model="numpy")
+JIT_OPTIONS = dict(nogil=True, error_model="numpy")
 if numba is not None:
     _prange = numba.prange
-    _device = numba.njit(inline="always", **_JIT_OPTIONS)
+    _device = numba.njit(inline="always", **JIT_OPTIONS)
     _ggx_mu_lambda = _device(_ggx_mu_lambda)
     _exp_neg_square = _device(_exp_neg_square)
     _beckmann_mu_lambda = _device(_beckmann_mu_lambda)
@@ -271,13 +271,20 @@ if numba is not None:
     _f_pair = _device(_f_pair)
 
 
+# The per-term formulas, for other compiled loops (the albedo quadrature's integrand in
+# app/integrate/albedo_kernel.py): numba-compiled device functions when numba is there.
+mu_lambda = _mu_lambda
+visibility_den = _visibility_den
+schlick = _schlick
+
+
 def _compile(func, parallel: bool):
     """numba.njit with an on-disk cache where a cache directory is writable (a read-only
     install compiles once per process instead)."""
     try:
-        return numba.njit(parallel=parallel, cache=True, **_JIT_OPTIONS)(func)
+        return numba.njit(parallel=parallel, cache=True, **JIT_OPTIONS)(func)
     except RuntimeError:   # "cannot cache function ...: no locator available"
-        return numba.njit(parallel=parallel, **_JIT_OPTIONS)(func)
+        return numba.njit(parallel=parallel, **JIT_OPTIONS)(func)
 
 
 _kernels: dict = {}
@@ -292,7 +299,7 @@ def kernel(func, parallel: bool):
     """The compiled ``func`` (compiled on first use, then cached on disk)."""
     if numba is None:
         return func   # plain Python: only tests call it so (on a few points)
-    key = func.__name__
+    key = f"{func.__module__}.{func.__qualname__}"
     k = _kernels.get(key)
     if k is None:
         with _kernels_lock:

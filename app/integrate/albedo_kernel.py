@@ -1,0 +1,110 @@
+"""The albedo quadrature's integrand as one compiled loop (optional: numba).
+
+``albedo._integrate_order`` lays the nodes — ψ (cos, sin, weight), the disk exit U(ψ)
+and the substitution u = U t(s), du = U w(s) — in numpy, at O(n·N) cost. Everything at
+the O(n·N²) nodes is the integrand
+
+    g = 4 F(v·m) V(l, v) μ_l (v·m)/μ_m,   l the mirror of v about m(ρ̃(u), ψ),
+
+which in numpy makes some thirty temporary arrays of n × 2N × N. Here it is one loop
+over (μ, ψ) rows, the u-sum inside, using the same per-term formulas as the BRDF kernel
+(app/physics/fast.py). It covers the models that kernel covers, for NDFs whose
+``radial_cdf_inv`` it knows (GGX: u/(1 − u); Beckmann: −log(1 − u)); :func:`spec_args`
+returns None for the rest, which keep the numpy integrand.
+
+tests/physics/test_albedo_kernel.py compares it with the numpy integrand node set by
+node set.
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..physics import fast
+
+def spec_args(brdf) -> tuple | None:
+    """(ndf_kind, α_x, α_y, g2_kind, F₀, F₉₀, p) when the compiled integrand covers
+    ``brdf`` (kd is not part of the specular integral), else None."""
+    args = fast.spec_args(brdf)
+    if args is None or brdf.g2.needs_phi:
+        return None
+    return args[:7]
+
+
+def _radial_cdf_inv(ndf_kind, u):
+    # r̃² with C(r̃) = u: ggx.radial_cdf_inv, beckmann.radial_cdf_inv
+    if ndf_kind == fast.NDF_GGX:
+        return u / (1.0 - u)
+    return -math.log1p(-u)
+
+
+def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, t_u, w_u):
+    """Σ_j g(u_j) du_j along one ψ (cos c, sin s) for view v."""
+    total = 0.0
+    for j in range(t_u.shape[0]):
+        u = U * t_u[j]
+        rho = math.sqrt(_radial_cdf_inv(ndf_kind, u))
+        X = ax * rho * c
+        Y = ay * rho * s
+        k = vz - vx * X - vy * Y                    # (v·m)/μ_m
+        inv_len2 = 1.0 / (1.0 + X * X + Y * Y)      # μ_m²
+        two_vm_mum = 2.0 * k * inv_len2
+        mu_l = two_vm_mum - vz
+        if not mu_l > 0.0:
+            continue
+        lx = -two_vm_mum * X - vx
+        ly = -two_vm_mum * Y - vy
+        ml_l = fast.mu_lambda(ndf_kind, ax, ay, lx, ly, mu_l)
+        den4 = fast.visibility_den(g2_kind, mu_l, vz, ml_l, ml_v)
+        F = fast.schlick(f0, f90, p, k * math.sqrt(inv_len2))
+        g = 4.0 * F * mu_l * k / den4 if den4 > 0.0 else math.inf
+        total += g * (U * w_u[j])
+    return total
+
+
+def _rows_parallel(v, cp, sp, U, t_u, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
+    n_psi = cp.shape[1]
+    for q in _prange(cp.shape[0] * n_psi):
+        i = q // n_psi
+        j = q - i * n_psi
+        vx, vy, vz = v[i, 0], v[i, 1], v[i, 2]
+        ml_v = fast.mu_lambda(ndf_kind, ax, ay, vx, vy, vz)
+        out[i, j] = _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v,
+                         cp[i, j], sp[i, j], U[i, j], t_u, w_u)
+
+
+def _rows_serial(v, cp, sp, U, t_u, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
+    # the same as _rows_parallel with range (see fast.py on why there are two)
+    n_psi = cp.shape[1]
+    for q in range(cp.shape[0] * n_psi):
+        i = q // n_psi
+        j = q - i * n_psi
+        vx, vy, vz = v[i, 0], v[i, 1], v[i, 2]
+        ml_v = fast.mu_lambda(ndf_kind, ax, ay, vx, vy, vz)
+        out[i, j] = _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v,
+                         cp[i, j], sp[i, j], U[i, j], t_u, w_u)
+
+
+_prange = range
+if fast.numba is not None:
+    _prange = fast.numba.prange
+    _radial_cdf_inv = fast.numba.njit(inline="always", **fast.JIT_OPTIONS)(_radial_cdf_inv)
+    _row = fast.numba.njit(inline="always", **fast.JIT_OPTIONS)(_row)
+
+ROW_LOOPS = (_rows_parallel, _rows_serial)
+
+
+def integrate(args: tuple, v, cp, sp, U, t_u, w_u, w_psi) -> np.ndarray:
+    """(1/2π) Σ_ψ w_ψ Σ_u g du for each view direction: E_spec at v (n, 3).
+
+    ``cp``, ``sp``, ``U``: (n, P) cos ψ, sin ψ and the disk exit C(R(ψ)²); ``t_u``,
+    ``w_u``: (N,) with u = U t_u and du = U w_u; ``w_psi``: (P,) ψ weights.
+    """
+    v = np.ascontiguousarray(v, dtype=float)
+    cp, sp, U = (np.ascontiguousarray(np.broadcast_to(a, cp.shape), dtype=float) for a in (cp, sp, U))
+    t_u = np.ascontiguousarray(np.ravel(t_u), dtype=float)
+    w_u = np.ascontiguousarray(np.ravel(w_u), dtype=float)
+    rows = np.empty(cp.shape)
+    fast.run(ROW_LOOPS, rows.size * t_u.size, v, cp, sp, U, t_u, w_u, rows, *args)
+    return rows @ np.asarray(w_psi, dtype=float) / (2.0 * np.pi)
