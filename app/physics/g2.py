@@ -1,21 +1,29 @@
 """Joint masking-shadowing G2 from G1 and μΛ (masking.py).
 
-With a = μ(1 + Λ) = μ + μΛ:
+With a = μ(1 + Λ) = μ + μΛ and G1 = μ/a:
 
-* separable          G2 = G1(l) G1(v)                      (3-10)
-* height-correlated  G2 = 1 / (1 + Λ(l) + Λ(v))            (3-17)
+* separable                    G2 = G1(l) G1(v)                                  (3-10)
+* direction-correlated         G2 = λ(φ) G1(l)G1(v) + (1 − λ(φ)) min(G1(l), G1(v)) (3-11)
+* height-correlated            G2 = 1 / (1 + Λ(l) + Λ(v))                        (3-17)
+* height-direction-correlated  G2 = 1 / (1 + max(Λl, Λv) + λ(φ) min(Λl, Λv))     (3-18)
+* Hammon (GGX, approximation)  G2/(4 μl μv) ≈ 0.5 / lerp(2 μl μv, μl + μv, α)    (3-40)
 
-Each form returns G2 and the visibility V = G2 / (4 μ_l μ_v), written so that it stays
-finite when one direction grazes (it tends to a constant there); it diverges only where
-both directions graze under the height-correlated form, and is +inf there.
+Each form returns G2 and the visibility V = G2 / (4 μ_l μ_v), written with μ and μΛ only
+(never Λ = μΛ/μ), so that V stays finite when one direction grazes (it tends to a
+constant there). Where both graze V is +inf (a true divergence) for every form but the
+separable one, whose V = 1/(4 a_l a_v) stays finite; for the direction-correlated forms
+because λ(φ) < 1 for every φ ∈ [0, π].
 
 A form's ``G2_and_V(mu_l, mu_v, ml_l, ml_v, *, phi, ndf, lambda_phi)`` receives μ ≥ 0,
-μΛ, and — only if it declares ``needs_phi`` — the azimuth difference φ ∈ [0, π] of l
-and v, the NDF and the chosen λ(φ).
+μΛ, the NDF, and — only if it declares ``needs_phi`` — the azimuth difference φ ∈ [0, π]
+of l and v and the chosen λ(φ) (a function of φ; None means Ashikhmin's (3-12)).
 
 References
 ----------
-Heitz 2014, JCGT 3(2), eq. 98 (separable), 99 (height-correlated).
+Heitz 2014, JCGT 3(2), eq. 98 (separable), 99 (height-correlated) and sec. 6
+(direction- and height-direction-correlated forms); Ashikhmin et al. 2000 (3-12);
+van Ginneken et al. 1998 (3-13); Hammon 2017, GDC, "PBR Diffuse Lighting for GGX+Smith
+Microsurfaces" (3-40).
 """
 from __future__ import annotations
 
@@ -37,6 +45,56 @@ def _visibility(den4):
     return where_valid(den4 > 0, [den4], lambda d: 1.0 / d, np.inf)
 
 
+# ------------------------------------------------------------------------- λ(φ)
+
+@dataclass(frozen=True)
+class LambdaPhi:
+    """A weight λ(φ) ∈ [0, 1) of the azimuth difference φ ∈ [0, π] (radians, MATH.md):
+    0 at φ = 0 (l and v in the same azimuth: masking and shadowing fully correlated),
+    growing towards 1 as they turn apart."""
+    name: str
+    label: str
+    description: str
+    fn: Callable  # φ (radians) -> λ(φ)
+    reference: str = ""
+
+
+def ashikhmin(phi):
+    """λ(φ) = 1 − exp(−7.3 φ²) (3-12; Ashikhmin et al. 2000), as −expm1 for small φ."""
+    phi = np.asarray(phi, dtype=float)
+    return -np.expm1(-7.3 * phi * phi)
+
+
+def van_ginneken(phi):
+    """λ(φ) = 4.41 φ / (4.41 φ + 1) (3-13; van Ginneken et al. 1998)."""
+    x = 4.41 * np.asarray(phi, dtype=float)
+    return x / (x + 1.0)
+
+
+LAMBDA_PHIS: dict[str, LambdaPhi] = {
+    lp.name: lp for lp in [
+        LambdaPhi("ashikhmin", "Ashikhmin",
+                  "λ(φ) = 1 − exp(−7.3 φ²): reaches 0.9 at φ ≈ 32° (3-12).",
+                  ashikhmin, "Ashikhmin, Premože, Shirley 2000; seed 000 (3-12)"),
+        LambdaPhi("van_ginneken", "van Ginneken",
+                  "λ(φ) = 4.41φ/(4.41φ + 1): rises more slowly, 0.93 at φ = 180° (3-13).",
+                  van_ginneken, "van Ginneken, Stavridi, Koenderink 1998; seed 000 (3-13)"),
+    ]
+}
+
+#: λ(φ) used when a direction-correlated form is given none.
+DEFAULT_LAMBDA_PHI = "ashikhmin"
+
+
+def _lambda(phi, lambda_phi):
+    if phi is None:
+        raise ValueError("this G2 form needs the azimuth difference phi of l and v")
+    fn = lambda_phi if lambda_phi is not None else LAMBDA_PHIS[DEFAULT_LAMBDA_PHI].fn
+    return fn(phi)
+
+
+# ------------------------------------------------------------------------- forms
+
 def separable(mu_l, mu_v, ml_l, ml_v, **_):
     """G2 = G1(l) G1(v) (3-10), V = 1 / (4 (μ_l + μ_lΛ_l)(μ_v + μ_vΛ_v))."""
     a_l, a_v = mu_l + ml_l, mu_v + ml_v
@@ -50,24 +108,96 @@ def height_correlated(mu_l, mu_v, ml_l, ml_v, **_):
     return _ratio(mu_l * mu_v, den), _visibility(4.0 * den)
 
 
+def direction_correlated(mu_l, mu_v, ml_l, ml_v, *, phi=None, lambda_phi=None, **_):
+    """G2 = λ G1(l)G1(v) + (1 − λ) min(G1(l), G1(v)) (3-11), λ = λ(φ).
+
+    With G1 = μ/a: G1(l)G1(v)/(μ_l μ_v) = 1/(a_l a_v), and since G1(l) ≤ G1(v) ⟺
+    μ_l a_v ≤ μ_v a_l, min(G1(l), G1(v))/(μ_l μ_v) = 1/max(μ_v a_l, μ_l a_v). So
+
+        V = λ/(4 a_l a_v) + (1 − λ)/(4 max(μ_v a_l, μ_l a_v)),   G2 = 4 μ_l μ_v V.
+
+    The max is 0 only where both directions graze (a > 0 always): V = +inf there, since
+    1 − λ > 0 mathematically for every φ ∈ [0, π] of both registered λ(φ) (even where it
+    rounds to 0 in float, as Ashikhmin's does beyond φ ≈ 128°). G2 is 0 there.
+    """
+    lam = _lambda(phi, lambda_phi)
+    mu_l, mu_v, ml_l, ml_v, lam = np.broadcast_arrays(*(np.asarray(x, dtype=float)
+                                                        for x in (mu_l, mu_v, ml_l, ml_v, lam)))
+    a_l, a_v = mu_l + ml_l, mu_v + ml_v
+    big = np.maximum(mu_v * a_l, mu_l * a_v)
+    V = where_valid(big > 0, [lam, a_l, a_v, big],
+                    lambda w, al, av, b: 0.25 * (w / (al * av) + (1.0 - w) / b), np.inf)
+    G2 = where_valid(big > 0, [lam, mu_l, mu_v, a_l, a_v, big],
+                     lambda w, ul, uv, al, av, b: ul * uv * (w / (al * av) + (1.0 - w) / b), 0.0)
+    return G2, V
+
+
+def height_direction_correlated(mu_l, mu_v, ml_l, ml_v, *, phi=None, lambda_phi=None, **_):
+    """G2 = 1/(1 + max(Λ_l, Λ_v) + λ min(Λ_l, Λ_v)) (3-18), λ = λ(φ), times μ_l μ_v over
+    itself. μ_l μ_v Λ_l = μ_v·μ_lΛ_l =: A and μ_l μ_v Λ_v = μ_l·μ_vΛ_v =: B, and Λ_l ≥ Λ_v
+    ⟺ A ≥ B (compared without dividing by μ, which may be 0):
+
+        G2 = μ_l μ_v / (μ_l μ_v + max(A, B) + λ min(A, B)),   V = 1/(4 × that denominator).
+
+    λ = 1 gives the height-correlated form, λ = 0 gives min(G1(l), G1(v))."""
+    lam = _lambda(phi, lambda_phi)
+    A, B = mu_v * ml_l, mu_l * ml_v
+    den = mu_l * mu_v + np.maximum(A, B) + lam * np.minimum(A, B)
+    return _ratio(mu_l * mu_v, den), _visibility(4.0 * den)
+
+
+def hammon(mu_l, mu_v, ml_l, ml_v, *, ndf=None, **_):
+    """Hammon 2017 (3-40): V ≈ 0.5 / lerp(2 μ_l μ_v, μ_l + μ_v, α), lerp(x0, x1, t) =
+    (1 − t) x0 + t x1, α the isotropic GGX α; G2 = 4 μ_l μ_v V. It replaces each
+    √(α² + (1 − α²)μ²) of the exact (3-37) by lerp(μ, 1, α); it is exact at α → 0
+    (G2 = 1) and at α = 1 (both give 2 μ_l μ_v/(μ_l + μ_v)). μΛ is not used."""
+    if ndf is None:
+        raise ValueError("hammon needs the NDF (its α)")
+    if not ndf.isotropic:
+        raise ValueError(f"g2=hammon is for isotropic α only; got alpha={ndf.alpha_x:g}, "
+                         f"alpha_y={ndf.alpha_y:g}")
+    alpha = ndf.alpha_x
+    mu_l, mu_v = np.broadcast_arrays(np.asarray(mu_l, dtype=float), np.asarray(mu_v, dtype=float))
+    den = (1.0 - alpha) * 2.0 * mu_l * mu_v + alpha * (mu_l + mu_v)
+    return _ratio(2.0 * mu_l * mu_v, den), _visibility(2.0 * den)
+
+
 @dataclass(frozen=True)
 class G2Form:
     name: str
     label: str
     description: str
     G2_and_V: Callable  # (mu_l, mu_v, ml_l, ml_v, *, phi, ndf, lambda_phi) -> (G2, V)
-    needs_phi: bool = False
-    applies_to: tuple[str, ...] | None = None  # NDF names; None = every NDF
+    needs_phi: bool = False                     # takes φ and λ(φ) (LAMBDA_PHIS)
+    applies_to: tuple[str, ...] | None = None   # NDF names; None = every NDF
+    isotropic_only: bool = False                # rejects α_x ≠ α_y (ValueError)
+    reference: str = ""
+    approximation: bool = False                 # an approximation of another form
 
 
 G2_FORMS: dict[str, G2Form] = {
     g.name: g for g in [
         G2Form("separable", "Separable",
                "G1(l)·G1(v): ignores the correlation of masking and shadowing (3-10).",
-               separable),
+               separable, reference="Heitz 2014, eq. 98; seed 000 (3-10)"),
         G2Form("height_correlated", "Height-correlated",
                "1/(1+Λ(l)+Λ(v)): the recommended form (Heitz 2014, eq. 99; (3-17)).",
-               height_correlated),
+               height_correlated, reference="Heitz 2014, eq. 99; seed 000 (3-17)"),
+        G2Form("direction_correlated", "Direction-correlated",
+               "λ(φ)·G1(l)G1(v) + (1−λ(φ))·min(G1(l), G1(v)): min(G1) when l and v share "
+               "an azimuth, separable as they turn apart (3-11).",
+               direction_correlated, needs_phi=True,
+               reference="Ashikhmin et al. 2000; Heitz 2014, sec. 6; seed 000 (3-11)"),
+        G2Form("height_direction_correlated", "Height-direction-correlated",
+               "1/(1 + max(Λl, Λv) + λ(φ)·min(Λl, Λv)): height-correlated, and min(G1) "
+               "when l and v share an azimuth (3-18).",
+               height_direction_correlated, needs_phi=True,
+               reference="Heitz 2014, sec. 6; seed 000 (3-18)"),
+        G2Form("hammon", "Hammon (approx.)",
+               "Height-correlated GGX visibility approximated by 0.5/lerp(2μlμv, μl+μv, α); "
+               "isotropic GGX only (3-40).",
+               hammon, applies_to=("ggx",), isotropic_only=True, approximation=True,
+               reference="Hammon 2017, GDC; seed 000 (3-40)"),
     ]
 }
 

@@ -10,7 +10,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from app.physics.g2 import G2_FORMS
+from app.physics.g2 import G2_FORMS, azimuth_difference
 from app.physics.masking import G1, MASKINGS
 from app.physics.ndf import make_ndf
 from app.physics.vectors import direction_deg
@@ -184,13 +184,19 @@ def test_ggx_height_correlated_visibility(alpha, rng):
 
 
 def test_G2_forms_return_V(ndf_name, alphas, rng):
-    """Each G2 form's V equals G2/(4 μl μv) wherever μl μv > 0 (masking.py contract)."""
+    """Each G2 form's V equals G2/(4 μl μv) wherever μl μv > 0 (g2.py contract), for
+    every form that applies to this NDF and α (hammon: isotropic GGX only)."""
     ax, ay = alphas
     ndf = make_ndf(ndf_name, ax, ay)
     l = random_upper_directions(rng, 1000, grazing_fraction=0.0)
     v = random_upper_directions(rng, 1000, grazing_fraction=0.0)
     ok = (l[:, 2] > 1e-6) & (v[:, 2] > 1e-6)
     l, v = l[ok], v[ok]
+    phi = azimuth_difference(l, v)
     for form in G2_FORMS.values():
-        G2, V = form.G2_and_V(l[:, 2], v[:, 2], SMITH.mu_Lambda(ndf, l), SMITH.mu_Lambda(ndf, v))
+        if (form.applies_to and ndf_name not in form.applies_to) or \
+                (form.isotropic_only and not ndf.isotropic):
+            continue
+        G2, V = form.G2_and_V(l[:, 2], v[:, 2], SMITH.mu_Lambda(ndf, l), SMITH.mu_Lambda(ndf, v),
+                              phi=phi, ndf=ndf, lambda_phi=None)
         np.testing.assert_allclose(V, G2 / (4 * l[:, 2] * v[:, 2]), rtol=1e-12)
