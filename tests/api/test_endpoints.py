@@ -31,7 +31,8 @@ def test_models_lists_every_option_with_ranges(client):
     alpha = next(p for p in body["params"] if p["name"] == "alpha")
     assert (alpha["lo"], alpha["hi"], alpha["default"]) == (1e-4, 1.0, 0.3)
     schlick = next(c for c in options["fresnel"]["choices"] if c["name"] == "schlick")
-    assert {p["name"]: p["default"] for p in schlick["params"]} == {"f0": 0.04, "f90": 1.0}
+    assert {p["name"]: p["default"] for p in schlick["params"]} == {"f0": 0.04, "f90": 1.0,
+                                                                  "fresnel_p": 5.0}
     for choice in options["ndf"]["choices"]:
         assert choice["label"] and choice["description"] and choice["reference"]
 
