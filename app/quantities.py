@@ -70,3 +70,29 @@ def albedo_curve(brdf: BRDF, mu, phi_deg: float, tol: float) -> dict:
         "evaluations": res.evaluations + avg_evals,
         "seconds": time.perf_counter() - t0,
     }
+
+
+def g2_grid(brdf: BRDF, phi_deg: float, n: int) -> dict:
+    """G2(l, v) over θ_l, θ_v = 0..90° (n each; rows θ_l, columns θ_v), with l at
+    azimuth 0 (along t, the direction of α_x) and v at azimuth φ: φ is the azimuth
+    difference of the direction-correlated forms."""
+    theta = np.linspace(0.0, 90.0, n)
+    G2 = evaluate(brdf, theta[:, None], 0.0, theta[None, :], phi_deg, ("G2",))["G2"]
+    return {"theta_l_deg": theta, "theta_v_deg": theta, "G2": G2}
+
+
+def fresnel_curve(brdf: BRDF, n: int) -> dict:
+    """F(θ) for θ = 0..90° (θ the angle between v and h), its cosine-weighted average,
+    and — for an approximation (Schlick) — the exact form it stands for (the dielectric
+    of the same F₀) and the error F − F_exact."""
+    theta = np.linspace(0.0, 90.0, n)
+    cos_theta = direction_deg(theta, 0.0)[..., 2]   # exactly 0 at 90°
+    F = brdf.fresnel.F(cos_theta)
+    out = {"theta_deg": theta, "F": F, "F_avg": brdf.fresnel.F_avg()}
+    exact = brdf.fresnel.exact_counterpart()
+    if exact is not None:
+        F_exact = exact.F(cos_theta)
+        out.update({"F_exact": F_exact, "F_error": F - F_exact,
+                    "F_exact_model": {"fresnel": exact.name,
+                                      **{p.name: getattr(exact, p.name) for p in exact.params}}})
+    return out

@@ -122,3 +122,15 @@ class AlbedoQuery(ModelQuery):
     mu: Optional[MuList] = None
     phi_deg: Annotated[Phi, Field(description="azimuth of v (matters when anisotropic)")] = 0.0
     tol: Annotated[float, Field(ge=1e-7, le=1e-2, description="target quadrature error")] = 1e-5
+
+
+class G2Query(ModelQuery):
+    phi_deg: Annotated[Phi, Field(
+        description="azimuth of v in degrees, [-360, 360], with l at azimuth 0 (along t, the "
+                    "direction of α_x): the azimuth difference of l and v. 180 is the plane "
+                    "of incidence with v on the mirror side")] = 180.0
+    n: Annotated[int, Field(ge=2, description="angles per axis, θ = 0..90° both ends; n² points")] = 46
+
+
+class FresnelQuery(ModelQuery):
+    n: Annotated[int, Field(ge=2, description="number of angles θ = 0..90°, both ends included")] = 91

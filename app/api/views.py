@@ -41,6 +41,12 @@ def _check_grid(q, s: Settings):
     _limit("n_theta×n_phi", q.n_theta * q.n_phi, s.max_grid_points, "BRDF_MAX_GRID_POINTS")
 
 
+def _check_square_grid(q, s: Settings):
+    if q.n * q.n > s.max_grid_points:
+        raise ParamError("n", f"n={q.n} gives n²={q.n * q.n} grid points, above the limit "
+                              f"{s.max_grid_points} (setting BRDF_MAX_GRID_POINTS)")
+
+
 def _albedo_mu(q) -> np.ndarray:
     return np.asarray(q.mu, dtype=float) if q.mu is not None else np.linspace(0.0, 1.0, q.n)
 
@@ -73,4 +79,13 @@ VIEWS: dict[str, View] = {v.name: v for v in [
          schemas.AlbedoQuery, schemas.AlbedoQuery, _check_albedo,
          lambda spec, q: quantities.albedo_curve(spec.brdf(), _albedo_mu(q), q.phi_deg, q.tol),
          lambda data, spec, q: figures.albedo_figure(data, spec.values)),
+    View("g2", "G2(θ_l, θ_v) over θ_l, θ_v = 0..90° (rows θ_l) with v at azimuth φ from l",
+         schemas.G2Query, schemas.G2Query, _check_square_grid,
+         lambda spec, q: quantities.g2_grid(spec.brdf(), q.phi_deg, q.n),
+         lambda data, spec, q: figures.g2_figure(data, spec.values, q.phi_deg)),
+    View("fresnel", "F(θ_d) for θ_d = 0..90°; for Schlick also the exact dielectric of the "
+                    "same F₀ and the error",
+         schemas.FresnelQuery, schemas.FresnelQuery, _check_curve,
+         lambda spec, q: quantities.fresnel_curve(spec.brdf(), q.n),
+         lambda data, spec, q: figures.fresnel_figure(data, spec.values)),
 ]}

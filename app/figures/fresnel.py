@@ -1,0 +1,47 @@
+"""Figure of the Fresnel reflectance F(θ_d) and, for an approximation, its error."""
+from __future__ import annotations
+
+import numpy as np
+
+from .style import PALETTE, axis, base_layout
+
+# The parameters a Fresnel choice may carry, in the order a title lists them.
+FRESNEL_PARAMS = ("f0", "f90", "fresnel_p", "ior", "k")
+
+
+def fresnel_title(spec: dict) -> str:
+    params = ", ".join(f"{name}={spec[name]:g}" for name in FRESNEL_PARAMS
+                       if spec.get(name) is not None)
+    return f"Fresnel F(θ_d) — {spec['fresnel']}" + (f" ({params})" if params else "")
+
+
+def fresnel_figure(data: dict, spec: dict) -> dict:
+    theta = np.asarray(data["theta_deg"])
+    traces = [{"type": "scatter", "mode": "lines", "name": f"F (F̄ = {data['F_avg']:.4f})",
+               "x": theta, "y": data["F"], "line": {"color": PALETTE[0], "width": 2.5},
+               "hovertemplate": "θ_d=%{x:.2f}°<br>F=%{y:.5f}<extra></extra>"}]
+    extra = {}
+    if "F_exact" in data:
+        exact = data["F_exact_model"]
+        label = ", ".join(f"{k}={v:.4g}" for k, v in exact.items()
+                          if k != "fresnel" and v is not None and np.isfinite(v))
+        traces += [
+            {"type": "scatter", "mode": "lines", "name": f"exact {exact['fresnel']} ({label})",
+             "x": theta, "y": data["F_exact"], "line": {"color": PALETTE[2], "width": 2, "dash": "dash"},
+             "hovertemplate": "θ_d=%{x:.2f}°<br>F_exact=%{y:.5f}<extra></extra>"},
+            {"type": "scatter", "mode": "lines", "name": "F − F_exact (right axis)",
+             "x": theta, "y": data["F_error"], "yaxis": "y2",
+             "line": {"color": PALETTE[1], "width": 1.5, "dash": "dot"},
+             "hovertemplate": "θ_d=%{x:.2f}°<br>error=%{y:.3g}<extra></extra>"},
+        ]
+        extra = {"yaxis2": axis("F − F_exact", overlaying="y", side="right", showgrid=False,
+                                zeroline=True, zerolinecolor="#bbb", exponentformat="power"),
+                 "margin": {"l": 60, "r": 70, "t": 46, "b": 50}}
+    return {
+        "data": traces,
+        "layout": base_layout(
+            fresnel_title(spec),
+            xaxis=axis("θ_d, angle between v and h (degrees)", range=[0, 90], dtick=15),
+            yaxis=axis("F", range=[0, 1.02]),
+            **extra),
+    }
