@@ -34,7 +34,12 @@ def fresnel_figure(data: dict, spec: dict) -> dict:
              "line": {"color": PALETTE[1], "width": 1.5, "dash": "dot"},
              "hovertemplate": "θ_d=%{x:.2f}°<br>error=%{y:.3g}<extra></extra>"},
         ]
+        # Symmetric about 0, so that the zero line sits mid-height and the sign of the
+        # error reads at a glance; its own ticks (not synced to the F axis' grid).
+        err = np.asarray(data["F_error"], dtype=float)
+        top = float(np.max(np.abs(err[np.isfinite(err)]), initial=0.0)) * 1.1 or 1e-3
         extra = {"yaxis2": axis("F − F_exact", overlaying="y", side="right", showgrid=False,
+                                range=[-top, top], tickmode="auto", nticks=7,
                                 zeroline=True, zerolinecolor="#bbb", exponentformat="power"),
                  "margin": {"l": 60, "r": 70, "t": 46, "b": 50}}
     return {

@@ -152,6 +152,9 @@ def test_fresnel_figure(client):
     names = [t["name"] for t in fig["data"]]
     assert len(fig["data"]) == 3 and any("exact dielectric" in n for n in names)
     assert fig["data"][2]["yaxis"] == "y2" and "yaxis2" in fig["layout"]
+    lo, hi = fig["layout"]["yaxis2"]["range"]          # error axis: 0 at mid-height
+    err = get(client, "/api/v1/fresnel?n=11")["F_error"]
+    assert lo == -hi and hi >= max(abs(e) for e in err) > 0
     assert "schlick" in fig["layout"]["title"]["text"]
     fig = get(client, "/api/v1/figures/fresnel?n=11&fresnel=conductor")
     assert len(fig["data"]) == 1 and "conductor" in fig["layout"]["title"]["text"]
