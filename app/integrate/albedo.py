@@ -113,7 +113,7 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
     fast_args = albedo_kernel.spec_args(brdf)
     if fast_args is not None:   # the same integrand at the same nodes, compiled
         return albedo_kernel.integrate(fast_args, v, cp[..., 0], sp[..., 0], U[..., 0],
-                                       1.0 - (1.0 - s) ** 2, 2.0 * (1.0 - s) * ws,
+                                       1.0 - U[..., 0], (1.0 - s) ** 2, 2.0 * (1.0 - s) * ws,
                                        w_psi.ravel())
     u = U * (1.0 - (1.0 - s) ** 2)
     du = 2.0 * U * (1.0 - s) * ws

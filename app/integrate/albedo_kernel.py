@@ -1,16 +1,16 @@
 """The albedo quadrature's integrand as one compiled loop (optional: numba).
 
 ``albedo._integrate_order`` lays the nodes — ψ (cos, sin, weight), the disk exit U(ψ)
-and the substitution u = U t(s), du = U w(s) — in numpy, at O(n·N) cost. Everything at
+and 1 − U, the substitution u = U (1 − τ(s)), du = U w(s) — in numpy, at O(n·N) cost. Everything at
 the O(n·N²) nodes is the integrand
 
     g = 4 F(v·m) V(l, v) μ_l (v·m)/μ_m,   l the mirror of v about m(ρ̃(u), ψ),
 
 which in numpy makes some thirty temporary arrays of n × 2N × N. Here it is one loop
 over (μ, ψ) rows, the u-sum inside, using the same per-term formulas as the BRDF kernel
-(app/physics/fast.py). It covers the models that kernel covers, for NDFs whose
-``radial_cdf_inv`` it knows (GGX: u/(1 − u); Beckmann: −log(1 − u)); :func:`spec_args`
-returns None for the rest, which keep the numpy integrand.
+(app/physics/fast.py). It covers the models that kernel covers, for NDFs whose inverse
+radial CDF it knows (GGX: u/(1 − u); Beckmann: −log(1 − u)); :func:`spec_args` returns
+None for the rest, which keep the numpy integrand.
 
 tests/physics/test_albedo_kernel.py compares it with the numpy integrand node set by
 node set.
@@ -32,19 +32,26 @@ def spec_args(brdf) -> tuple | None:
     return args[:7]
 
 
-def _radial_cdf_inv(ndf_kind, u):
-    # r̃² with C(r̃) = u: ggx.radial_cdf_inv, beckmann.radial_cdf_inv
+def _radial_r2(ndf_kind, u, one_minus_u):
+    """r̃² with C(r̃) = u, from u while u < ½ and from 1 − u (kept exact by the caller)
+    beyond, as albedo._integrate_order does with radial_cdf_inv / radial_ccdf_inv.
+    GGX: C = r̃²/(1 + r̃²); Beckmann: C = 1 − exp(−r̃²)."""
     if ndf_kind == fast.NDF_GGX:
-        return u / (1.0 - u)
-    return -math.log1p(-u)
+        if u < 0.5:
+            return u / (1.0 - u)
+        return (1.0 - one_minus_u) / one_minus_u
+    if u < 0.5:
+        return -math.log1p(-u)
+    return -math.log(one_minus_u)
 
 
-def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, t_u, w_u):
-    """Σ_j g(u_j) du_j along one ψ (cos c, sin s) for view v."""
+def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, V0, tail, w_u):
+    """Σ_j g(u_j) du_j along one ψ (cos c, sin s) for view v: u = U (1 − tail_j),
+    1 − u = V0 + U tail_j, du = U w_u_j."""
     total = 0.0
-    for j in range(t_u.shape[0]):
-        u = U * t_u[j]
-        rho = math.sqrt(_radial_cdf_inv(ndf_kind, u))
+    for j in range(tail.shape[0]):
+        u = U * (1.0 - tail[j])
+        rho = math.sqrt(_radial_r2(ndf_kind, u, V0 + U * tail[j]))
         X = ax * rho * c
         Y = ay * rho * s
         k = vz - vx * X - vy * Y                    # (v·m)/μ_m
@@ -63,7 +70,7 @@ def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, t_u, 
     return total
 
 
-def _rows_parallel(v, cp, sp, U, t_u, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
+def _rows_parallel(v, cp, sp, U, V0, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
     n_psi = cp.shape[1]
     for q in _prange(cp.shape[0] * n_psi):
         i = q // n_psi
@@ -71,10 +78,10 @@ def _rows_parallel(v, cp, sp, U, t_u, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f
         vx, vy, vz = v[i, 0], v[i, 1], v[i, 2]
         ml_v = fast.mu_lambda(ndf_kind, ax, ay, vx, vy, vz)
         out[i, j] = _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v,
-                         cp[i, j], sp[i, j], U[i, j], t_u, w_u)
+                         cp[i, j], sp[i, j], U[i, j], V0[i, j], tail, w_u)
 
 
-def _rows_serial(v, cp, sp, U, t_u, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
+def _rows_serial(v, cp, sp, U, V0, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
     # the same as _rows_parallel with range (see fast.py on why there are two)
     n_psi = cp.shape[1]
     for q in range(cp.shape[0] * n_psi):
@@ -83,28 +90,30 @@ def _rows_serial(v, cp, sp, U, t_u, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90
         vx, vy, vz = v[i, 0], v[i, 1], v[i, 2]
         ml_v = fast.mu_lambda(ndf_kind, ax, ay, vx, vy, vz)
         out[i, j] = _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v,
-                         cp[i, j], sp[i, j], U[i, j], t_u, w_u)
+                         cp[i, j], sp[i, j], U[i, j], V0[i, j], tail, w_u)
 
 
 _prange = range
 if fast.numba is not None:
     _prange = fast.numba.prange
-    _radial_cdf_inv = fast.numba.njit(inline="always", **fast.JIT_OPTIONS)(_radial_cdf_inv)
+    _radial_r2 = fast.numba.njit(inline="always", **fast.JIT_OPTIONS)(_radial_r2)
     _row = fast.numba.njit(inline="always", **fast.JIT_OPTIONS)(_row)
 
 ROW_LOOPS = (_rows_parallel, _rows_serial)
 
 
-def integrate(args: tuple, v, cp, sp, U, t_u, w_u, w_psi) -> np.ndarray:
+def integrate(args: tuple, v, cp, sp, U, V0, tail, w_u, w_psi) -> np.ndarray:
     """(1/2π) Σ_ψ w_ψ Σ_u g du for each view direction: E_spec at v (n, 3).
 
-    ``cp``, ``sp``, ``U``: (n, P) cos ψ, sin ψ and the disk exit C(R(ψ)²); ``t_u``,
-    ``w_u``: (N,) with u = U t_u and du = U w_u; ``w_psi``: (P,) ψ weights.
+    ``cp``, ``sp``, ``U``, ``V0``: (n, P) cos ψ, sin ψ, the disk exit U = C(R(ψ)) and
+    1 − U; ``tail``, ``w_u``: (N,), with u = U (1 − tail) and du = U w_u; ``w_psi``:
+    (P,) ψ weights.
     """
     v = np.ascontiguousarray(v, dtype=float)
-    cp, sp, U = (np.ascontiguousarray(np.broadcast_to(a, cp.shape), dtype=float) for a in (cp, sp, U))
-    t_u = np.ascontiguousarray(np.ravel(t_u), dtype=float)
+    cp, sp, U, V0 = (np.ascontiguousarray(np.broadcast_to(a, cp.shape), dtype=float)
+                     for a in (cp, sp, U, V0))
+    tail = np.ascontiguousarray(np.ravel(tail), dtype=float)
     w_u = np.ascontiguousarray(np.ravel(w_u), dtype=float)
     rows = np.empty(cp.shape)
-    fast.run(ROW_LOOPS, rows.size * t_u.size, v, cp, sp, U, t_u, w_u, rows, *args)
+    fast.run(ROW_LOOPS, rows.size * tail.size, v, cp, sp, U, V0, tail, w_u, rows, *args)
     return rows @ np.asarray(w_psi, dtype=float) / (2.0 * np.pi)
