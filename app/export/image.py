@@ -1,0 +1,145 @@
+"""SVG and PNG of a Plotly figure, rendered by kaleido in ONE headless Chromium per
+process, started on the first export and kept alive between requests.
+
+Why not ``kaleido.start_sync_server()``: its worker thread dies silently when Chromium
+cannot start, and every later call then waits forever on its queue; and it pairs
+results with callers through one shared queue, so two threads exporting at once could
+receive each other's image. Here the browser lives on an asyncio loop in one daemon
+thread and each export is a coroutine submitted with ``run_coroutine_threadsafe``: its
+own future carries its own result (or exception), with a time limit, and kaleido's tab
+queue serialises the rendering.
+
+Without Chromium, :class:`ExportUnavailable` says what to install; the API answers 503
+and the page falls back to Plotly's in-browser export.
+"""
+from __future__ import annotations
+
+import asyncio
+import atexit
+import os
+import sys
+import threading
+import time
+
+# Tabs rendering in parallel in the one browser. One: every tab is a renderer process,
+# and the service runs on small machines; requests queue for the tab.
+TABS = 1
+# Seconds one figure may take inside Chromium (kaleido's own limit), and the longest a
+# request waits for its image, queueing behind others included.
+RENDER_TIMEOUT_S = 30.0
+WAIT_TIMEOUT_S = 60.0
+# Seconds allowed for Chromium to start and load plotly.js.
+START_TIMEOUT_S = 60.0
+
+INSTALL_HINT = ("Server-side image export needs a Chromium browser: install it "
+                "(Debian/Ubuntu: apt-get install chromium; elsewhere: kaleido_get_chrome) "
+                "or point BRDF_CHROMIUM at one. The page's own export buttons work "
+                "without it (they render in your browser).")
+
+FORMATS = {"svg": "image/svg+xml", "png": "image/png"}
+
+
+class ExportUnavailable(RuntimeError):
+    """No browser to render with (or it would not start): HTTP 503."""
+
+
+class ImageRenderer:
+    """One headless Chromium, started lazily, shared by every export of this process."""
+
+    def __init__(self, browser_path: str | None = None):
+        # None: kaleido's own search (BROWSER_PATH, then chromium/chrome on PATH).
+        self.browser_path = browser_path
+        self._lock = threading.Lock()
+        self._loop: asyncio.AbstractEventLoop | None = None
+        self._kaleido = None
+        self.started_seconds: float | None = None   # how long the start took
+
+    @property
+    def running(self) -> bool:
+        return self._kaleido is not None
+
+    def _start(self) -> None:
+        # kaleido's logging library (logistro) parses sys.argv when imported and exits on
+        # options it finds ambiguous ("--log" of our own CLI): hide our arguments from it.
+        saved_argv, sys.argv = sys.argv, sys.argv[:1]
+        try:
+            import kaleido
+            from choreographer.errors import ChromeNotFoundError
+        except ImportError as e:          # kaleido is a dependency; be explicit anyway
+            raise ExportUnavailable(f"kaleido is not installed ({e}). {INSTALL_HINT}") from None
+        finally:
+            sys.argv = saved_argv
+        t0 = time.perf_counter()
+        loop = asyncio.new_event_loop()
+        thread = threading.Thread(target=loop.run_forever, name="kaleido", daemon=True)
+        thread.start()
+
+        async def open_browser():
+            # mathjax=False: no LaTeX in our figures, and no CDN to fetch it from.
+            opts = {"path": self.browser_path} if self.browser_path else {}
+            k = kaleido.Kaleido(n=TABS, timeout=RENDER_TIMEOUT_S, mathjax=False, **opts)
+            await k.open()
+            return k
+
+        try:
+            k = asyncio.run_coroutine_threadsafe(open_browser(), loop).result(START_TIMEOUT_S)
+        except ChromeNotFoundError:
+            loop.call_soon_threadsafe(loop.stop)
+            where = f" (looked for {self.browser_path})" if self.browser_path else ""
+            raise ExportUnavailable(f"No Chromium found{where}. {INSTALL_HINT}") from None
+        except Exception as e:  # noqa: BLE001 - any start failure means "unavailable"
+            loop.call_soon_threadsafe(loop.stop)
+            raise ExportUnavailable(f"Chromium did not start ({type(e).__name__}). "
+                                    f"{INSTALL_HINT}") from None
+        self._loop, self._kaleido = loop, k
+        self.started_seconds = time.perf_counter() - t0
+
+    def render(self, figure: dict, fmt: str, width: int, height: int, scale: float) -> bytes:
+        """The figure as ``fmt`` ('svg' or 'png'), ``width``×``height`` CSS pixels, PNG
+        pixels multiplied by ``scale``."""
+        if fmt not in FORMATS:
+            raise ValueError(f"format must be one of {', '.join(FORMATS)}")
+        opts = {"format": fmt, "width": width, "height": height, "scale": scale}
+        for attempt in (1, 2):
+            with self._lock:
+                if not self.running:
+                    self._start()
+                loop, k = self._loop, self._kaleido
+            future = asyncio.run_coroutine_threadsafe(k.calc_fig(figure, opts=opts), loop)
+            try:
+                return future.result(WAIT_TIMEOUT_S)
+            except TimeoutError:
+                future.cancel()
+                raise ExportUnavailable(f"rendering took longer than {WAIT_TIMEOUT_S:g} s") from None
+            except Exception:
+                # A crashed or closed browser: start a fresh one, once.
+                if attempt == 2:
+                    raise
+                self.close()
+        raise AssertionError("unreachable")
+
+    def close(self) -> None:
+        with self._lock:
+            loop, k = self._loop, self._kaleido
+            self._loop = self._kaleido = None
+        if k is None:
+            return
+        try:
+            asyncio.run_coroutine_threadsafe(k.close(), loop).result(10)
+        except Exception:  # noqa: BLE001 - closing a browser that already died
+            pass
+        loop.call_soon_threadsafe(loop.stop)
+
+
+_renderer: ImageRenderer | None = None
+_renderer_lock = threading.Lock()
+
+
+def get_renderer() -> ImageRenderer:
+    """The process's renderer (a FastAPI dependency; tests override it)."""
+    global _renderer
+    with _renderer_lock:
+        if _renderer is None:
+            _renderer = ImageRenderer(os.environ.get("BRDF_CHROMIUM") or None)
+            atexit.register(_renderer.close)
+        return _renderer

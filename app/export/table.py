@@ -1,0 +1,168 @@
+"""The numbers behind a figure as CSV: a header row naming each column with its unit.
+
+Layout rules, the same for every view (so a view added later exports unchanged):
+
+* every array in the payload of the same length as the first 1-D array is a column
+  (a "wide" table: ``theta_deg, D_per_sr``);
+* a payload with an N-D array (N ≥ 2) is a grid: its 1-D arrays are its axes, in the
+  order the payload lists them (rows, then columns), and the table is "long": one row
+  per grid point, ``theta_deg, phi_deg, f_per_sr`` (numpy C order, the last axis
+  fastest). A grid dimension with no axis array of its length gets an index column;
+* scalars (E_avg, method, timing) go above the header as ``# name = value`` comment
+  lines, with the model and view parameters (``pandas.read_csv(comment="#")`` and
+  ``numpy.loadtxt`` skip them);
+* a divergence (±inf) and a gap (NaN, e.g. a pixel outside the lit sphere) are
+  empty cells — CSV has no infinity that every reader agrees on.
+"""
+from __future__ import annotations
+
+import csv
+import io
+from typing import Iterable
+
+import numpy as np
+
+# Units of the quantities the views return, as a column-name suffix. A key that already
+# ends in its unit (``theta_deg``) or is dimensionless (G1, Λ, F, E, μ) has none.
+PER_SR = "_per_sr"
+UNIT_SUFFIX = {
+    "D": PER_SR, "D_cos": PER_SR, "f": PER_SR, "f_cos": PER_SR, "pdf": PER_SR,
+    "radiance": PER_SR,
+}
+
+
+
+class TableError(ValueError):
+    """A payload that is not a table or a grid (a view that breaks the layout rules)."""
+
+
+def column_name(key: str) -> str:
+    return key + UNIT_SUFFIX.get(key, "")
+
+
+def json_key(column: str) -> str:
+    """The payload key a CSV column came from (inverse of :func:`column_name`)."""
+    for key, suffix in UNIT_SUFFIX.items():
+        if column == key + suffix:
+            return key
+    return column
+
+
+def _is_array(value) -> bool:
+    if isinstance(value, np.ndarray):
+        return value.ndim >= 1 and value.dtype.kind in "fiub"
+    if isinstance(value, (list, tuple)) and value:
+        a = np.asarray(value, dtype=object)
+        return a.dtype != object or all(isinstance(x, (int, float, type(None))) for x in a.ravel())
+    return False
+
+
+def _as_float(value) -> np.ndarray:
+    if isinstance(value, np.ndarray):
+        return value.astype(float)
+    return np.array([np.nan if x is None else x for x in np.ravel(np.asarray(value, dtype=object))],
+                    dtype=float).reshape(np.shape(value))
+
+
+def split(payload: dict) -> tuple[dict[str, np.ndarray], dict]:
+    """Arrays (as float64) and scalars of a view's payload, in payload order."""
+    arrays, scalars = {}, {}
+    for key, value in payload.items():
+        if _is_array(value):
+            arrays[key] = _as_float(value)
+        else:
+            scalars[key] = value
+    return arrays, scalars
+
+
+def columns(payload: dict) -> dict[str, np.ndarray]:
+    """Payload key → 1-D column, following the layout rules above."""
+    arrays, _ = split(payload)
+    if not arrays:
+        raise TableError("the payload has no arrays")
+    grids = {k: a for k, a in arrays.items() if a.ndim >= 2}
+    if not grids:
+        n = next(iter(arrays.values())).size
+        wrong = [k for k, a in arrays.items() if a.size != n]
+        if wrong:
+            raise TableError(f"columns of unequal length: {', '.join(wrong)}")
+        return arrays
+    shape = next(iter(grids.values())).shape
+    if any(a.shape != shape for a in grids.values()):
+        raise TableError("grids of different shapes: " +
+                         ", ".join(f"{k}{a.shape}" for k, a in grids.items()))
+    axes_left = [(k, a) for k, a in arrays.items() if a.ndim == 1]
+    out: dict[str, np.ndarray] = {}
+    mesh_axes = []
+    for dim, size in enumerate(shape):
+        match = next((i for i, (_, a) in enumerate(axes_left) if a.size == size), None)
+        if match is None:
+            name, values = f"index{dim}", np.arange(size, dtype=float)
+        else:
+            name, values = axes_left.pop(match)
+        mesh_axes.append((name, values))
+    if axes_left:
+        raise TableError(f"1-D arrays that are not axes of the grid {shape}: "
+                         + ", ".join(k for k, _ in axes_left))
+    mesh = np.meshgrid(*(v for _, v in mesh_axes), indexing="ij")
+    for (name, _), m in zip(mesh_axes, mesh):
+        out[name] = m.ravel()
+    for k, a in grids.items():
+        out[k] = a.ravel()
+    return out
+
+
+def _format_number(x: float) -> str:
+    """The shortest text that reads back as the same float64 (Python's repr); empty
+    for a divergence or a gap."""
+    return repr(float(x)) if np.isfinite(x) else ""
+
+
+def _format_scalar(v) -> str:
+    if isinstance(v, (bool, np.bool_)):
+        return "true" if v else "false"
+    if isinstance(v, (float, np.floating)):
+        return _format_number(v) if np.isfinite(v) else "null"
+    return str(v)
+
+
+def to_csv(payload: dict, meta: dict | None = None) -> str:
+    """CSV text of one payload (see the module docstring for the layout)."""
+    cols = columns(payload)
+    _, scalars = split(payload)
+    return _write(cols, {**(meta or {}), **scalars})
+
+
+def to_csv_variants(vary: str, payloads: Iterable[tuple[object, dict]], meta: dict | None = None) -> str:
+    """CSV of several payloads of one view (an overlay): a first column ``vary`` holds
+    the varied parameter's value; scalars are listed per value in the comments."""
+    blocks, comments = [], dict(meta or {})
+    for value, payload in payloads:
+        cols = columns(payload)
+        _, scalars = split(payload)
+        for k, s in scalars.items():
+            comments[f"{k} [{vary}={value}]"] = s
+        n = next(iter(cols.values())).size
+        blocks.append(({vary: np.full(n, value, dtype=object), **cols}))
+    names = list(blocks[0])
+    if any(list(b) != names for b in blocks):
+        raise TableError("the variants have different columns")
+    merged = {k: np.concatenate([b[k] for b in blocks]) for k in names}
+    return _write(merged, comments)
+
+
+def _write(cols: dict[str, np.ndarray], comments: dict) -> str:
+    buf = io.StringIO()
+    for k, v in comments.items():
+        if v is None or isinstance(v, (dict, list, tuple)):
+            continue
+        buf.write(f"# {k} = {_format_scalar(v)}\n")
+    writer = csv.writer(buf, lineterminator="\n")
+    names = list(cols)
+    writer.writerow([column_name(k) for k in names])
+    arrays = [cols[k] for k in names]
+    fmt = [(lambda a: [str(x) for x in a]) if a.dtype == object else
+           (lambda a: [_format_number(x) for x in a]) for a in arrays]
+    text_cols = [f(a) for f, a in zip(fmt, arrays)]
+    writer.writerows(zip(*text_cols))
+    return buf.getvalue()

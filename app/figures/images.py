@@ -1,0 +1,123 @@
+"""Figures that are images: the lit sphere and the θ_h/θ_d slice (Disney explorer).
+
+Presentation only: colour maps, log scaling for display, the sRGB transfer curve of a
+screen. The values come from ``quantities``.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from .style import DIRECTION_COLORS, axis, base_layout, gaps, model_title
+
+# Sequential and readable with colour-vision deficiency (Nuñez, Anderton, Renslow 2018,
+# PLoS ONE 13(7): e0199239); the same map as the G2 heatmap.
+SEQUENTIAL = "Cividis"
+# Decades below the peak a log image shows; darker than that is drawn as the floor.
+IMAGE_DECADES = 6
+# Background of a rendered sphere (a dark studio), and of a slice's impossible region.
+RENDER_BACKGROUND = "#202020"
+NO_PAIR_GREY = "#d0d0d0"
+# Display value 0 → black, 1 → white (explicit: plotly.py's and plotly.js's "Greys" run
+# in opposite directions).
+GREY_RAMP = [[0.0, "#000000"], [1.0, "#ffffff"]]
+
+
+def _log_z(values: np.ndarray):
+    """log10 of the values for a log colour scale, floored IMAGE_DECADES below the peak;
+    gaps (NaN) stay gaps. Returns z and the colour bar's ticks (one per decade)."""
+    v = gaps(values)
+    positive = v[np.isfinite(v) & (v > 0)]
+    if positive.size == 0:
+        return np.where(np.isfinite(v), 0.0, np.nan), {}
+    top = float(np.log10(positive.max()))
+    floor = 10.0 ** (top - IMAGE_DECADES)
+    with np.errstate(invalid="ignore"):        # NaN (a gap) compares false: stays NaN
+        z = np.log10(np.where(v > floor, v, np.where(np.isnan(v), np.nan, floor)))
+    ticks = np.arange(np.ceil(top - IMAGE_DECADES), np.floor(top) + 1)
+    return z, {"tickvals": ticks, "ticktext": [f"10<sup>{int(k)}</sup>" for k in ticks]}
+
+
+def srgb_encode(linear: np.ndarray) -> np.ndarray:
+    """The sRGB transfer function (IEC 61966-2-1) of values clipped to [0, 1]."""
+    c = np.clip(linear, 0.0, 1.0)
+    small = c <= 0.0031308
+    return np.where(small, 12.92 * c, 1.055 * np.power(c, 1 / 2.4, where=~small, out=np.zeros_like(c)) - 0.055)
+
+
+def lit_sphere_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: float,
+                      display: str = "heatmap", exposure: float = 0.0) -> dict:
+    x, y = np.asarray(data["x"]), np.asarray(data["y"])
+    L = gaps(data["radiance"])
+    label = "L<sub>o</sub>/E (1/sr)"
+    trace = {"type": "heatmap", "x": x, "y": y, "hoverongaps": False,
+             "hovertemplate": "x=%{x:.3f}<br>y=%{y:.3f}<br>L/E=%{customdata:.4g}<extra></extra>",
+             "customdata": L}
+    if display == "render":
+        trace.update(z=srgb_encode(L * 2.0 ** exposure), zmin=0.0, zmax=1.0, colorscale=GREY_RAMP,
+                     showscale=False)
+        what = f"rendered, sRGB, exposure {exposure:+g}"
+    elif display == "log":
+        z, ticks = _log_z(L)
+        trace.update(z=z, colorscale=SEQUENTIAL,
+                     colorbar={"title": {"text": label}, "thickness": 14, **ticks})
+        what = "log scale"
+    else:
+        trace.update(z=L, zmin=0.0, colorscale=SEQUENTIAL,
+                     colorbar={"title": {"text": label}, "thickness": 14})
+        what = "L_o/E = f·cos θ_l"
+    ti, pi = np.deg2rad(theta_i_deg), np.deg2rad(phi_i_deg)
+    light = np.array([np.sin(ti) * np.cos(pi), np.sin(ti) * np.sin(pi), np.cos(ti)])
+    h = light + np.array([0.0, 0.0, 1.0])
+    h /= np.linalg.norm(h)
+    circle = np.linspace(0.0, 2.0 * np.pi, 181)
+    guides = [
+        {"type": "scatter", "mode": "lines", "x": np.cos(circle), "y": np.sin(circle),
+         "name": "silhouette", "line": {"color": "#888888", "width": 1}, "hoverinfo": "skip",
+         "showlegend": False, "meta": {"role": "guide"}},
+        {"type": "scatter", "mode": "markers", "x": [light[0]], "y": [light[1]],
+         "name": "n = l (faces the light)", "meta": {"role": "guide"},
+         "marker": {"symbol": "circle-open", "size": 11, "line": {"width": 2.5},
+                    "color": DIRECTION_COLORS["incident"]}, "hoverinfo": "name"},
+        {"type": "scatter", "mode": "markers", "x": [h[0]], "y": [h[1]],
+         "name": "n = h (mirror point)", "meta": {"role": "guide"},
+         "marker": {"symbol": "x-thin-open", "size": 11, "line": {"width": 2.5},
+                    "color": DIRECTION_COLORS["mirror"]}, "hoverinfo": "name"},
+    ]
+    layout = base_layout(
+        f"Lit sphere, {what} — {model_title(spec)}, light θ_i={theta_i_deg:g}°, φ_i={phi_i_deg:g}°",
+        xaxis=axis("x (sphere radii)", range=[-1.05, 1.05], showgrid=False, constrain="domain",
+                   dtick=0.5),
+        yaxis=axis("y (sphere radii)", range=[-1.05, 1.05], showgrid=False, scaleanchor="x",
+                   constrain="domain", dtick=0.5),
+        legend={"orientation": "h", "y": -0.15, "x": 0})
+    if display == "render":
+        layout["plot_bgcolor"] = RENDER_BACKGROUND
+    return {"data": [trace, *guides], "layout": layout}
+
+
+def slice_figure(data: dict, spec: dict, phi_d_deg: float, log: bool = True) -> dict:
+    key = "f_cos" if "f_cos" in data else "f"
+    name = "f·cos θ_l" if key == "f_cos" else "f"
+    values = gaps(data[key])
+    if log:
+        z, ticks = _log_z(values)
+        colorbar = {"title": {"text": f"{name} (1/sr)"}, "thickness": 14, **ticks}
+    else:
+        z, colorbar = values, {"title": {"text": f"{name} (1/sr)"}, "thickness": 14}
+    return {
+        "data": [{"type": "heatmap", "x": np.asarray(data["theta_h_deg"]),
+                  "y": np.asarray(data["theta_d_deg"]), "z": z, "customdata": values,
+                  "colorscale": SEQUENTIAL, "colorbar": colorbar, "hoverongaps": False,
+                  "hovertemplate": "θ_h=%{x:.1f}°<br>θ_d=%{y:.1f}°<br>" + name
+                                   + "=%{customdata:.4g}<extra></extra>"}],
+        "layout": base_layout(
+            f"{name} over θ_h, θ_d at φ_d={phi_d_deg:g}° — {model_title(spec)}",
+            xaxis=axis("θ_h (degrees): normal to half vector", range=[0, 90], dtick=15,
+                       constrain="domain"),
+            yaxis=axis("θ_d (degrees): half vector to light", range=[0, 90], dtick=15,
+                       scaleanchor="x", constrain="domain"),
+            plot_bgcolor=NO_PAIR_GREY,
+            annotations=[{"text": "grey: l or v below the horizon", "xref": "paper",
+                          "yref": "paper", "x": 1.0, "y": 1.0, "xanchor": "right",
+                          "yanchor": "bottom", "showarrow": False, "font": {"size": 11}}]),
+    }

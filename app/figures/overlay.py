@@ -1,0 +1,105 @@
+"""Several figures of one view, one per value of a varied parameter, drawn as one:
+GGX against Beckmann at the same α, E(μ) across roughness.
+
+Works on the figure dicts alone (no physics): the curves of each figure are recoloured
+by value (one colour per value, the palette's order) and labelled with it; traces a
+builder marks ``meta.role = "guide"`` (directions, outlines) are drawn once. Images and
+surfaces cannot be overlaid and are refused.
+"""
+from __future__ import annotations
+
+import copy
+
+from .style import PALETTE
+
+OVERLAY_TRACES = {"scatter", "scatterpolar"}
+# Dash patterns that tell apart the curves of one figure (G1 and Λ) once colour is
+# taken by the varied value.
+DASHES = ["solid", "dash", "dot", "dashdot"]
+# Opacity of a recoloured error band or fill.
+FILL_ALPHA = 0.15
+
+
+class OverlayError(ValueError):
+    """A figure whose traces cannot be overlaid (an image, a surface)."""
+
+
+def is_guide(trace: dict) -> bool:
+    meta = trace.get("meta")
+    return isinstance(meta, dict) and meta.get("role") == "guide"
+
+
+def overlayable(figure: dict) -> bool:
+    return all(t.get("type", "scatter") in OVERLAY_TRACES or is_guide(t) for t in figure["data"])
+
+
+def _rgba(hex_colour: str, alpha: float) -> str:
+    r, g, b = (int(hex_colour[i:i + 2], 16) for i in (1, 3, 5))
+    return f"rgba({r},{g},{b},{alpha})"
+
+
+def _merge_ranges(layouts: list[dict], path: tuple[str, ...]) -> None:
+    """Widen an explicit axis range of the first layout to cover every figure's."""
+    ranges = []
+    for layout in layouts:
+        node = layout
+        for key in path:
+            node = node.get(key) if isinstance(node, dict) else None
+        if isinstance(node, dict) and isinstance(node.get("range"), list):
+            ranges.append(node["range"])
+    if len(ranges) == len(layouts) and ranges:
+        target = layouts[0]
+        for key in path:
+            target = target[key]
+        target["range"] = [min(r[0] for r in ranges), max(r[1] for r in ranges)]
+
+
+def overlay(figures: list[dict], labels: list[str], title: str) -> dict:
+    """One figure with the curves of ``figures`` (label k belongs to figure k)."""
+    if not figures or len(figures) != len(labels):
+        raise ValueError("one label per figure")
+    for fig in figures:
+        if not overlayable(fig):
+            kinds = sorted({t.get("type", "") for t in fig["data"]} - OVERLAY_TRACES)
+            raise OverlayError(f"{', '.join(kinds)} traces cannot be overlaid")
+    traces = []
+    for k, (fig, label) in enumerate(zip(figures, labels)):
+        colour = PALETTE[k % len(PALETTE)]
+        curves = [t for t in fig["data"] if not is_guide(t)]
+        named = [t for t in curves if t.get("showlegend", True) is not False]
+        for j, trace in enumerate(curves):
+            t = copy.copy(trace)
+            t["legendgroup"] = label
+            if t.get("showlegend", True) is not False:
+                t["name"] = label if len(named) == 1 else f"{t.get('name', '')} · {label}"
+            line = dict(t.get("line") or {})
+            if line.get("width", 1) != 0:
+                line["color"] = colour
+                line["dash"] = DASHES[named.index(trace) % len(DASHES)] if trace in named else "solid"
+            t["line"] = line
+            if "marker" in t:
+                t["marker"] = {**t["marker"], "color": colour}
+            if "error_y" in t:
+                t["error_y"] = {**t["error_y"], "color": colour}
+            if t.get("fill") or "fillcolor" in t:
+                t["fillcolor"] = _rgba(colour, FILL_ALPHA)
+            traces.append(t)
+        if k == 0:
+            traces.extend(t for t in fig["data"] if is_guide(t))
+    layouts = [copy.deepcopy(f.get("layout", {})) for f in figures]
+    for key in list(layouts[0]):
+        if key.startswith(("xaxis", "yaxis")):
+            _merge_ranges(layouts, (key,))
+    if "polar" in layouts[0]:
+        _merge_ranges(layouts, ("polar", "radialaxis"))
+    layout = layouts[0]
+    layout["title"] = {**(layout.get("title") or {}), "text": title}
+    layout["showlegend"] = True
+    annotations = []
+    for lay in layouts:
+        for a in lay.get("annotations", []) or []:
+            if a not in annotations:
+                annotations.append(a)
+    if annotations:
+        layout["annotations"] = annotations
+    return {"data": traces, "layout": layout}

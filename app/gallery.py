@@ -1,0 +1,158 @@
+"""The gallery: canonical figures of the microfacet literature, each a state of one view.
+
+Each entry lists candidate states, best first; the gallery shows the first that the API
+accepts today (so "GGX vs Beckmann vs Blinn-Phong" becomes "GGX vs Beckmann" where no
+Blinn-Phong is registered, and an entry none of whose states validates is left out).
+Captions are two sentences: what the figure shows, and why it matters.
+"""
+from __future__ import annotations
+
+from dataclasses import dataclass
+from urllib.parse import urlencode
+
+from pydantic import ValidationError
+
+from .api import schemas
+from .api.errors import ParamError
+from .api.views import VIEWS
+from .model import ModelError, make_spec
+
+
+@dataclass(frozen=True)
+class Entry:
+    id: str
+    title: str
+    caption: str
+    kind: str
+    states: tuple[dict, ...]          # candidate query parameters, best first
+    source: str
+
+
+ENTRIES: tuple[Entry, ...] = (
+    Entry("ndf-tails", "NDF tails at matched α",
+          "At the same α the distributions agree near the normal, but on a log scale their "
+          "tails differ by orders of magnitude toward grazing θ_m. GGX's long power-law tail "
+          "is the glow around its highlights that Beckmann's Gaussian-like tail lacks.",
+          "ndf", ({"alpha": 0.3, "vary": "ndf", "values": "ggx,beckmann,blinn_phong"},
+                  {"alpha": 0.3, "vary": "ndf", "values": "ggx,beckmann"}),
+          "Walter et al. 2007, fig. 6; Burley 2012, fig. 8"),
+    Entry("anisotropic-lobe", "The anisotropic GGX lobe",
+          "With α_x = 0.1 along the tangent and α_y = 0.4 across it, the microfacet slopes "
+          "spread four times more along y, and so does the reflected lobe. Brushed metal "
+          "streaks its highlights the same way.",
+          "lobe3d", ({"alpha": 0.1, "alpha_y": 0.4, "theta_i_deg": 45, "fresnel": "none"},),
+          "Heitz 2014, sec. 5.4"),
+    Entry("g2-energy-loss", "Separable vs height-correlated G2: energy lost",
+          "With F = 1 every bit of E(μ) below 1 is energy the single-scattering model loses; "
+          "the separable G2 treats masking and shadowing as independent, so it shadows more "
+          "and loses more. The height-correlated form is the one Heitz recommends, and both "
+          "miss the light that bounces between microfacets.",
+          "albedo", ({"alpha": 0.8, "fresnel": "none", "vary": "g2",
+                      "values": "separable,height_correlated"},),
+          "Heitz 2014, sec. 6 and fig. 10"),
+    Entry("g1-walter", "Walter's rational fit against exact Smith (Beckmann)",
+          "Walter's rational approximation of Beckmann's Λ needs no error function, and the "
+          "G1 it gives is within 0.004 of the exact Smith G1 at every angle. At this scale "
+          "the two curves lie on top of each other.",
+          "g1", ({"ndf": "beckmann", "alpha": 0.5, "vary": "masking", "values": "smith,walter"},),
+          "Walter et al. 2007, eq. 27"),
+    Entry("g1-karis", "Karis's approximation against exact Smith (GGX)",
+          "Karis's G1 ≈ 2μ/(μ(2 − α) + α) replaces the square root of the exact Smith G1 "
+          "of GGX by a rational function. It is exact at the normal and at grazing incidence "
+          "and falls below the exact curve in between, by up to 0.05 at α = 0.6.",
+          "g1", ({"ndf": "ggx", "alpha": 0.6, "vary": "masking", "values": "smith,karis"},),
+          "Karis 2013, Real Shading in Unreal Engine 4, eq. 4"),
+    Entry("fresnel-schlick-dielectric", "Schlick against exact Fresnel for glass",
+          "Schlick's polynomial with F₀ = 0.04 equals the exact reflectance of glass "
+          "(η = 1.5) at 0° and 90° and stays within 0.04 of it in between. The error (right "
+          "axis) changes sign near 75°: too low at mid angles, too high close to grazing.",
+          "fresnel", ({"fresnel": "schlick", "f0": 0.04},),
+          "Schlick 1994, eq. 15; Born & Wolf sec. 1.5.2"),
+    Entry("fresnel-conductor", "Exact Fresnel of gold",
+          "A conductor reflects most light at every angle: gold at 549 nm (η = 0.43, "
+          "κ = 2.46) has F₀ ≈ 0.79. F stays nearly flat, with a shallow minimum near 50°, "
+          "up to about 60° and then rises to 1 at grazing incidence.",
+          "fresnel", ({"fresnel": "conductor"},),
+          "Johnson & Christy 1972; pbrt-v4 sec. 9.3.6"),
+    Entry("albedo-roughness", "Directional albedo of GGX across roughness",
+          "With F = 1 a lossless surface would have E(μ) = 1, but single-scattering GGX "
+          "returns less and less as α grows: at α = 1 only 31% at normal incidence. The "
+          "missing energy is what multiple-scattering compensation (Kulla & Conty) adds back.",
+          "albedo", ({"fresnel": "none", "vary": "alpha", "values": "0.1,0.3,0.5,0.7,1"},),
+          "Kulla & Conty 2017, slide 18"),
+    Entry("lobe-roughness", "The GGX lobe across roughness, log scale",
+          "At θ_i = 60° the lobe of a smooth surface is a narrow spike around the mirror "
+          "direction; as α grows from 0.05 to 0.5 it widens and its peak drops twentyfold. "
+          "The log radial axis shows all three at once.",
+          "lobe", ({"theta_i_deg": 60, "log": True, "vary": "alpha", "values": "0.05,0.2,0.5"},),
+          "Walter et al. 2007, fig. 4"),
+    Entry("lit-sphere", "A rough GGX sphere under one light",
+          "The BRDF times the cosine, evaluated on every pixel of a sphere lit from 40° to the "
+          "right of the viewer, shown as a display would show it. The highlight sits where "
+          "the surface normal is the half vector of light and view (the × marker).",
+          "sphere", ({"alpha": 0.25, "theta_i_deg": 40, "kd": 0.2, "display": "render",
+                      "exposure": -1},),
+          "Burley 2012, the Disney BRDF Explorer's lit sphere"),
+    Entry("disney-slice", "The θ_h, θ_d image slice",
+          "In half/difference angles the specular peak is a band along small θ_h, and the "
+          "Fresnel and masking terms vary along θ_d. Measured BRDFs look the same way in "
+          "these coordinates, which is why Burley studied them there.",
+          "slice", ({"alpha": 0.2, "f0": 0.04, "log": True},),
+          "Burley 2012, sec. 4, fig. 3; Rusinkiewicz 1998"),
+    Entry("g2-map", "Masking-shadowing G2 over both angles",
+          "G2 is near 1 while both directions are near the normal and falls to 0 as either "
+          "grazes. The height-correlated form 1/(1 + Λ(l) + Λ(v)) is never below the "
+          "separable product G1(l)·G1(v): a facet hidden from one direction is likely low, "
+          "and so likely hidden from the other too.",
+          "g2", ({"alpha": 0.5, "phi_deg": 180},),
+          "Heitz 2014, sec. 6"),
+)
+
+
+def _validate(kind: str, state: dict) -> bool:
+    """Does the API accept this state for this view (the same checks a request gets)?"""
+    from .export.build import export_query, lookup
+    try:
+        view = lookup(kind)
+        q = export_query(view).model_validate(state)
+        for value in (q.values or [None]):
+            qk = q if value is None else view.figure_query.model_validate(
+                {**{k: getattr(q, k) for k in view.figure_query.model_fields if k in q.model_fields_set},
+                 q.vary: value})
+            make_spec(**schemas.model_values(qk))
+    except (ValidationError, ParamError, ModelError):
+        return False
+    return True
+
+
+def explorer_link(kind: str, state: dict) -> str:
+    """The explorer with this state and the view's panel shown."""
+    return "/?" + urlencode({**{k: _text(v) for k, v in state.items()}, "show": kind})
+
+
+def figure_path(kind: str, state: dict, ext: str = "") -> str:
+    return f"/api/v1/figures/{kind}{ext}?" + urlencode({k: _text(v) for k, v in state.items()})
+
+
+def _text(value) -> str:
+    return ("true" if value else "false") if isinstance(value, bool) else str(value)
+
+
+def available() -> list[dict]:
+    """The entries the API supports now, each with its first valid state and links."""
+    out = []
+    for e in ENTRIES:
+        if e.kind not in VIEWS:
+            continue
+        state = next((s for s in e.states if _validate(e.kind, s)), None)
+        if state is None:
+            continue
+        out.append({"id": e.id, "title": e.title, "caption": e.caption, "kind": e.kind,
+                    "state": state, "source": e.source,
+                    "explorer": explorer_link(e.kind, state),
+                    "figure": figure_path(e.kind, state, ".json"),
+                    "svg": figure_path(e.kind, state, ".svg"),
+                    "png": figure_path(e.kind, state, ".png"),
+                    "csv": figure_path(e.kind, state, ".csv"),
+                    "embed": f"/embed/{e.kind}?" + urlencode({k: _text(v) for k, v in state.items()})})
+    return out

@@ -1,0 +1,53 @@
+"""The gallery: at least eight figures, every link answering 200."""
+from __future__ import annotations
+
+from urllib.parse import parse_qsl, urlparse
+
+from app.gallery import ENTRIES
+
+
+def test_gallery_lists_at_least_eight_supported_figures(client):
+    r = client.get("/api/v1/gallery")
+    assert r.status_code == 200
+    items = r.json()
+    assert len(items) >= 8
+    assert len({i["id"] for i in items}) == len(items)
+    for item in items:
+        sentences = [s for s in item["caption"].replace("e.g.", "eg").split(". ") if s.strip()]
+        assert len(sentences) in (2, 3), item["caption"]          # a two-sentence caption (or three)
+        assert item["source"] and item["title"]
+
+
+def test_every_gallery_link_works(client):
+    for item in client.get("/api/v1/gallery").json():
+        for key in ("figure", "csv", "embed"):
+            r = client.get(item[key])
+            assert r.status_code == 200, (item["id"], key, r.text[:300])
+        # the explorer link carries the state and shows the figure's panel
+        link = urlparse(item["explorer"])
+        assert link.path == "/" and client.get(item["explorer"]).status_code == 200
+        q = dict(parse_qsl(link.query))
+        assert q["show"] == item["kind"]
+        for k, v in item["state"].items():
+            assert q[k] == (str(v).lower() if isinstance(v, bool) else str(v))
+        # and the same state, without the overlay, is a valid figure request for the page
+        plain = {k: v for k, v in q.items() if k not in ("show", "vary", "values")}
+        assert client.get(f"/api/v1/figures/{item['kind']}", params=plain).status_code == 200
+
+
+def test_unsupported_states_are_left_out(client, monkeypatch):
+    import app.gallery as gallery
+    bad = gallery.Entry("bad", "t", "One. Two.", "ndf", ({"ndf": "no_such_ndf"},), "s")
+    fallback = gallery.Entry("fallback", "t", "One. Two.", "ndf",
+                             ({"ndf": "no_such_ndf"}, {"ndf": "beckmann"}), "s")
+    monkeypatch.setattr(gallery, "ENTRIES", (*ENTRIES, bad, fallback))
+    items = {i["id"]: i for i in client.get("/api/v1/gallery").json()}
+    assert "bad" not in items and items["fallback"]["state"] == {"ndf": "beckmann"}
+
+
+def test_pages_are_served(client):
+    for path in ("/gallery", "/embed/lobe", "/embed/sphere?controls=1"):
+        r = client.get(path)
+        assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")
+    r = client.get("/embed/no_such_view")
+    assert r.status_code == 404 and "one of" in r.json()["detail"][0]["msg"]
