@@ -13,6 +13,7 @@ from fastapi.staticfiles import StaticFiles
 from . import __version__
 from .api import errors
 from .api.routes import router
+from .api.routes_export import router as export_router
 from .config import Settings
 
 STATIC_DIR = Path(os.environ.get("BRDF_STATIC_DIR", Path(__file__).resolve().parent.parent / "static"))
@@ -31,6 +32,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.add_middleware(CORSMiddleware, allow_origins=list(app.state.settings.cors_origins),
                        allow_methods=["GET"], allow_headers=[])
     app.include_router(router)
+    app.include_router(export_router)
 
     @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
     def plotly_js():

@@ -12,6 +12,7 @@ import numpy as np
 from .integrate.albedo import albedo, albedo_average
 from .physics.brdf import BRDF
 from .physics.masking import G1
+from .physics.numeric import where_valid
 from .physics.vectors import direction_deg
 
 
@@ -23,10 +24,13 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want) -
     return brdf.evaluate(l, v, want)
 
 
-def ndf_curve(brdf: BRDF, phi_deg: float, n: int) -> dict:
-    """D(θ_m) for θ_m = 0..90° (both ends) at azimuth φ."""
+def ndf_curve(brdf: BRDF, phi_deg: float, n: int, cosine: bool = False) -> dict:
+    """D(θ_m) for θ_m = 0..90° (both ends) at azimuth φ; with ``cosine``, D·cos θ_m
+    (the projected-area density: ∫ D cos θ_m dω_m = 1, Walter et al. 2007 eq. 4)."""
     theta = np.linspace(0.0, 90.0, n)
-    return {"theta_deg": theta, "D": brdf.ndf.D(direction_deg(theta, phi_deg))}
+    m = direction_deg(theta, phi_deg)
+    D = brdf.ndf.D(m)
+    return {"theta_deg": theta, "D_cos": D * m[..., 2]} if cosine else {"theta_deg": theta, "D": D}
 
 
 def g1_curve(brdf: BRDF, phi_deg: float, n: int) -> dict:
@@ -96,3 +100,76 @@ def fresnel_curve(brdf: BRDF, n: int) -> dict:
                     "F_exact_model": {"fresnel": exact.name,
                                       **{p.name: getattr(exact, p.name) for p in exact.params}}})
     return out
+
+
+def lit_sphere(brdf: BRDF, theta_i_deg: float, phi_i_deg: float, n: int) -> dict:
+    """A sphere lit by one directional light, seen by an orthographic viewer along +z:
+    radiance per unit irradiance L_o/E = f(l, v)·⟨n·l⟩ (1/sr) at n×n pixel centres
+    (rows y, columns x, in sphere radii; NaN off the sphere).
+
+    Camera frame: v = +z; the light's polar angle θ_i is measured from v, its azimuth
+    φ_i in the image plane from +x. At each pixel the surface normal is
+    n = (x, y, √(1−x²−y²)) and the tangent t is +x projected onto the tangent plane
+    (the direction of α_x; it is undefined only at n = ±x, on the silhouette, which
+    no pixel centre reaches). Local directions are (·t, ·b, ·n), b = n × t.
+    """
+    centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
+    y, x = np.meshgrid(centres[::-1], centres, indexing="ij")   # row 0 at the top
+    on = x * x + y * y < 1.0
+    normal = np.stack([x[on], y[on], np.sqrt(1.0 - x[on] ** 2 - y[on] ** 2)], axis=-1)
+    ex = np.array([1.0, 0.0, 0.0])
+    t = ex - normal[:, :1] * normal
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    b = np.cross(normal, t)
+    frame = np.stack([t, b, normal], axis=-2)            # rows: t, b, n
+    light = direction_deg(theta_i_deg, phi_i_deg)
+    view = np.array([0.0, 0.0, 1.0])
+    l, v = frame @ light, frame @ view
+    mu_l = l[:, 2]
+    lit = mu_l > 0.0
+    value = np.zeros(mu_l.shape)
+    if lit.any():
+        value[lit] = brdf.evaluate(l[lit], v[lit], ("f",))["f"] * mu_l[lit]
+    radiance = np.full(x.shape, np.nan)
+    radiance[on] = value
+    return {"y": centres[::-1], "x": centres, "radiance": radiance}
+
+
+def rusinkiewicz_directions(theta_h_deg, phi_h_deg, theta_d_deg, phi_d_deg):
+    """l and v from the half/difference angles (Rusinkiewicz 1998, sec. 3): the
+    difference vector d = (θ_d, φ_d) in the frame where h is the pole is rotated by
+    R_z(φ_h) R_y(θ_h); l = that rotation of d, v = of d mirrored about h."""
+    # sines and cosines exact at multiples of 90° (direction_deg takes care of that)
+    polar, azimuth = direction_deg(theta_h_deg, 0.0), direction_deg(90.0, phi_h_deg)
+    st, ct = polar[..., :1], polar[..., 2:]
+    cp, sp = azimuth[..., :1], azimuth[..., 1:2]
+    d = direction_deg(theta_d_deg, phi_d_deg)
+
+    def rotate(w):
+        x = w[..., :1] * ct + w[..., 2:] * st          # R_y(θ_h)
+        z = -w[..., :1] * st + w[..., 2:] * ct
+        y = w[..., 1:2]
+        return np.concatenate([x * cp - y * sp, x * sp + y * cp, z], axis=-1)   # R_z(φ_h)
+
+    mirrored = d * np.array([-1.0, -1.0, 1.0])
+    return rotate(d), rotate(mirrored)
+
+
+def half_difference_slice(brdf: BRDF, phi_h_deg: float, phi_d_deg: float, n: int,
+                          cosine: bool) -> dict:
+    """f (or f·cos θ_l) over θ_h, θ_d = 0..90° at fixed φ_h, φ_d: the "image slice" of
+    the Disney BRDF Explorer (Burley 2012, fig. 3). Rows θ_d, columns θ_h; NaN where
+    l or v is below the horizon (no such pair of directions exists)."""
+    theta = np.linspace(0.0, 90.0, n)
+    l, v = rusinkiewicz_directions(theta[None, :], phi_h_deg, theta[:, None], phi_d_deg)
+    l, v = np.broadcast_arrays(l, v)
+    above = (l[..., 2] >= 0.0) & (v[..., 2] >= 0.0)
+    f = np.full(above.shape, np.nan)
+    if above.any():
+        value = brdf.evaluate(l[above], v[above], ("f",))["f"]
+        if cosine:
+            # f·cos θ_l is 0 at θ_l = 90° even where f diverges (both directions grazing)
+            mu_l = l[above][:, 2]
+            value = where_valid(mu_l > 0.0, [value, mu_l], lambda a, b: a * b, 0.0)
+        f[above] = value
+    return {"theta_d_deg": theta, "theta_h_deg": theta, ("f_cos" if cosine else "f"): f}

@@ -5,6 +5,9 @@
  *                                     \--> panels (one fetch in flight per panel)
  * The controls themselves are built from GET /api/v1/models: menus from the option
  * choices, number boxes and sliders from the Params (range, default, label, scale).
+ * The panels are built from GET /api/v1/views: one per view the API has (a view added
+ * there gets a panel, its toggles and its exports with no change here); a panel that
+ * is hidden is never fetched.
  *
  * Fetching: each panel has at most one request in flight. A change while one is in
  * flight only marks the panel dirty; when the response has been drawn, the panel
@@ -28,24 +31,30 @@
   // Presentation hint only (ranges and scales come from the API): the part of a
   // log-scale parameter's range that gets most of its slider's travel.
   const SLIDER_FOCUS = { alpha: [0.01, 0.3, 0.65], alpha_y: [0.01, 0.3, 0.65] };
-  // Page-only toggles kept in the URL next to the model's parameters.
-  const FLAGS = ["log", "cosine", "lobe3d"];
   const TRUE_WORDS = new Set(["1", "true", "yes", "on"]);
 
-  // Lobe-panel flags are also API parameters; "lobe3d" only shows the 5th panel.
-  const PANELS = [
-    { name: "lobe", path: "/figures/lobe", primary: true,
-      extra: (s) => ({ theta_i_deg: s.theta_i_deg, phi_i_deg: s.phi_i_deg,
-                       log: s.log, cosine: s.cosine }),
-      uirev: (s) => `lobe:${s.log}:${s.cosine}` },
-    { name: "ndf", path: "/figures/ndf", extra: sliceAzimuth },
-    { name: "g1", path: "/figures/g1", extra: sliceAzimuth },
-    { name: "albedo", path: "/figures/albedo", extra: sliceAzimuth },
-    { name: "lobe3d", path: "/figures/lobe3d",
-      extra: (s) => ({ theta_i_deg: s.theta_i_deg, phi_i_deg: s.phi_i_deg, log: s.log }),
-      uirev: (s) => `lobe3d:${s.log}`,
-      visible: (s) => s.lobe3d },
-  ];
+  // Presentation hints per view; everything else about a panel comes from the API.
+  //   shown: visible by default; primary: drawn first (the one a slider is watched on);
+  //   slice: its phi_deg follows the plane of incidence when anisotropic;
+  //   keys: the URL names of its own toggles where they predate generic panels.
+  const PANEL_HINTS = {
+    lobe: { title: "BRDF lobe", sub: "in the plane of incidence", primary: true, shown: true,
+            keys: { log: "log", cosine: "cosine" }, labels: { cosine: "× cos θ_i" } },
+    ndf: { title: "Normal distribution", sub: "D(θ_m)", shown: true, slice: true,
+           labels: { cosine: "× cos θ_m" } },
+    g1: { title: "Smith masking", sub: "Λ and G_1", shown: true, slice: true },
+    albedo: { title: "Directional albedo", sub: "E(μ)", shown: true, slice: true },
+    lobe3d: { title: "3-D lobe", sub: "f over the hemisphere of v", wide: true },
+    g2: { title: "Masking-shadowing", sub: "G_2(θ_l, θ_v)" },
+    fresnel: { title: "Fresnel", sub: "F(θ_d)" },
+    sphere: { title: "Lit sphere", sub: "f·cos θ_l under one light (θ_i, φ_i)" },
+    slice: { title: "θ_h / θ_d slice", sub: "the Disney explorer's image", labels: { cosine: "× cos θ_l" } },
+  };
+  const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
+  const FIELD_LABELS = { log: "log scale", cosine: "× cos θ", display: "display",
+                         exposure: "exposure (stops)" };
+  // Fields that set resolution or accuracy: the page leaves them at the API's defaults.
+  const SKIP_FIELDS = new Set(["n", "n_theta", "n_phi", "mu", "tol"]);
 
   // D, Λ/G1 and E(μ) are taken at one azimuth: that of the plane of incidence when
   // anisotropic; for an isotropic surface every azimuth is the same (API default).
@@ -53,28 +62,25 @@
     return isAnisotropic(s) ? { phi_deg: s.phi_i_deg } : {};
   }
 
+  // A panel's own field (a toggle, a menu, a number in its header): state key and id.
+  // "view.field" cannot collide with a model parameter (no dots in those).
+  const localKey = (view, field) => (PANEL_HINTS[view]?.keys || {})[field] || `${view}.${field}`;
+  const localId = (view, field) => (PANEL_HINTS[view]?.keys || {})[field] || `${view}-${field.replace(/_/g, "-")}`;
+
   // ------------------------------------------------------------------ state ------
   const state = {};                 // THE single source of truth
   let defaultState = {};
   let models = null;
   const params = new Map();         // name -> Param (model, geometry and choice params)
+  let views = [];                   // GET /api/v1/views, in panel order
+  const locals = new Map();         // state key -> {view, field, input} of panel fields
   const controls = new Map();       // name -> {param, box, slider, row, msg, map}
   let groups = [];                  // [{name, label, default, choices}]
   let booting = true;
   const embed = new URLSearchParams(location.search).get("embed") === "1";
 
   const $ = (sel, root = document) => root.querySelector(sel);
-  const el = (tag, attrs = {}, ...kids) => {
-    const e = document.createElement(tag);
-    for (const [k, v] of Object.entries(attrs)) {
-      if (v === null || v === undefined || v === false) continue;
-      if (k === "class") e.className = v;
-      else if (k === "text") e.textContent = v;
-      else e.setAttribute(k, v === true ? "" : v);
-    }
-    for (const kid of kids) if (kid) e.append(kid);
-    return e;
-  };
+  const { el, richText, apiMessage } = window.BRDF;
 
   // The element id of a parameter's number box: the API name without "_deg".
   const controlId = (name) => name.replace(/_deg$/, "");
@@ -90,8 +96,15 @@
     return params.has("alpha_y") && !(c && c.anisotropic === false);
   }
   function isAnisotropic(s) {
-    return !!s.anisotropic && anisoAllowed(s);
+    return !!s.anisotropic && anisoAllowed(s) && !isPerceptual(s);
   }
+
+  // The other way to give the roughness (when the API has it): perceptual r with
+  // α = r² and an anisotropy k, instead of α_x, α_y; the API takes one form or the
+  // other, never both. Its presence in the URL (?roughness=) selects it.
+  const PERCEPTUAL = { params: ["roughness", "anisotropy"], replaces: ["alpha", "alpha_y"] };
+  const perceptualAllowed = () => params.has("roughness");
+  const isPerceptual = (s) => !!s.perceptual && perceptualAllowed();
 
   function appliesTo(choice, ndf) {
     return !choice.applies_to || choice.applies_to.includes(ndf);
@@ -102,6 +115,8 @@
     const out = [];
     for (const p of models.params) {
       if (p.name === "alpha_y" && !isAnisotropic(s)) continue;
+      if (PERCEPTUAL.params.includes(p.name) && !isPerceptual(s)) continue;
+      if (PERCEPTUAL.replaces.includes(p.name) && isPerceptual(s)) continue;
       out.push(p);
     }
     for (const g of groups) {
@@ -124,9 +139,19 @@
     const q = new URLSearchParams();
     for (const g of groups) if (s[g.name] !== g.default) q.set(g.name, s[g.name]);
     for (const p of [...activeParams(s), ...models.geometry]) {
-      if (p.name === "alpha_y" || s[p.name] !== p.default) q.set(p.name, String(s[p.name]));
+      if (p.name === "alpha_y" || p.name === "roughness" || s[p.name] !== p.default) {
+        q.set(p.name, String(s[p.name]));
+      }
     }
-    for (const f of FLAGS) if (s[f]) q.set(f, "true");
+    for (const [key, loc] of locals) {
+      if (s[key] !== loc.field.default) q.set(key, String(s[key]));
+    }
+    const shown = views.filter((v) => s.show.includes(v.name)).map((v) => v.name);
+    if (shown.join(",") !== defaultState.show.join(",")) q.set("show", shown.join(",") || "none");
+    if (s.vary) {
+      q.set("vary", s.vary);
+      q.set("values", s.values);
+    }
     if (embed) q.set("embed", "1");
     const str = q.toString();
     return str ? `?${str}` : "";
@@ -159,7 +184,34 @@
       }
     }
     s.anisotropic = params.has("alpha_y") && q.has("alpha_y");
-    for (const f of FLAGS) s[f] = TRUE_WORDS.has((q.get(f) || "").toLowerCase());
+    s.perceptual = perceptualAllowed() && q.has("roughness");
+    for (const [key, loc] of locals) {
+      const raw = q.get(key);
+      if (raw === null) continue;
+      const f = loc.field;
+      if (f.type === "boolean") s[key] = TRUE_WORDS.has(raw.toLowerCase());
+      else if (f.enum) {
+        if (f.enum.includes(raw)) s[key] = raw;
+        else notes.push(`${key}=${raw} is not one of ${f.enum.join(", ")}; using ${f.default}.`);
+      } else {
+        const x = Number(raw);
+        if (raw.trim() !== "" && Number.isFinite(x) && x >= f.minimum && x <= f.maximum) s[key] = x;
+        else notes.push(`${key}=${raw} is not a number in [${f.minimum}, ${f.maximum}]; using ${f.default}.`);
+      }
+    }
+    if (q.has("show")) {
+      const names = q.get("show").split(",").map((x) => x.trim()).filter(Boolean);
+      const unknown = names.filter((n) => n !== "none" && !views.some((v) => v.name === n));
+      if (unknown.length) notes.push(`show=${unknown.join(",")}: no such panel.`);
+      s.show = views.map((v) => v.name).filter((n) => names.includes(n));
+    }
+    if (TRUE_WORDS.has((q.get("lobe3d") || "").toLowerCase()) && !s.show.includes("lobe3d")) {
+      s.show = views.map((v) => v.name).filter((n) => n === "lobe3d" || s.show.includes(n));
+    }
+    if (q.get("vary") && q.get("values")) {
+      s.vary = q.get("vary");
+      s.values = q.get("values");
+    }
     notes.push(...fixApplicability(s));
     return { s, notes };
   }
@@ -312,20 +364,6 @@
     return row;
   }
 
-  // "θ_i (incidence)" -> θ<sub>i</sub> (incidence), built from text nodes only.
-  function richText(text) {
-    const frag = document.createDocumentFragment();
-    const re = /([^\s(_]+)_([A-Za-z0-9]+|\{[^}]*\})/g;
-    let last = 0, m;
-    text = String(text).replace(/<br\s*\/?>/gi, " ").replace(/<[^>]*>/g, "");
-    while ((m = re.exec(text))) {
-      frag.append(text.slice(last, m.index) + m[1], el("sub", { text: m[2].replace(/[{}]/g, "") }));
-      last = re.lastIndex;
-    }
-    frag.append(text.slice(last));
-    return frag;
-  }
-
   function fmtEnd(v, p) {
     if (p.scale === "log" && v > 0 && v < 0.01) return `10${superscript(Math.round(Math.log10(v)))}`;
     return `${v}${p.unit || ""}`;
@@ -391,6 +429,12 @@
     const surface = [];
     if (ndfGroup) surface.push(choiceSelect(ndfGroup));
     for (const p of models.params) {
+      if (p.name === "roughness") {
+        surface.push(el("label", { class: "toggle aniso", for: "perceptual",
+                                   title: "Give the roughness as perceptual r (α = r², Burley 2012) and an anisotropy k" },
+          el("input", { type: "checkbox", id: "perceptual", name: "perceptual" }),
+          el("span", {}, richText("perceptual roughness r (α = r²)"))));
+      }
       if (p.name === "alpha_y") {
         surface.push(el("label", { class: "toggle aniso", for: "anisotropic" },
           el("input", { type: "checkbox", id: "anisotropic", name: "anisotropic" }),
@@ -401,11 +445,27 @@
     form.append(section("Surface", ...surface));
     form.append(section("Incidence", ...models.geometry.map(paramControl)));
     if (others.length) form.append(section("Shadowing & Fresnel", ...others.map(choiceSelect)));
-    form.append(section("View",
-      el("label", { class: "toggle", for: "lobe3d" },
-        el("input", { type: "checkbox", id: "lobe3d", name: "lobe3d" }),
-        el("span", { text: "show the 3-D lobe panel" }))));
+    const list = el("div", { class: "panel-list" });
+    for (const v of views) {
+      const h = PANEL_HINTS[v.name] || {};
+      list.append(el("label", { class: "toggle", for: `show-${v.name}`, title: v.summary },
+        el("input", { type: "checkbox", id: `show-${v.name}`, name: `show-${v.name}` }),
+        el("span", {}, richText(h.title ? `${h.title}${h.sub ? ` — ${h.sub}` : ""}` : v.summary))));
+    }
+    form.append(section("Panels", list));
 
+    const perceptual = $("#perceptual");
+    if (perceptual) {
+      perceptual.addEventListener("change", () => {
+        state.perceptual = perceptual.checked;
+        // start from the same α, so nothing jumps
+        const r = params.get("roughness");
+        if (perceptual.checked) state.roughness = Math.min(r.hi, Math.max(r.lo, Number(Math.sqrt(state.alpha).toPrecision(3))));
+        else state.alpha = Number((state.roughness ** 2).toPrecision(3));
+        syncAllControls();
+        onStateChange();
+      });
+    }
     const aniso = $("#anisotropic");
     if (aniso) {
       aniso.addEventListener("change", () => {
@@ -415,15 +475,23 @@
         onStateChange();
       });
     }
-    for (const f of FLAGS) {
-      const box = document.getElementById(f);
+    for (const v of views) {
+      const box = document.getElementById(`show-${v.name}`);
       box.addEventListener("change", () => {
-        state[f] = box.checked;
+        state.show = views.map((x) => x.name).filter((n) =>
+          n === v.name ? box.checked : state.show.includes(n));
         onStateChange();
-        const section = document.querySelector(`.panel[data-panel="${f}"]`);
+        const section = document.querySelector(`.panel[data-panel="${v.name}"]`);
         if (section && box.checked) section.scrollIntoView({ behavior: "smooth", block: "nearest" });
       });
     }
+    $("#compare-stop").addEventListener("click", () => {
+      state.vary = null;
+      state.values = null;
+      for (const p of panels) p.noOverlay = false;
+      syncAllControls();
+      onStateChange();
+    });
     form.hidden = false;
   }
 
@@ -474,35 +542,153 @@
       if (c && c.reference) info.append(el("span", { class: "ref", text: c.reference }));
       info.hidden = !info.textContent;
     }
+    const perceptual = $("#perceptual");
+    if (perceptual) perceptual.checked = isPerceptual(state);
     const aniso = $("#anisotropic");
     if (aniso) {
+      aniso.parentElement.hidden = isPerceptual(state);
       aniso.disabled = !anisoAllowed(state);
       aniso.checked = isAnisotropic(state);
       aniso.parentElement.title = aniso.disabled ? `${state.ndf} is isotropic only` : "";
     }
-    for (const f of FLAGS) document.getElementById(f).checked = !!state[f];
+    for (const [key, loc] of locals) {
+      if (loc.field.type === "boolean") loc.input.checked = !!state[key];
+      else loc.input.value = String(state[key]);
+    }
+    for (const v of views) document.getElementById(`show-${v.name}`).checked = state.show.includes(v.name);
+    const compare = $("#compare");
+    compare.hidden = !state.vary;
+    $("#compare-text").textContent = state.vary ? `Comparing ${state.vary} = ${state.values.split(",").join(", ")} (one curve each, where a panel can overlay curves).` : "";
   }
 
   // --------------------------------------------------------------- panels ------
-  const panels = PANELS.map((spec) => {
-    const section = document.querySelector(`.panel[data-panel="${spec.name}"]`);
-    return {
-      spec, section,
-      div: document.getElementById(`plot-${spec.name}`),
-      status: section.querySelector(".panel-status"),
-      heading: section.querySelector(".panel-head h2"),
-      inflight: false, dirty: false,
-      doneKey: null, drawn: false, error: null, loadingTimer: 0,
-    };
-  });
+  let panels = [];
+  const panelsBox = $("#panels");
 
-  const isVisible = (panel) => !panel.spec.visible || panel.spec.visible(state);
+  // The view's fields a panel sets itself (toggles, menus, bounded numbers); the
+  // geometry (θ_i, φ_i) and a slice azimuth come from the sidebar's state instead.
+  function panelFields(view) {
+    const geometry = new Set(models.geometry.map((p) => p.name));
+    const hint = PANEL_HINTS[view.name] || {};
+    return view.fields.filter((f) => !SKIP_FIELDS.has(f.name) && !geometry.has(f.name)
+      && !(hint.slice && f.name === "phi_deg")
+      && (f.type === "boolean" || f.enum || (f.type === "number" && Number.isFinite(f.minimum)
+                                             && Number.isFinite(f.maximum))));
+  }
+
+  function fieldLabel(view, f) {
+    const hint = PANEL_HINTS[view.name] || {};
+    if (hint.labels && hint.labels[f.name]) return hint.labels[f.name];
+    if (FIELD_LABELS[f.name]) return FIELD_LABELS[f.name];
+    // phi_d_deg -> φ_d (°)
+    return f.name.replace(/_deg$/, " (°)").replace(/^phi/, "φ").replace(/^theta/, "θ");
+  }
+
+  function localControl(view, f) {
+    const key = localKey(view.name, f.name), id = localId(view.name, f.name);
+    let input, label;
+    if (f.type === "boolean") {
+      input = el("input", { type: "checkbox", id });
+      label = el("label", { class: "toggle", for: id, title: f.description },
+                 input, el("span", {}, richText(fieldLabel(view, f))));
+      input.addEventListener("change", () => { state[key] = input.checked; onStateChange(); });
+    } else if (f.enum) {
+      input = el("select", { id, class: "mini" });
+      for (const x of f.enum) input.append(el("option", { value: x, text: x }));
+      label = el("label", { class: "mini-field", for: id, title: f.description },
+                 el("span", {}, richText(fieldLabel(view, f))), input);
+      input.addEventListener("change", () => { state[key] = input.value; onStateChange(); });
+    } else {
+      input = el("input", { type: "number", id, class: "mini", min: f.minimum, max: f.maximum,
+                            step: "any", inputmode: "decimal" });
+      label = el("label", { class: "mini-field", for: id, title: f.description },
+                 el("span", {}, richText(fieldLabel(view, f))), input);
+      input.addEventListener("input", () => {
+        const x = input.value.trim() === "" ? NaN : Number(input.value);
+        const ok = Number.isFinite(x) && x >= f.minimum && x <= f.maximum;
+        if (ok) input.removeAttribute("aria-invalid");
+        else input.setAttribute("aria-invalid", "true");
+        if (ok) { state[key] = x; onStateChange(); }
+      });
+      input.addEventListener("change", () => {
+        input.value = String(state[key]);
+        input.removeAttribute("aria-invalid");
+      });
+    }
+    locals.set(key, { view: view.name, field: f, input });
+    return label;
+  }
+
+  function buildPanels() {
+    panelsBox.textContent = "";
+    locals.clear();
+    panels = views.map((view) => {
+      const hint = PANEL_HINTS[view.name] || {};
+      const hid = `h-${view.name}`;
+      const heading = el("h2", { id: hid }, richText(hint.title || view.name));
+      if (hint.sub) heading.append(" ", el("span", { class: "sub" }, richText(hint.sub)));
+      const tools = el("div", { class: "panel-tools" }, ...panelFields(view).map((f) => localControl(view, f)));
+      const status = el("div", { class: "panel-status", role: "status", "aria-live": "polite" });
+      const div = el("div", { class: "plot", id: `plot-${view.name}` });
+      const section = el("section", { class: `panel${hint.wide ? " panel-wide" : ""}`,
+                                      "data-panel": view.name, "aria-labelledby": hid, hidden: true },
+        el("header", { class: "panel-head" }, heading, el("div", { class: "panel-actions" }, tools)),
+        el("div", { class: "plot-wrap" }, div, status));
+      const panel = {
+        view, name: view.name, hint, section, div, status, heading,
+        inflight: false, dirty: false, noOverlay: false,
+        doneKey: null, drawn: false, error: null, loadingTimer: 0,
+      };
+      const bar = window.BRDF.exportBar(
+        () => ({ kind: view.name, params: figureParams(panel, state), div,
+                 title: heading.textContent }),
+        (kind, text) => exportReport(panel, kind, text));
+      bar.classList.add("panel-export");
+      section.querySelector(".panel-actions").append(bar);
+      panelsBox.append(section);
+      return panel;
+    });
+  }
+
+  function exportReport(panel, kind, text) {
+    if (kind === "busy") return setStatus(panel, "loading", text);
+    if (panel.status.classList.contains("loading") && !panel.inflight) setStatus(panel, null);
+    if (kind === "note" || kind === "error") showNotices([text]);
+  }
+
+  const isVisible = (panel) => state.show.includes(panel.name);
+
+  // The parameters of a panel's figure: the model, the view's own fields, and the
+  // comparison (vary, values) where this panel can overlay curves.
+  function figureParams(panel, s) {
+    const q = { ...modelQuery(s) };
+    const geometry = new Set(models.geometry.map((p) => p.name));
+    for (const f of panel.view.fields) {
+      if (geometry.has(f.name)) q[f.name] = s[f.name];
+    }
+    if (panel.hint.slice) Object.assign(q, sliceAzimuth(s));
+    for (const [key, loc] of locals) {
+      if (loc.view === panel.name && s[key] !== loc.field.default) q[loc.field.name] = s[key];
+    }
+    if (overlaid(panel, s)) {
+      q.vary = s.vary;
+      q.values = s.values;
+    }
+    return q;
+  }
+
+  const overlaid = (panel, s) => !!s.vary && !panel.noOverlay && panel.view.vary.includes(s.vary);
 
   function panelUrl(panel) {
-    const q = new URLSearchParams();
-    const all = { ...modelQuery(state), ...panel.spec.extra(state) };
-    for (const [k, v] of Object.entries(all)) if (v !== undefined && v !== null) q.set(k, String(v));
-    return `${API}${panel.spec.path}?${q}`;
+    const q = window.BRDF.query(figureParams(panel, state));
+    return `${API}/figures/${panel.name}${overlaid(panel, state) ? ".json" : ""}?${q}`;
+  }
+
+  // Plotly keeps zoom and camera while this stays the same: per panel and per toggle.
+  function uirevision(panel) {
+    const own = [...locals].filter(([, l]) => l.view === panel.name && l.field.type === "boolean")
+      .map(([k]) => `${k}:${state[k]}`);
+    return [panel.name, ...own, overlaid(panel, state) ? state.vary : ""].join("|");
   }
 
   function schedule(panel) {
@@ -520,10 +706,10 @@
     try {
       // The lobe goes first (server time and main-thread drawing); the others follow
       // with whatever the state is by then.
-      if (!panel.spec.primary) await primaryDrawn();
+      if (!panel.hint.primary) await primaryDrawn();
       url = panelUrl(panel);
       if (url === panel.doneKey) return;
-      const uirev = panel.spec.uirev ? panel.spec.uirev(state) : panel.spec.name;
+      const uirev = uirevision(panel);
       let res;
       try {
         res = await fetch(url, { headers: { Accept: "application/json" } });
@@ -531,6 +717,13 @@
         throw new Error("Cannot reach the server.");
       }
       const body = await res.json().catch(() => null);
+      if (res.status === 422 && overlaid(panel, state) && window.BRDF.errorLoc(body).includes("vary")) {
+        // This figure (an image, a surface) cannot overlay curves: draw it plain.
+        panel.noOverlay = true;
+        panel.dirty = true;
+        url = null;
+        return;
+      }
       if (!res.ok) throw new Error(apiMessage(body, res));
       if (!body || !Array.isArray(body.data)) throw new Error("The server sent no figure.");
       const layout = fitLayout(panel, body.layout || {});
@@ -547,7 +740,7 @@
       if (url !== null) panel.doneKey = url;
       if (!panel.error && panel.status.classList.contains("loading")) setStatus(panel, null);
       panel.inflight = false;
-      if (panel.spec.primary) releaseWaiters();
+      if (panel.hint.primary) releaseWaiters();
       panel.section.classList.toggle("empty", !panel.drawn);
       updateErrorLine();
       if (panel.dirty) {
@@ -571,37 +764,14 @@
       panel.heading.append(richText(title));
       panel.heading.title = panel.heading.textContent;
     }
-    delete layout.title;
-    const cartesian = !layout.polar && !layout.scene && Object.keys(layout).some((k) => /^[xy]axis\d*$/.test(k));
-    if (layout.polar) {
-      layout.margin.t = Math.min(layout.margin.t ?? 24, 24);
-      layout.margin.b = Math.max(layout.margin.b ?? 0, 34);
-      if (layout.showlegend !== false) {
-        layout.legend = { ...(layout.legend || {}), orientation: "h", x: 0.5, xanchor: "center",
-                          y: 0, yanchor: "top", bgcolor: "rgba(255,255,255,0)" };
-      }
-    }
-    else if (layout.scene) layout.margin.t = 0;
-    else if (cartesian) {
-      const legendShown = layout.showlegend !== false;
-      layout.margin.t = legendShown ? 30 : 14;
-      layout.margin.b = Math.min(layout.margin.b ?? 50, 46);
-      if (legendShown) {
-        layout.legend = { ...(layout.legend || {}), orientation: "h", x: 1, xanchor: "right",
-                          y: 1.01, yanchor: "bottom", bgcolor: "rgba(255,255,255,0)" };
-      }
-      for (const k of Object.keys(layout)) {
-        if (/^[xy]axis\d*$/.test(k)) layout[k] = { ...layout[k], automargin: true };
-      }
-    }
-    return layout;
+    return window.BRDF.fitLayout(layout);
   }
 
   // The lobe is what a slider is watched on: when its request is in flight, the other
   // panels hold their (main-thread) drawing until it has drawn, for at most a moment.
   let waiters = [];
   function primaryDrawn() {
-    const primary = panels.find((p) => p.spec.primary);
+    const primary = panels.find((p) => p.hint.primary);
     if (!primary || !primary.inflight || !isVisible(primary)) return Promise.resolve();
     return new Promise((resolve) => {
       const done = () => { clearTimeout(timer); resolve(); };
@@ -614,21 +784,6 @@
     const ws = waiters;
     waiters = [];
     for (const w of ws) w();
-  }
-
-  // FastAPI's 422: {"detail": "message"} or {"detail": [{loc, msg, ...}, ...]}.
-  function apiMessage(body, res) {
-    const d = body && body.detail;
-    if (typeof d === "string") return d;
-    if (Array.isArray(d) && d.length) {
-      return d.map((x) => {
-        if (typeof x === "string") return x;
-        const loc = (x.loc || []).filter((k) => k !== "query" && k !== "body").join(".");
-        const msg = x.msg || JSON.stringify(x);
-        return loc && !msg.startsWith(`${loc}:`) ? `${loc}: ${msg}` : msg;
-      }).join("; ");
-    }
-    return `The server answered ${res.status} ${res.statusText || ""}`.trim() + ".";
   }
 
   function setStatus(panel, kind, text = "") {
@@ -692,16 +847,26 @@
     for (const g of groups) s[g.name] = g.default;
     for (const p of params.values()) s[p.name] = p.default;
     s.anisotropic = false;
-    for (const f of FLAGS) s[f] = false;
+    s.perceptual = false;
+    for (const [key, loc] of locals) s[key] = loc.field.default;
+    s.show = views.map((v) => v.name).filter((n) => PANEL_HINTS[n] && PANEL_HINTS[n].shown);
+    s.vary = null;
+    s.values = null;
     return s;
   }
 
   async function boot() {
     try {
-      const res = await fetch(`${API}/models`, { headers: { Accept: "application/json" } });
-      const body = await res.json().catch(() => null);
-      if (!res.ok || !body) throw new Error(apiMessage(body, res));
-      models = body;
+      const get = async (path) => {
+        const res = await fetch(`${API}${path}`, { headers: { Accept: "application/json" } });
+        const body = await res.json().catch(() => null);
+        if (!res.ok || !body) throw new Error(apiMessage(body, res));
+        return body;
+      };
+      let viewList;
+      [models, viewList] = await Promise.all([get("/models"), get("/views")]);
+      const rank = (v) => (PANEL_ORDER.includes(v.name) ? PANEL_ORDER.indexOf(v.name) : PANEL_ORDER.length);
+      views = viewList.map((v, i) => ({ ...v, i })).sort((a, b) => rank(a) - rank(b) || a.i - b.i);
     } catch (e) {
       booting = false;
       $("#boot-status").textContent = `Could not load the models: ${e.message}`;
@@ -715,6 +880,7 @@
     for (const g of groups) for (const c of g.choices) for (const p of c.params || []) {
       if (!params.has(p.name)) params.set(p.name, p);
     }
+    buildPanels();
     defaultState = defaultsFromModels();
     if (models.version) $("#version").textContent = `v${models.version}`;
 
@@ -740,14 +906,12 @@
   });
   $("#copy-link").addEventListener("click", async () => {
     const btn = $("#copy-link");
-    try {
-      await navigator.clipboard.writeText(location.href);
-      btn.textContent = "Copied ✓";
-    } catch {
+    if (await window.BRDF.copyText(location.href)) {
+      window.BRDF.flash(btn, "Copied ✓");
+    } else {
       showNotices([`Link to this state: ${location.href}`]);
-      btn.textContent = "Link below";
+      window.BRDF.flash(btn, "Link below");
     }
-    setTimeout(() => { btn.textContent = "Copy link"; }, 1500);
   });
 
   // Debug/test hook: the state, the number of panels fetching or about to.
@@ -756,9 +920,9 @@
     get models() { return models; },
     pending: () => (booting ? 1 : 0) + (urlTimer ? 1 : 0)
       + panels.filter((p) => p.inflight || p.dirty).length,
-    panels: () => panels.map((p) => ({ name: p.spec.name, inflight: p.inflight, dirty: p.dirty,
+    panels: () => panels.map((p) => ({ name: p.name, inflight: p.inflight, dirty: p.dirty,
                                        drawn: p.drawn, error: p.error, visible: isVisible(p) })),
-    url: (name) => { const p = panels.find((x) => x.spec.name === name); return p && panelUrl(p); },
+    url: (name) => { const p = panels.find((x) => x.name === name); return p && panelUrl(p); },
   };
 
   boot();

@@ -24,7 +24,8 @@ GEOMETRY = [
 ]
 
 
-@router.get("/health", tags=["meta"], summary="Liveness and version")
+@router.get("/health", tags=["meta"], summary="Liveness and version",
+            responses={200: {"content": {"application/json": {"example": {"status": "ok", "version": "0.1.0"}}}}})
 def health():
     return {"status": "ok", "version": __version__}
 
@@ -38,7 +39,15 @@ def _choice(option: str, name: str, entry) -> dict:
     return out
 
 
-@router.get("/models", tags=["meta"], summary="Every option with its parameters, ranges and defaults")
+@router.get("/models", tags=["meta"], summary="Every option with its parameters, ranges and defaults",
+            responses={200: {"content": {"application/json": {"example": {
+                "version": "0.1.0",
+                "params": [{"name": "alpha", "label": "α (roughness, x)", "lo": 0.0001, "hi": 1.0,
+                            "default": 0.3, "scale": "log", "unit": ""}],
+                "geometry": [{"name": "theta_i_deg", "lo": 0.0, "hi": 90.0, "default": 45.0, "unit": "°"}],
+                "options": {"ndf": {"label": "Normal distribution D", "default": "ggx",
+                                    "choices": [{"name": "ggx", "label": "GGX (Trowbridge-Reitz)",
+                                                 "params": []}]}}}}}}})
 def models():
     return {
         "version": __version__,
@@ -82,7 +91,10 @@ def eval_get(request: Request, q: Annotated[schemas.EvalQuery, Query()]):
 
 
 @router.post("/eval", tags=["data"], summary="BRDF terms for a large batch, as a JSON body")
-def eval_post(request: Request, q: Annotated[schemas.EvalQuery, Body()]):
+def eval_post(request: Request, q: Annotated[schemas.EvalQuery, Body(openapi_examples={
+        "two pairs": {"summary": "GGX α=0.2, two direction pairs",
+                      "value": {"ndf": "ggx", "alpha": 0.2, "theta_i_deg": [30, 60], "phi_i_deg": [0],
+                                "theta_o_deg": [30, 60], "phi_o_deg": [180], "quantities": ["f", "D"]}}})]):
     s = request.app.state.settings
     return _evaluate(q, s.max_batch, 413, "BRDF_MAX_BATCH")
 

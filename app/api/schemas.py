@@ -41,27 +41,33 @@ ThetaList = float_list(0.0, 90.0, "polar angles in degrees, [0, 90]; comma-separ
 PhiList = float_list(-360.0, 360.0, "azimuths in degrees, [-360, 360]; comma-separated")
 MuList = float_list(0.0, 1.0, "cosines μ in [0, 1]; comma-separated")
 
-Theta = Annotated[float, Field(ge=0.0, le=90.0, description="polar angle in degrees, [0, 90]")]
-Phi = Annotated[float, Field(ge=-360.0, le=360.0, description="azimuth in degrees, [-360, 360]")]
+# examples=: what /docs (OpenAPI) shows and pre-fills for every endpoint that takes them
+Theta = Annotated[float, Field(ge=0.0, le=90.0, description="polar angle in degrees, [0, 90]",
+                               examples=[60.0])]
+Phi = Annotated[float, Field(ge=-360.0, le=360.0, description="azimuth in degrees, [-360, 360]",
+                             examples=[0.0])]
 
 
 def _model_fields() -> dict:
     fields: dict = {}
     for option, (label, registry, default) in OPTIONS.items():
         names = tuple(registry)
-        fields[option] = (Literal[names], Field(default, description=f"{label}: {', '.join(names)}"))
+        fields[option] = (Literal[names], Field(default, description=f"{label}: {', '.join(names)}",
+                                                examples=[default]))
     for p in COMMON_PARAMS:
         if p.name == "alpha_y":
-            fields[p.name] = (Optional[float], Field(None, ge=p.lo, le=p.hi, description=p.description))
+            fields[p.name] = (Optional[float], Field(None, ge=p.lo, le=p.hi, description=p.description,
+                                                     examples=[p.default]))
         else:
-            fields[p.name] = (float, Field(p.default, ge=p.lo, le=p.hi, description=p.description))
+            fields[p.name] = (float, Field(p.default, ge=p.lo, le=p.hi, description=p.description,
+                                           examples=[p.default]))
     for name, owners in choice_param_names().items():
         lo = min(p.lo for p in owners.values())
         hi = max(p.hi for p in owners.values())
         first = next(iter(owners.values()))
         where = " or ".join(owners)
         fields[name] = (Optional[float], Field(
-            None, ge=lo, le=hi,
+            None, ge=lo, le=hi, examples=[first.default],
             description=f"{first.description} Applies with {where}; default {first.default:g}."))
     return fields
 
@@ -91,9 +97,13 @@ class CurveQuery(ModelQuery):
     n: Annotated[int, Field(ge=2, description="number of angles, both ends included")] = 181
 
 
-class NdfFigureQuery(CurveQuery):
-    log: bool = True
+class NdfQuery(CurveQuery):
+    cosine: Annotated[bool, Field(description="D·cos θ_m (the projected-area density, "
+                                              "integrates to 1) instead of D")] = False
 
+
+class NdfFigureQuery(NdfQuery):
+    log: bool = True
 
 class LobeQuery(ModelQuery):
     theta_i_deg: Theta = 45.0
@@ -134,3 +144,31 @@ class G2Query(ModelQuery):
 
 class FresnelQuery(ModelQuery):
     n: Annotated[int, Field(ge=2, description="number of angles θ = 0..90°, both ends included")] = 91
+
+
+class SphereQuery(ModelQuery):
+    theta_i_deg: Annotated[Theta, Field(description="angle between the light and the viewer, "
+                                                    "degrees, [0, 90]")] = 45.0
+    phi_i_deg: Annotated[Phi, Field(description="azimuth of the light in the image plane, "
+                                                "from +x (right), degrees")] = 0.0
+    n: Annotated[int, Field(ge=8, description="pixels across the sphere (n×n image)")] = 161
+
+
+class SphereFigureQuery(SphereQuery):
+    display: Annotated[Literal["heatmap", "log", "render"], Field(
+        description="heatmap: L_o/E in false colour; log: log10 of it; render: grey levels "
+                    "as a display shows them (sRGB, values above 1 clipped)")] = "heatmap"
+    exposure: Annotated[float, Field(ge=-10.0, le=10.0,
+                                     description="render only: multiply by 2^exposure")] = 0.0
+
+
+class SliceQuery(ModelQuery):
+    phi_h_deg: Annotated[Phi, Field(description="azimuth of h (matters when anisotropic)")] = 0.0
+    phi_d_deg: Annotated[Phi, Field(description="azimuth of the difference vector about h; "
+                                                "90 is the Disney explorer's default slice")] = 90.0
+    n: Annotated[int, Field(ge=2, description="angles per axis, θ = 0..90° both ends; n² points")] = 91
+    cosine: Annotated[bool, Field(description="f·cos θ_l instead of f")] = False
+
+
+class SliceFigureQuery(SliceQuery):
+    log: bool = True

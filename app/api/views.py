@@ -60,8 +60,8 @@ def _check_albedo(q, s: Settings):
 
 VIEWS: dict[str, View] = {v.name: v for v in [
     View("ndf", "D(θ_m) at azimuth φ, θ_m = 0..90°",
-         schemas.CurveQuery, schemas.NdfFigureQuery, _check_curve,
-         lambda spec, q: quantities.ndf_curve(spec.brdf(), q.phi_deg, q.n),
+         schemas.NdfQuery, schemas.NdfFigureQuery, _check_curve,
+         lambda spec, q: quantities.ndf_curve(spec.brdf(), q.phi_deg, q.n, q.cosine),
          lambda data, spec, q: figures.ndf_figure(data, spec.values, q.log)),
     View("g1", "Λ(θ_v) and G1(θ_v) = 1/(1+Λ) for θ_v = 0..90°",
          schemas.CurveQuery, schemas.CurveQuery, _check_curve,
@@ -88,4 +88,16 @@ VIEWS: dict[str, View] = {v.name: v for v in [
          schemas.FresnelQuery, schemas.FresnelQuery, _check_curve,
          lambda spec, q: quantities.fresnel_curve(spec.brdf(), q.n),
          lambda data, spec, q: figures.fresnel_figure(data, spec.values)),
+    View("sphere", "A sphere under one directional light: L_o/E = f·cos θ_l per pixel "
+                   "(rows y, columns x; null off the sphere)",
+         schemas.SphereQuery, schemas.SphereFigureQuery, _check_square_grid,
+         lambda spec, q: quantities.lit_sphere(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n),
+         lambda data, spec, q: figures.lit_sphere_figure(data, spec.values, q.theta_i_deg,
+                                                         q.phi_i_deg, q.display, q.exposure)),
+    View("slice", "f over θ_h × θ_d at fixed φ_h, φ_d (the Disney explorer's image slice; "
+                  "rows θ_d, null below the horizon)",
+         schemas.SliceQuery, schemas.SliceFigureQuery, _check_square_grid,
+         lambda spec, q: quantities.half_difference_slice(spec.brdf(), q.phi_h_deg, q.phi_d_deg,
+                                                          q.n, q.cosine),
+         lambda data, spec, q: figures.slice_figure(data, spec.values, q.phi_d_deg, q.log)),
 ]}

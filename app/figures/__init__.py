@@ -6,6 +6,7 @@ import plotly.io as pio
 
 from .curves import albedo_figure, g1_figure, ndf_figure
 from .fresnel import fresnel_figure
+from .images import lit_sphere_figure, slice_figure
 from .lobes import lobe3d_figure, lobe_figure
 from .maps import g2_figure
 
@@ -15,4 +16,5 @@ def to_json(figure: dict) -> str:
 
 
 __all__ = ["albedo_figure", "fresnel_figure", "g1_figure", "g2_figure", "lobe3d_figure",
-           "lobe_figure", "ndf_figure", "to_json"]
+           "lobe_figure", "ndf_figure", "to_json",
+           "lit_sphere_figure", "slice_figure"]

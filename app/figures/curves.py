@@ -12,14 +12,16 @@ LAMBDA_DECADES = 8
 
 def ndf_figure(data: dict, spec: dict, log: bool = True) -> dict:
     theta = np.asarray(data["theta_deg"])
+    key, label = ("D_cos", "D(θ_m)·cos θ_m") if "D_cos" in data else ("D", "D(θ_m)")
     return {
-        "data": [{"type": "scatter", "mode": "lines", "name": "D(θ_m)", "x": theta,
-                  "y": gaps(data["D"]), "line": {"color": PALETTE[0], "width": 2},
-                  "hovertemplate": "θ_m=%{x:.2f}°<br>D=%{y:.4g}<extra></extra>"}],
+        "data": [{"type": "scatter", "mode": "lines", "name": label, "x": theta,
+                  "y": gaps(data[key]), "line": {"color": PALETTE[0], "width": 2},
+                  "hovertemplate": "θ_m=%{x:.2f}°<br>" + label + "=%{y:.4g}<extra></extra>"}],
         "layout": base_layout(
-            f"D(θ_m) — {model_title(spec)}",
+            f"{label} — {model_title(spec)}",
             xaxis=axis("θ_m (degrees)", range=[0, 90], dtick=15),
-            yaxis=log_axis("D (1/sr)", data["D"], D_DECADES) if log else axis("D (1/sr)"),
+            yaxis=(log_axis(f"{label} (1/sr)", data[key], D_DECADES) if log
+                   else axis(f"{label} (1/sr)")),
             showlegend=False),
     }
 

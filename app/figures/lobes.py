@@ -40,7 +40,7 @@ def lobe_figure(data: dict, spec: dict, theta_i_deg: float, log: bool = False) -
         traces.append({"type": "scatterpolar", "mode": "lines", "name": name,
                        "theta": [angle, angle], "r": [bottom, top],
                        "line": {"color": color, "width": 1.5, "dash": "dash"},
-                       "hoverinfo": "skip"})
+                       "hoverinfo": "skip", "meta": {"role": "guide"}})
     # No radial title: it collides with the tick labels along the normal; the legend and
     # the figure title say what r is.
     radial = {"type": "log" if log else "linear", "angle": 90, "tickangle": 90,
@@ -90,7 +90,8 @@ def lobe3d_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: float,
                            ("mirror", mirror, DIRECTION_COLORS["mirror"])]:
         traces.append({"type": "scatter3d", "mode": "lines", "name": name,
                        "x": [0, d[0] * rmax * 1.1], "y": [0, d[1] * rmax * 1.1],
-                       "z": [0, d[2] * rmax * 1.1], "line": {"color": color, "width": 5}})
+                       "z": [0, d[2] * rmax * 1.1], "line": {"color": color, "width": 5},
+                       "meta": {"role": "guide"}})
     return {
         "data": traces,
         "layout": base_layout(

@@ -177,7 +177,7 @@ def test_fast_changes_are_coalesced(page, page_log):
     assert float(api_requests(page_log, "lobe")[-1]["alpha"]) == final_alpha
     # the hidden 3-D panel is never fetched ... until it is shown
     assert api_requests(page_log, "lobe3d") == []
-    page.check("#lobe3d")
+    page.check("#show-lobe3d")
     wait_quiet(page, ids=(*PANELS, "plot-lobe3d"))
     assert len(api_requests(page_log, "lobe3d")) == 1
     assert page_log.problems() == []

@@ -1,0 +1,225 @@
+"""Browser tests of the exports, the embed pages and the gallery: under a strict
+Content-Security-Policy (scripts only from this origin, no inline script), with no
+console errors, at a projector's size and a phone's."""
+from __future__ import annotations
+
+import json
+import re
+import urllib.request
+from pathlib import Path
+from urllib.parse import parse_qs, urlparse
+
+import pytest
+
+from test_page import PANELS, api_requests, wait_quiet   # tests/e2e is not a package
+
+pytestmark = pytest.mark.e2e
+
+ROOT = Path(__file__).resolve().parents[2]
+GALLERY_SHOT = ROOT / "docs" / "screenshot-gallery.png"
+PHONE_SHOT = ROOT / "docs" / "screenshot-phone.png"
+# What the pages must work under: no inline script, no eval, nothing from other origins
+# (Plotly needs inline styles and data:/blob: images for its modebar and downloads).
+STRICT_CSP = ("default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; "
+              "img-src 'self' data: blob:; connect-src 'self'; object-src 'none'; base-uri 'none'")
+PHONE = {"width": 390, "height": 844}
+EMBED_QUIET = "() => window.__embed && window.__embed.pending() === 0 && window.__embed.drawn()"
+
+
+def strict_csp(page):
+    """Serve every HTML page with STRICT_CSP, whatever the app sends."""
+    def handle(route):
+        res = route.fetch()
+        headers = {k: v for k, v in res.headers.items() if k.lower() != "content-security-policy"}
+        headers["content-security-policy"] = STRICT_CSP
+        route.fulfill(response=res, headers=headers)
+    page.route(lambda url: urlparse(url).path in ("/", "/gallery") or urlparse(url).path.startswith("/embed/"),
+               handle)
+
+
+def views(base_url) -> list[dict]:
+    with urllib.request.urlopen(f"{base_url}/api/v1/views") as r:
+        return json.load(r)
+
+
+def test_every_view_embeds_without_errors(page, page_log, base_url):
+    strict_csp(page)
+    page.set_viewport_size({"width": 640, "height": 440})        # a typical iframe
+    for v in views(base_url):
+        page.goto(f"/embed/{v['name']}?alpha=0.2")
+        page.wait_for_function(EMBED_QUIET, timeout=20_000)
+        box = page.locator("#plot").bounding_box()
+        assert box["width"] >= 600 and box["height"] >= 250, (v["name"], box)   # fills the frame
+        assert page.evaluate("() => document.documentElement.scrollHeight <= innerHeight + 1")
+        assert page.is_hidden("#embed-controls")
+    assert page_log.problems() == []
+
+
+def test_embed_controls_move_the_figure_and_the_url(page, page_log):
+    strict_csp(page)
+    page.goto("/embed/lobe?alpha=0.2&theta_i_deg=30&controls=1")
+    page.wait_for_function(EMBED_QUIET)
+    for label in ("α", "θ", "log scale"):
+        assert page.locator("#embed-controls label", has_text=label).count() >= 1
+    # every control has a label the browser associates with it
+    unlabelled = page.evaluate("""() => [...document.querySelectorAll('#embed-controls input, #embed-controls select')]
+        .filter((e) => !(e.labels && e.labels.length) && !e.getAttribute('aria-label')).map((e) => e.id)""")
+    assert unlabelled == []
+    before = page.evaluate("() => JSON.stringify(document.getElementById('plot').data[0].r)")
+    page.fill("#c-theta-i-deg", "60")
+    page.wait_for_function(f"(old) => window.__embed.pending() === 0 && JSON.stringify(document.getElementById('plot').data[0].r) !== old",
+                           arg=before)
+    q = parse_qs(urlparse(page.url).query)
+    assert q["theta_i_deg"] == ["60"] and q["controls"] == ["1"]
+    page.check("#c-log")
+    page.wait_for_function("() => window.__embed.pending() === 0 && document.getElementById('plot').layout.polar.radialaxis.type === 'log'")
+    assert page_log.problems() == []
+
+
+def test_page_export_buttons_download_svg_png_csv(page, page_log):
+    strict_csp(page)
+    page.goto("/?alpha=0.2")
+    wait_quiet(page)
+    lobe = page.locator('[data-panel="lobe"]')
+    for fmt, magic in (("svg", b"<svg"), ("png", b"\x89PNG"), ("csv", b"# view = lobe")):
+        with page.expect_download(timeout=30_000) as dl:
+            lobe.locator(f'button[data-format="{fmt}"]').click()
+        path = dl.value.path()
+        assert dl.value.suggested_filename.endswith(f".{fmt}")
+        assert Path(path).read_bytes()[: len(magic)] == magic
+    assert page_log.problems() == []
+
+
+def test_without_server_chromium_the_page_exports_in_the_browser(page, page_log):
+    strict_csp(page)
+    body = json.dumps({"detail": "No Chromium found. Server-side image export needs a Chromium "
+                                 "browser: install it (apt-get install chromium)"})
+    page.route("**/api/v1/figures/ndf.svg?*", lambda r: r.fulfill(status=503, body=body,
+                                                                    content_type="application/json"))
+    page.goto("/")
+    wait_quiet(page)
+    with page.expect_download(timeout=30_000) as dl:
+        page.locator('[data-panel="ndf"] button[data-format="svg"]').click()
+    assert dl.value.suggested_filename == "ndf.svg"
+    assert Path(dl.value.path()).read_text()[:200].lstrip().startswith("<svg")
+    assert "apt-get install chromium" in page.inner_text("#notice")
+    assert "in your browser" in page.inner_text("#notice")
+    # the only error is the browser's own report of the (simulated) 503
+    assert page_log.page_errors == [] and all("503" in e for e in page_log.console_errors)
+
+
+def test_copy_embed_code_and_link(page, page_log, base_url):
+    page.context.grant_permissions(["clipboard-read", "clipboard-write"], origin=base_url)
+    page.goto("/?alpha=0.15&theta_i_deg=50&log=true")
+    wait_quiet(page)
+    page.locator('[data-panel="lobe"] button[data-format="embed"]').click()
+    snippet = page.evaluate("() => navigator.clipboard.readText()")
+    m = re.fullmatch(r'<iframe src="([^"]+)" width="\d+" height="\d+" title="[^"]*" loading="lazy" style="[^"]*"></iframe>', snippet)
+    assert m, snippet
+    src = urlparse(m.group(1))
+    assert src.path == "/embed/lobe"
+    q = {k: v[0] for k, v in parse_qs(src.query).items()}
+    assert q["alpha"] == "0.15" and q["theta_i_deg"] == "50" and q["log"] == "true"
+    page.goto(m.group(1))                          # the snippet's page shows that state
+    page.wait_for_function(EMBED_QUIET)
+    assert page.evaluate("() => document.getElementById('plot').layout.polar.radialaxis.type") == "log"
+    page.go_back()
+    wait_quiet(page)
+    page.click("#copy-link")
+    assert page.evaluate("() => navigator.clipboard.readText()") == page.url
+    assert page_log.problems() == []
+
+
+def test_hidden_panels_are_not_fetched_until_shown(page, page_log, base_url):
+    page.goto("/")
+    wait_quiet(page)
+    others = [v["name"] for v in views(base_url) if f"plot-{v['name']}" not in PANELS]
+    assert others and all(api_requests(page_log, name) == [] for name in others)
+    page.check("#show-sphere")
+    wait_quiet(page, ids=(*PANELS, "plot-sphere"))
+    assert len(api_requests(page_log, "sphere")) == 1
+    assert parse_qs(urlparse(page.url).query)["show"] == ["lobe,ndf,g1,albedo,sphere"]
+    page.select_option("#sphere-display", "render")
+    wait_quiet(page, ids=(*PANELS, "plot-sphere"))
+    assert api_requests(page_log, "sphere")[-1]["display"] == "render"
+    page.uncheck("#show-ndf")
+    n = len(api_requests(page_log, "ndf"))
+    page.fill("#alpha", "0.5")
+    wait_quiet(page, ids=("plot-lobe", "plot-sphere"))
+    assert len(api_requests(page_log, "ndf")) == n          # hidden: not fetched
+    assert page_log.problems() == []
+
+
+def test_every_control_is_labelled_and_keyboard_operable(page, page_log):
+    page.goto("/?show=lobe,ndf,g1,albedo,lobe3d,g2,fresnel,sphere,slice")
+    wait_quiet(page, ids=("plot-lobe", "plot-sphere", "plot-slice"))
+    unlabelled = page.evaluate("""() => [...document.querySelectorAll('input, select, button')]
+        .filter((e) => e.offsetParent !== null)
+        .filter((e) => !(e.labels && e.labels.length) && !e.getAttribute('aria-label')
+                       && !(e.tagName === 'BUTTON' && e.textContent.trim()))
+        .map((e) => e.id || e.outerHTML.slice(0, 80))""")
+    assert unlabelled == []
+    # keyboard: Tab reaches an export button, Enter on it downloads
+    page.focus('[data-panel="lobe"] button[data-format="svg"]')
+    page.keyboard.press("Shift+Tab")
+    page.keyboard.press("Tab")
+    assert page.evaluate("() => document.activeElement.dataset.format") == "svg"
+    with page.expect_download(timeout=30_000) as dl:
+        page.keyboard.press("Enter")
+    assert dl.value.suggested_filename.endswith(".svg")
+    # arrow keys step a number box
+    page.focus("#theta_i")
+    page.keyboard.press("ArrowUp")
+    assert page.evaluate("() => window.__brdf.state.theta_i_deg") == 45.1     # one slider step
+    assert page_log.problems() == []
+
+
+def test_gallery_renders_and_every_link_opens_its_state(page, page_log):
+    strict_csp(page)
+    page.goto("/gallery")
+    page.wait_for_function("() => document.querySelectorAll('.gallery-card').length >= 8")
+    cards = page.locator(".gallery-card")
+    count = cards.count()
+    for i in range(count):                      # scroll each into view: figures draw lazily
+        cards.nth(i).scroll_into_view_if_needed()
+    page.wait_for_function("() => !window.__gallery.pending()", timeout=60_000)
+    assert page.evaluate("() => window.__gallery.failed()") == 0
+    assert page.evaluate("() => window.__gallery.done()") == count
+    page.evaluate("() => window.scrollTo(0, 0)")
+    page.screenshot(path=str(GALLERY_SHOT))
+    links = page.eval_on_selector_all(".gallery-card a.open", "(as) => as.map((a) => a.href)")
+    assert len(links) == count
+    for link in links:
+        q = {k: v[0] for k, v in parse_qs(urlparse(link).query).items()}
+        page.goto(link)
+        wait_quiet(page, ids=(f"plot-{q['show']}",))
+        state = page.evaluate("() => window.__brdf.state")
+        assert q["show"] in state["show"]
+        assert state["vary"] == q.get("vary") and state["values"] == q.get("values")
+        panel = page.evaluate(f"() => window.__brdf.panels().find((p) => p.name === '{q['show']}')")
+        assert panel["drawn"] and panel["error"] is None, (link, panel)
+        if "vary" in q:                         # the comparison drew one curve per value
+            names = page.evaluate(f"() => document.getElementById('plot-{q['show']}').data.map((t) => t.name)")
+            for value in q["values"].split(","):
+                assert any(f"{q['vary']}={value}" in (n or "") for n in names), (link, names)
+    assert page_log.problems() == []
+
+
+@pytest.mark.parametrize("path", ["/", "/gallery", "/embed/lobe?controls=1"])
+def test_phone_portrait_has_no_sideways_scroll(page, page_log, path):
+    page.set_viewport_size(PHONE)
+    page.goto(path)
+    if path == "/":
+        wait_quiet(page)
+    elif path.startswith("/embed"):
+        page.wait_for_function(EMBED_QUIET)
+    else:
+        page.wait_for_function("() => document.querySelector('.gallery-card.drawn')")
+    assert page.evaluate("() => document.documentElement.scrollWidth <= window.innerWidth")
+    if path == "/":
+        boxes = [page.locator(f"#{pid}").bounding_box() for pid in PANELS]
+        assert all(b["width"] >= 340 and b["height"] >= 250 for b in boxes)
+        assert page.locator(".topbar").bounding_box()["height"] <= 90      # the bar does not swallow the page
+        page.locator('[data-panel="lobe"]').scroll_into_view_if_needed()
+        page.screenshot(path=str(PHONE_SHOT), full_page=False)
+    assert page_log.problems() == []
