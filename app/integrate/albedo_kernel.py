@@ -1,7 +1,8 @@
 """The albedo quadrature's integrand as one compiled loop (optional: numba).
 
 ``albedo._integrate_order`` lays the nodes — ψ (cos, sin, weight), the disk exit U(ψ)
-and 1 − U, the substitution u = U (1 − τ(s)), du = U w(s) — in numpy, at O(n·N) cost. Everything at
+and 1 − U, the substitution u = U h(s), 1 − u = (1 − U) + U τ(s), du = U w(s) — in
+numpy, at O(n·N) cost. Everything at
 the O(n·N²) nodes is the integrand
 
     g = 4 F(v·m) V(l, v) μ_l (v·m)/μ_m,   l the mirror of v about m(ρ̃(u), ψ),
@@ -45,12 +46,12 @@ def _radial_r2(ndf_kind, u, one_minus_u):
     return -math.log(one_minus_u)
 
 
-def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, V0, tail, w_u):
-    """Σ_j g(u_j) du_j along one ψ (cos c, sin s) for view v: u = U (1 − tail_j),
+def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, V0, head, tail, w_u):
+    """Σ_j g(u_j) du_j along one ψ (cos c, sin s) for view v: u = U head_j,
     1 − u = V0 + U tail_j, du = U w_u_j."""
     total = 0.0
     for j in range(tail.shape[0]):
-        u = U * (1.0 - tail[j])
+        u = U * head[j]
         rho = math.sqrt(_radial_r2(ndf_kind, u, V0 + U * tail[j]))
         X = ax * rho * c
         Y = ay * rho * s
@@ -70,7 +71,7 @@ def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, V0, t
     return total
 
 
-def _rows_parallel(v, cp, sp, U, V0, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
+def _rows_parallel(v, cp, sp, U, V0, head, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
     n_psi = cp.shape[1]
     for q in _prange(cp.shape[0] * n_psi):
         i = q // n_psi
@@ -78,10 +79,10 @@ def _rows_parallel(v, cp, sp, U, V0, tail, w_u, out, ndf_kind, ax, ay, g2_kind, 
         vx, vy, vz = v[i, 0], v[i, 1], v[i, 2]
         ml_v = fast.mu_lambda(ndf_kind, ax, ay, vx, vy, vz)
         out[i, j] = _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v,
-                         cp[i, j], sp[i, j], U[i, j], V0[i, j], tail, w_u)
+                         cp[i, j], sp[i, j], U[i, j], V0[i, j], head, tail, w_u)
 
 
-def _rows_serial(v, cp, sp, U, V0, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
+def _rows_serial(v, cp, sp, U, V0, head, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
     # the same as _rows_parallel with range (see fast.py on why there are two)
     n_psi = cp.shape[1]
     for q in range(cp.shape[0] * n_psi):
@@ -90,7 +91,7 @@ def _rows_serial(v, cp, sp, U, V0, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0
         vx, vy, vz = v[i, 0], v[i, 1], v[i, 2]
         ml_v = fast.mu_lambda(ndf_kind, ax, ay, vx, vy, vz)
         out[i, j] = _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v,
-                         cp[i, j], sp[i, j], U[i, j], V0[i, j], tail, w_u)
+                         cp[i, j], sp[i, j], U[i, j], V0[i, j], head, tail, w_u)
 
 
 _prange = range
@@ -102,18 +103,17 @@ if fast.numba is not None:
 ROW_LOOPS = (_rows_parallel, _rows_serial)
 
 
-def integrate(args: tuple, v, cp, sp, U, V0, tail, w_u, w_psi) -> np.ndarray:
+def integrate(args: tuple, v, cp, sp, U, V0, head, tail, w_u, w_psi) -> np.ndarray:
     """(1/2π) Σ_ψ w_ψ Σ_u g du for each view direction: E_spec at v (n, 3).
 
     ``cp``, ``sp``, ``U``, ``V0``: (n, P) cos ψ, sin ψ, the disk exit U = C(R(ψ)) and
-    1 − U; ``tail``, ``w_u``: (N,), with u = U (1 − tail) and du = U w_u; ``w_psi``:
-    (P,) ψ weights.
+    1 − U; ``head``, ``tail``, ``w_u``: (N,), with u = U head, 1 − u = V0 + U tail and
+    du = U w_u; ``w_psi``: (P,) ψ weights.
     """
     v = np.ascontiguousarray(v, dtype=float)
     cp, sp, U, V0 = (np.ascontiguousarray(np.broadcast_to(a, cp.shape), dtype=float)
                      for a in (cp, sp, U, V0))
-    tail = np.ascontiguousarray(np.ravel(tail), dtype=float)
-    w_u = np.ascontiguousarray(np.ravel(w_u), dtype=float)
+    head, tail, w_u = (np.ascontiguousarray(np.ravel(a), dtype=float) for a in (head, tail, w_u))
     rows = np.empty(cp.shape)
-    fast.run(ROW_LOOPS, rows.size * tail.size, v, cp, sp, U, V0, tail, w_u, rows, *args)
+    fast.run(ROW_LOOPS, rows.size * tail.size, v, cp, sp, U, V0, head, tail, w_u, rows, *args)
     return rows @ np.asarray(w_psi, dtype=float) / (2.0 * np.pi)
