@@ -6,19 +6,33 @@ what it allows, which the API turns into an HTTP 422.
 from __future__ import annotations
 
 from dataclasses import dataclass
+from typing import Callable
+
+import numpy as np
 
 from .physics.brdf import BRDF
 from .physics.fresnel import FRESNELS
-from .physics.g2 import G2_FORMS
+from .physics.g2 import DEFAULT_LAMBDA_PHI, G2_FORMS, LAMBDA_PHIS
 from .physics.masking import MASKINGS
 from .physics.ndf import ALPHA, ALPHA_Y, NDFS
 from .physics.params import Param
 
 KD = Param("kd", "k_d (Lambertian weight)", 0.0, 1.0, 0.0,
            "Weight of a Lambertian term kd/π added to the specular lobe.")
+ROUGHNESS = Param("roughness", "r (perceptual roughness)", 0.01, 1.0, 0.5477225575051661,
+                  "Perceptual roughness r, α = r² (Burley 2012): the other way to give α. "
+                  "Not together with alpha/alpha_y.")
+ANISOTROPY = Param("anisotropy", "anisotropy k", 0.0, 1.0, 0.0,
+                   "Anisotropy of the roughness form, mapped to (α_x, α_y) by aniso_map.")
+ALPHA2 = Param("alpha2", "α₂ (second lobe)", 1e-4, 1.0, 0.05,
+               "Roughness of a second specular lobe with the same NDF (isotropic).", scale="log")
+LOBE_MIX = Param("lobe_mix", "w (second-lobe weight)", 0.0, 1.0, 0.0,
+                 "f_spec = (1 − w) f_spec(α) + w f_spec(α₂) (Kulla & Conty 2017's two lobes).")
 
 #: Continuous parameters every model takes.
-COMMON_PARAMS: tuple[Param, ...] = (ALPHA, ALPHA_Y, KD)
+COMMON_PARAMS: tuple[Param, ...] = (ALPHA, ALPHA_Y, KD, ROUGHNESS, ANISOTROPY, ALPHA2, LOBE_MIX)
+#: Those that are absent unless given (absent alpha_y = isotropic, and so on).
+OPTIONAL_PARAMS = frozenset({"alpha_y", "roughness", "anisotropy", "alpha2"})
 
 #: The discrete options with their registries and defaults.
 OPTIONS = {
@@ -26,6 +40,33 @@ OPTIONS = {
     "masking": ("Masking Λ, G1", MASKINGS, "smith"),
     "g2": ("Masking-shadowing G2", G2_FORMS, "height_correlated"),
     "fresnel": ("Fresnel F", FRESNELS, "schlick"),
+}
+
+
+@dataclass(frozen=True)
+class AnisoMap:
+    name: str
+    label: str
+    description: str
+    alphas: Callable  # (r, k) -> (α_x, α_y)
+
+
+ANISO_MAPS = {m.name: m for m in [
+    AnisoMap("burley", "Burley (3-26)",
+             "k_aspect = √(1 − 0.9k); α_x = r²/k_aspect, α_y = r² k_aspect (Burley 2012).",
+             lambda r, k: (r * r / np.sqrt(1 - 0.9 * k), r * r * np.sqrt(1 - 0.9 * k))),
+    AnisoMap("kulla_conty", "Kulla-Conty (3-27)",
+             "α_x = r²(1 + k), α_y = r²(1 − k) (Kulla & Conty 2017).",
+             lambda r, k: (r * r * (1 + k), r * r * (1 - k))),
+]}
+
+#: Options that apply only in some models: name → (label, registry, default, applies(values), when).
+SUB_OPTIONS = {
+    "lambda_phi": ("λ(φ) of the direction-correlated G2", LAMBDA_PHIS, DEFAULT_LAMBDA_PHI,
+                   lambda v: G2_FORMS[v["g2"]].needs_phi,
+                   "g2=" + " or g2=".join(n for n, g in G2_FORMS.items() if g.needs_phi)),
+    "aniso_map": ("Anisotropy map", ANISO_MAPS, "burley",
+                  lambda v: v.get("roughness") is not None, "the roughness/anisotropy form"),
 }
 
 
@@ -64,35 +105,49 @@ class ModelSpec:
         shape = {p.name: v[p.name] for p in choice_params("ndf", v["ndf"]) if v.get(p.name) is not None}
         fresnel_values = {p.name: v[p.name] for p in choice_params("fresnel", v["fresnel"])
                           if v.get(p.name) is not None}
-        ndf = NDFS[v["ndf"]](v["alpha"], v.get("alpha_y"), **shape)
-        return BRDF(ndf, MASKINGS[v["masking"]], G2_FORMS[v["g2"]],
-                    FRESNELS[v["fresnel"]](**fresnel_values), v.get("kd", 0.0))
+        ndf_class = NDFS[v["ndf"]]
+        lobe2 = ndf_class(v["alpha2"], None, **shape) if v.get("alpha2") is not None else None
+        lambda_phi = LAMBDA_PHIS[v["lambda_phi"]].fn if v.get("lambda_phi") else None
+        return BRDF(ndf_class(v["alpha"], v.get("alpha_y"), **shape), MASKINGS[v["masking"]],
+                    G2_FORMS[v["g2"]], FRESNELS[v["fresnel"]](**fresnel_values), v.get("kd", 0.0),
+                    lambda_phi=lambda_phi, lobe2=lobe2, lobe_mix=v.get("lobe_mix", 0.0))
 
 
 def make_spec(**given) -> ModelSpec:
     """Validate flat parameters: options known, values in range, each choice parameter
-    used only with the choice it belongs to. Missing values take their defaults."""
+    used only with the choice it belongs to, one roughness form. Missing values take
+    their defaults; ``None`` means not given."""
+    given = {k: x for k, x in given.items() if x is not None}
+    explicit_alpha = [n for n in ("alpha", "alpha_y") if n in given]
     values: dict = {}
     for option, (_, registry, default) in OPTIONS.items():
-        name = given.pop(option, None) or default
+        name = given.pop(option, default)
         if name not in registry:
             raise ModelError(option, f"{option} must be one of {', '.join(registry)}; got {name!r}")
         values[option] = name
     for p in COMMON_PARAMS:
-        x = given.pop(p.name, None)
-        if x is None:
-            values[p.name] = None if p is ALPHA_Y else p.default
+        if p.name in given:
+            _check_range(p, given[p.name])
+            values[p.name] = float(given.pop(p.name))
+        else:
+            values[p.name] = None if p.name in OPTIONAL_PARAMS else p.default
+    _roughness_form(values, given, explicit_alpha)
+    for name, (_, registry, default, applies, when) in SUB_OPTIONS.items():
+        chosen = given.pop(name, None)
+        if not applies(values):
+            if chosen is not None:
+                raise ModelError(name, f"{name} applies only with {when}")
             continue
-        _check_range(p, x)
-        values[p.name] = float(x)
-    masking = MASKINGS[values["masking"]]
-    if masking.applies_to is not None and values["ndf"] not in masking.applies_to:
-        raise ModelError("masking", f"masking={values['masking']} applies to ndf "
-                         f"{', '.join(masking.applies_to)} only, not {values['ndf']}")
+        if chosen is not None and chosen not in registry:
+            raise ModelError(name, f"{name} must be one of {', '.join(registry)}; got {chosen!r}")
+        values[name] = chosen or default
+    if values["roughness"] is not None:
+        _apply_aniso_map(values)
+    if values["lobe_mix"] > 0 and values["alpha2"] is None:
+        raise ModelError("lobe_mix", "lobe_mix > 0 needs alpha2, the second lobe's roughness")
+    _check_applicability(values)
     owners = choice_param_names()
     for name, x in given.items():
-        if x is None:
-            continue
         if name not in owners:
             raise ModelError(name, f"unknown model parameter {name!r}")
         chosen = [key for key in owners[name] if values[key.split('=')[0]] == key.split('=')[1]]
@@ -103,7 +158,55 @@ def make_spec(**given) -> ModelSpec:
     for option in ("ndf", "fresnel"):
         for p in choice_params(option, values[option]):
             values.setdefault(p.name, p.default)
-    return ModelSpec(values)
+    spec = ModelSpec(values)
+    try:
+        brdf = spec.brdf()
+    except ValueError as exc:  # a model that cannot be built, e.g. an anisotropic GTR
+        raise ModelError("alpha_y", str(exc)) from exc
+    # Derived quantities for display (Blinn-Phong's α_p); not parameters.
+    values.update(getattr(brdf.ndf, "derived", dict)())
+    return spec
+
+
+def _roughness_form(values: dict, given: dict, explicit_alpha: list) -> None:
+    uses_r = values["roughness"] is not None or values["anisotropy"] is not None or "aniso_map" in given
+    if not uses_r:
+        return
+    if explicit_alpha:
+        raise ModelError(explicit_alpha[0], "give either alpha/alpha_y or roughness/anisotropy/aniso_map, "
+                                      "not both")
+    if values["roughness"] is None:
+        values["roughness"] = ROUGHNESS.default
+    if values["anisotropy"] is None:
+        values["anisotropy"] = ANISOTROPY.default
+
+
+def _apply_aniso_map(values: dict) -> None:
+    """(r, k) → (α_x, α_y), converted once, here, at the edge (MATH.md)."""
+    ax, ay = ANISO_MAPS[values["aniso_map"]].alphas(values["roughness"], values["anisotropy"])
+    for name, a in (("alpha", ax), ("alpha_y", ay)):
+        if not ALPHA.contains(float(a)):
+            raise ModelError("anisotropy", f"roughness={values['roughness']:g} and anisotropy="
+                             f"{values['anisotropy']:g} give {name}={float(a):.4g}, outside "
+                             f"{ALPHA.range_text()}")
+    values["alpha"] = float(ax)
+    values["alpha_y"] = None if ax == ay else float(ay)
+
+
+def _check_applicability(values: dict) -> None:
+    ndf = values["ndf"]
+    for option in ("masking", "g2"):
+        entry = OPTIONS[option][1][values[option]]
+        if entry.applies_to is not None and ndf not in entry.applies_to:
+            raise ModelError(option, f"{option}={values[option]} applies to ndf "
+                             f"{', '.join(entry.applies_to)} only, not {ndf}")
+    g2 = G2_FORMS[values["g2"]]
+    anisotropic = values["alpha_y"] is not None and values["alpha_y"] != values["alpha"]
+    if getattr(g2, "isotropic_only", False) and anisotropic:
+        raise ModelError("g2", f"g2={values['g2']} is for isotropic roughness only (alpha_y = alpha)")
+    if anisotropic and not NDFS[ndf].anisotropic:
+        raise ModelError("alpha_y", f"ndf={ndf} is isotropic only: it is not shape-invariant, "
+                                    "so it has no anisotropic form")
 
 
 def _check_range(p: Param, x) -> None:

@@ -5,7 +5,7 @@ import numpy as np
 from fastapi import APIRouter, Body, Query, Request, Response
 
 from .. import __version__, figures, quantities
-from ..model import COMMON_PARAMS, OPTIONS, choice_params, make_spec
+from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_params, make_spec
 from ..physics.vectors import direction_deg
 from . import schemas
 from .encode import json_response
@@ -33,7 +33,8 @@ def health():
 def _choice(option: str, name: str, entry) -> dict:
     out = {"name": name, "label": entry.label, "description": entry.description,
            "params": [p.as_dict() for p in choice_params(option, name)]}
-    for attr in ("reference", "applies_to", "anisotropic"):
+    for attr in ("reference", "applies_to", "anisotropic", "isotropic_only", "needs_phi",
+                 "approximation", "derived_doc"):
         if hasattr(entry, attr):
             out[attr] = getattr(entry, attr)
     return out
@@ -51,12 +52,18 @@ def _choice(option: str, name: str, entry) -> dict:
 def models():
     return {
         "version": __version__,
-        "params": [p.as_dict() for p in COMMON_PARAMS],
+        "params": [{**p.as_dict(), "optional": p.name in OPTIONAL_PARAMS} for p in COMMON_PARAMS],
         "geometry": GEOMETRY,
         "options": {
             option: {"label": label, "default": default,
                      "choices": [_choice(option, name, entry) for name, entry in registry.items()]}
             for option, (label, registry, default) in OPTIONS.items()
+        },
+        "sub_options": {
+            name: {"label": label, "default": default, "applies_with": when,
+                   "choices": [{"name": key, "label": entry.label, "description": entry.description}
+                               for key, entry in registry.items()]}
+            for name, (label, registry, default, _, when) in SUB_OPTIONS.items()
         },
     }
 

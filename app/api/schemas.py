@@ -9,7 +9,7 @@ from typing import Annotated, Literal, Optional
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
-from ..model import COMMON_PARAMS, OPTIONS, choice_param_names
+from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_param_names
 
 STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
 
@@ -34,7 +34,10 @@ def _split_commas(value):
 
 def float_list(lo: float, hi: float, description: str):
     item = Annotated[float, Field(ge=lo, le=hi, allow_inf_nan=False)]
-    return Annotated[list[item], BeforeValidator(_split_commas), Field(description=description)]
+    # minItems documents the "at least one value" rule the routes check (with a message
+    # that says so), so a schema-driven client never builds an empty list.
+    return Annotated[list[item], BeforeValidator(_split_commas),
+                     Field(description=description, json_schema_extra={"minItems": 1})]
 
 
 ThetaList = float_list(0.0, 90.0, "polar angles in degrees, [0, 90]; comma-separated")
@@ -54,8 +57,12 @@ def _model_fields() -> dict:
         names = tuple(registry)
         fields[option] = (Literal[names], Field(default, description=f"{label}: {', '.join(names)}",
                                                 examples=[default]))
+    for name, (label, registry, default, _, when) in SUB_OPTIONS.items():
+        names = tuple(registry)
+        fields[name] = (Optional[Literal[names]], Field(
+            None, description=f"{label}: {', '.join(names)}; applies with {when}; default {default}"))
     for p in COMMON_PARAMS:
-        if p.name == "alpha_y":
+        if p.name in OPTIONAL_PARAMS:
             fields[p.name] = (Optional[float], Field(None, ge=p.lo, le=p.hi, description=p.description,
                                                      examples=[p.default]))
         else:
@@ -77,8 +84,9 @@ ModelQuery.__doc__ = "The BRDF model: options and parameters, as every evaluatin
 
 
 def model_values(q: BaseModel) -> dict:
-    """The model part of a query (for make_spec)."""
-    return {name: getattr(q, name) for name in ModelQuery.model_fields}
+    """The model part of a query, only what the request set (make_spec fills defaults and
+    must know whether alpha was given, to refuse two roughness forms at once)."""
+    return {name: getattr(q, name) for name in ModelQuery.model_fields if name in q.model_fields_set}
 
 
 class EvalQuery(ModelQuery):
@@ -104,6 +112,7 @@ class NdfQuery(CurveQuery):
 
 class NdfFigureQuery(NdfQuery):
     log: bool = True
+
 
 class LobeQuery(ModelQuery):
     theta_i_deg: Theta = 45.0

@@ -39,6 +39,8 @@ def gaps(values) -> np.ndarray:
 def model_title(spec_values: dict) -> str:
     v = spec_values
     a = f"α={v['alpha']:g}" if v.get("alpha_y") is None else f"α=({v['alpha']:g}, {v['alpha_y']:g})"
+    if "alpha_p" in v:
+        a += f" (α_p={v['alpha_p']:.4g})"
     return f"{v['ndf']} {a}"
 
 

@@ -13,7 +13,7 @@ Cook & Torrance 1982; Walter et al. 2007, eq. 20; Heitz 2014, eq. 4.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 from typing import Callable
 
 import numpy as np
@@ -37,6 +37,8 @@ class BRDF:
     fresnel: Fresnel
     kd: float = 0.0
     lambda_phi: Callable | None = None  # λ(φ) for the direction-correlated G2 forms
+    lobe2: NDF | None = None            # second specular lobe (same NDF, its own α)
+    lobe_mix: float = 0.0               # its weight w
 
     def evaluate(self, l, v, want=("f",)) -> dict[str, np.ndarray]:
         """The requested quantities (a subset of :data:`QUANTITIES`) at direction pairs.
@@ -46,6 +48,8 @@ class BRDF:
         """
         l = np.asarray(l, dtype=float)
         v = np.asarray(v, dtype=float)
+        if self.lobe2 is not None and self.lobe_mix > 0:
+            return self._evaluate_two_lobes(l, v, want)
         if set(want) == {"f"}:
             # The common models have a fused, compiled f (fast.py; same formulas).
             args = fast.spec_args(self)
@@ -87,6 +91,29 @@ class BRDF:
         if "G1_o" in want:
             out["G1_o"] = np.where(h_exists, G1(mu_v, ml_v), 0.0)
         return out
+
+    def _evaluate_two_lobes(self, l, v, want) -> dict[str, np.ndarray]:
+        """f = (1 − w) f(α) + w f(α₂), both lobes with the same NDF, masking, G2 and F
+        (Kulla & Conty 2017, two-lobe blend); kd/π is in both and so in the blend once.
+        D is the blend of the two NDFs (itself a normalised NDF); the G terms and F are
+        the first lobe's."""
+        w = self.lobe_mix
+        first = replace(self, lobe2=None, lobe_mix=0.0).evaluate(l, v, want)
+        blended = [q for q in ("f", "D") if q in want]
+        if not blended:
+            return first
+        second = replace(self, ndf=self.lobe2, lobe2=None, lobe_mix=0.0).evaluate(l, v, tuple(blended))
+        for q in blended:
+            first[q] = where_valid(np.isfinite(first[q]) & np.isfinite(second[q]), [first[q], second[q]],
+                                   lambda a, b: (1.0 - w) * a + w * b, np.inf)
+        return first
+
+    def lobes(self):
+        """[(weight, single-lobe BRDF without kd)]: what a linear functional (albedo) sums."""
+        single = replace(self, kd=0.0, lobe2=None, lobe_mix=0.0)
+        if self.lobe2 is None or self.lobe_mix == 0:
+            return [(1.0, single)]
+        return [(1.0 - self.lobe_mix, single), (self.lobe_mix, replace(single, ndf=self.lobe2))]
 
     def f(self, l, v) -> np.ndarray:
         return self.evaluate(l, v, ("f",))["f"]

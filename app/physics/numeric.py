@@ -42,3 +42,22 @@ def on_mask(mask, func: Callable, vectors, fill: float = 0.0) -> np.ndarray:
     if mask.any():
         out[mask] = func(vectors[mask])
     return out
+
+
+# Below this |y| the series of expm1(y)/y and log1p(y)/y are exact to double precision
+# (the next term is y²/6 ≈ 1e-17 relative).
+SERIES_CUTOFF = 1e-8
+
+
+def expm1_ratio(y) -> np.ndarray:
+    """E(y) = (e^y − 1)/y, continuous through its removable singularity E(0) = 1."""
+    y = np.asarray(y, dtype=float)
+    small = np.abs(y) < SERIES_CUTOFF
+    return np.where(small, 1.0 + 0.5 * y, where_valid(~small, [y], lambda x: np.expm1(x) / x, 1.0))
+
+
+def log1p_ratio(y) -> np.ndarray:
+    """log(1 + y)/y, continuous through y = 0 (value 1); y > −1."""
+    y = np.asarray(y, dtype=float)
+    small = np.abs(y) < SERIES_CUTOFF
+    return np.where(small, 1.0 - 0.5 * y, where_valid(~small, [y], lambda x: np.log1p(x) / x, 1.0))

@@ -19,7 +19,8 @@ from app.physics.brdf import BRDF
 from app.physics.fresnel import FRESNELS
 from app.physics.g2 import G2_FORMS
 from app.physics.masking import MASKINGS
-from app.physics.ndf import NDFS, make_ndf
+from app.physics.ndf import NDFS
+from app.physics.ndf import make_ndf as _make_ndf
 
 # (α_x, α_y): isotropic from 1e-3 to 1 and two anisotropic pairs (10:1 either way).
 ALPHA_PAIRS = [(1e-3, 1e-3), (0.01, 0.01), (0.3, 0.3), (1.0, 1.0), (0.05, 0.5), (1.0, 0.1)]
@@ -29,22 +30,48 @@ def _ids(pair):
     return f"ax{pair[0]:g}-ay{pair[1]:g}"
 
 
-@pytest.fixture(params=sorted(NDFS))
-def ndf_name(request):
-    """Every registered NDF."""
-    return request.param
+def _valid(ndf_name, pair):
+    """An anisotropic pair only for NDFs that have an anisotropic form (shape-invariant)."""
+    return pair[0] == pair[1] or NDFS[ndf_name].anisotropic
 
 
-@pytest.fixture(params=ALPHA_PAIRS, ids=_ids)
-def alphas(request):
-    """(α_x, α_y) pairs, isotropic and anisotropic."""
-    return request.param
+def pytest_generate_tests(metafunc):
+    """``ndf_name`` is every registered NDF and ``alphas`` every (α_x, α_y) pair, isotropic
+    and anisotropic; together, only the combinations the NDF accepts."""
+    explicit = set()
+    for mark in metafunc.definition.iter_markers("parametrize"):
+        argnames = mark.args[0]
+        explicit.update(a.strip() for a in (argnames.split(",") if isinstance(argnames, str) else argnames))
+    names = [n for n in metafunc.fixturenames if n not in explicit]
+    if "ndf_name" in names and "alphas" in names:
+        combos = [(n, a) for n in sorted(NDFS) for a in ALPHA_PAIRS if _valid(n, a)]
+        metafunc.parametrize(("ndf_name", "alphas"), combos,
+                             ids=[f"{n}-{_ids(a)}" for n, a in combos])
+    elif "ndf_name" in names:
+        metafunc.parametrize("ndf_name", sorted(NDFS))
+    elif "alphas" in names:
+        metafunc.parametrize("alphas", ALPHA_PAIRS, ids=[_ids(a) for a in ALPHA_PAIRS])
+
+
+def make_ndf(ndf_name, alpha, alpha_y=None, **shape):
+    """The registry's make_ndf, except that an NDF with no anisotropic form (not
+    shape-invariant: GTR, Blinn-Phong) is built at α_y = α_x: the extreme-value tests
+    that ask for anisotropic pairs then test it isotropically."""
+    if not NDFS[ndf_name].anisotropic:
+        alpha_y = None
+    return _make_ndf(ndf_name, alpha, alpha_y, **shape)
+
+
+def exact_smith(ndf_name):
+    """The masking that is exact Smith for this NDF: ``smith`` unless the NDF's Λ is an
+    approximation (Blinn-Phong), then ``smith_numeric``."""
+    return MASKINGS["smith" if NDFS[ndf_name].smith_exact else "smith_numeric"]
 
 
 def make_brdf(ndf_name, alpha, alpha_y=None, g2="height_correlated", fresnel="none",
               kd=0.0, **fresnel_params):
-    """BRDF(make_ndf(..), Smith, G2 form, Fresnel, kd) as the brief prescribes."""
-    return BRDF(make_ndf(ndf_name, alpha, alpha_y), MASKINGS["smith"], G2_FORMS[g2],
+    """BRDF(make_ndf(..), exact Smith, G2 form, Fresnel, kd) as the brief prescribes."""
+    return BRDF(make_ndf(ndf_name, alpha, alpha_y), exact_smith(ndf_name), G2_FORMS[g2],
                 FRESNELS[fresnel](**fresnel_params), kd)
 
 

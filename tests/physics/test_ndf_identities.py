@@ -10,10 +10,9 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from app.physics.ndf import make_ndf
 from app.physics.vectors import direction_deg
 
-from .conftest import m_hemisphere_rule
+from .conftest import make_ndf, m_hemisphere_rule
 
 # Views for the projected-area identity: normal, oblique, grazing and exactly horizontal.
 VIEWS_DEG = [(0.0, 0.0), (30.0, 20.0), (60.0, 135.0), (85.0, 250.0), (89.9, 300.0), (90.0, 45.0)]

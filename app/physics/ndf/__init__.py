@@ -9,7 +9,7 @@ from __future__ import annotations
 import importlib
 import pkgutil
 
-from .base import ALPHA, ALPHA_Y, NDF, ShapeInvariantNDF
+from .base import ALPHA, ALPHA_Y, NDF, ShapeInvariantNDF, SlopeSpaceNDF
 
 NDFS: dict[str, type[NDF]] = {}
 
@@ -34,4 +34,5 @@ def _import_all() -> None:
 _import_all()
 NDFS = dict(sorted(NDFS.items(), key=lambda kv: (kv[1].menu_order, kv[0])))
 
-__all__ = ["ALPHA", "ALPHA_Y", "NDF", "NDFS", "ShapeInvariantNDF", "make_ndf", "register"]
+__all__ = ["ALPHA", "ALPHA_Y", "NDF", "NDFS", "ShapeInvariantNDF", "SlopeSpaceNDF", "make_ndf",
+           "register"]

@@ -42,6 +42,10 @@ class NDF:
     reference: ClassVar[str]
     shape_params: ClassVar[tuple[Param, ...]] = ()
     menu_order: ClassVar[int] = 100  # position in menus; lower first
+    #: False where ``Lambda`` is an approximation of the NDF's own Smith Λ (Blinn-Phong
+    #: uses Walter's Beckmann substitution): the exact-Smith identities then hold only
+    #: with masking=smith_numeric.
+    smith_exact: ClassVar[bool] = True
     anisotropic: ClassVar[bool] = True
 
     def __init__(self, alpha: float, alpha_y: float | None = None, **shape: float):
@@ -75,21 +79,41 @@ class NDF:
         return f"{type(self).__name__}(alpha_x={self.alpha_x:g}, alpha_y={self.alpha_y:g}{shape})"
 
 
-class ShapeInvariantNDF(NDF):
-    """An NDF that is a stretch of one α = 1 slope distribution (3-19..3-25).
+class SlopeSpaceNDF(NDF):
+    """An NDF written in α-stretched slope space (3-19..3-25).
 
     D(m) = P22(x̃, ỹ) / (α_x α_y cos⁴θ_m) with stretched slopes x̃ = −m_x/(α_x m_z),
-    ỹ = −m_y/(α_y m_z), and Λ(ω) = Λ₁(a), a = μ / s with s² = α_x² ω_x² + α_y² ω_y²
-    (s = α(φ) sinθ). Subclasses give the α = 1 forms as functions of
-    q² = m_x²/α_x² + m_y²/α_y² (so that r² = q²/m_z²) and of (μ, s):
+    ỹ = −m_y/(α_y m_z), and Smith's Λ(ω) as a function of μ and
+    s = √(α_x² ω_x² + α_y² ω_y²) = α(φ) sinθ (so a = μ/s). Subclasses give, as methods
+    of q² = m_x²/α_x² + m_y²/α_y² (r̃² = q²/m_z²) and of (μ, s):
 
-    * ``_D(mz, q2)``: D without the α_x α_y factor, for m_z ≥ 0, including its limit
-      at m_z = 0;
-    * ``_mu_Lambda(mu, s)``: μ Λ₁(μ/s), finite for μ ≥ 0, s ≥ 0, μ² + s² > 0;
-    * ``radial_cdf(r2)`` / ``radial_cdf_inv(u)``: C(r̃) = ∫∫_{x̃²+ỹ²≤r̃²} P22, the
-      mass of stretched slopes within radius r̃ (and its inverse, returning r̃²), used by
-      quadrature and by D·cos sampling.
+    * ``_D(mz, q2)``: α_x α_y D, for m_z ≥ 0, including its limit at m_z = 0;
+    * ``_mu_Lambda(mu, s)``: μΛ, finite for μ ≥ 0, s ≥ 0, μ² + s² > 0;
+    * ``radial_ccdf(r2)`` / ``radial_ccdf_inv(v)``: the tail mass
+      1 − C(r̃) = ∫∫_{x̃²+ỹ²>r̃²} P22 of stretched slopes beyond radius r̃ (and its
+      inverse, returning r̃²). ``radial_cdf``/``radial_cdf_inv`` (the mass within r̃)
+      follow from them; override them where a form without cancellation exists. They
+      serve the albedo quadrature, the general Smith integral and D·cos sampling; the
+      tail form keeps its precision where the mass left is 1e-30.
+
+    When ``shape_invariant`` these do not depend on α (GGX, Beckmann, Student-t,
+    exponential power) and anisotropy is the stretch; otherwise the NDF is isotropic
+    (α_x = α_y) and the methods may use α (GTR, Blinn-Phong).
     """
+
+    shape_invariant: ClassVar[bool] = True
+
+    @property
+    def tail_beta(self) -> float:
+        """β with r̃ ~ v^{−β} as the tail mass v = 1 − C(r̃) → 0 (½ for P22 ~ r̃^{−4},
+        as GGX and GTR; 0 for exponential tails). Quadratures over v use it to choose
+        their substitution."""
+        return 0.5
+
+    def __init__(self, alpha: float, alpha_y: float | None = None, **shape: float):
+        super().__init__(alpha, alpha_y, **shape)
+        if not self.shape_invariant and not self.isotropic:
+            raise ValueError(f"{self.name} is not shape-invariant: it has no anisotropic form")
 
     def D(self, m):
         m = np.asarray(m, dtype=float)
@@ -101,21 +125,31 @@ class ShapeInvariantNDF(NDF):
         # Defined on the closed upper hemisphere; below it masking is 0 through χ⁺ and
         # μΛ is not used, so it is 0 there (and ω = −n never reaches 0/0).
         w = np.asarray(w, dtype=float)
-        s = np.sqrt((self.alpha_x * w[..., 0]) ** 2 + (self.alpha_y * w[..., 1]) ** 2)
-        return where_valid(w[..., 2] >= 0, [w[..., 2], s], self._mu_Lambda, 0.0)
+        return where_valid(w[..., 2] >= 0, [w[..., 2], self.stretched_sin(w)], self._mu_Lambda, 0.0)
 
-    @staticmethod
-    def _D(mz, q2):
+    def stretched_sin(self, w) -> np.ndarray:
+        """s = √(α_x² ω_x² + α_y² ω_y²) = α(φ) sinθ."""
+        w = np.asarray(w, dtype=float)
+        return np.sqrt((self.alpha_x * w[..., 0]) ** 2 + (self.alpha_y * w[..., 1]) ** 2)
+
+    def _D(self, mz, q2):
         raise NotImplementedError
 
-    @staticmethod
-    def _mu_Lambda(mu, s):
+    def _mu_Lambda(self, mu, s):
         raise NotImplementedError
 
-    @staticmethod
-    def radial_cdf(r2):
+    def radial_ccdf(self, r2):
         raise NotImplementedError
 
-    @staticmethod
-    def radial_cdf_inv(u):
+    def radial_ccdf_inv(self, v):
         raise NotImplementedError
+
+    def radial_cdf(self, r2):
+        return 1.0 - self.radial_ccdf(r2)
+
+    def radial_cdf_inv(self, u):
+        return self.radial_ccdf_inv(1.0 - np.asarray(u, dtype=float))
+
+
+# The shape-invariant NDFs are slope-space NDFs whose hooks ignore α.
+ShapeInvariantNDF = SlopeSpaceNDF

@@ -39,6 +39,21 @@ def _bracket_series(a):
     return total / SQRT_PI
 
 
+def beckmann_mu_Lambda(mu, s):
+    """μΛ for the Beckmann slope distribution, a = μ/s.
+
+    Λ(a) = (erf a − 1)/2 + e^{−a²}/(2a√π) (3-30). Times μ, with
+    erf a − 1 = −erfc a = −erfcx(a) e^{−a²}:  μΛ = (s e^{−a²}/2)(1/√π − a·erfcx(a)).
+    s = 0 is normal incidence, where Λ = 0.
+    """
+    def formula(mu, s):
+        a = mu / s
+        bracket = where_valid(a < A_SERIES, [a], _bracket_direct, 0.0) \
+            + where_valid(a >= A_SERIES, [a], _bracket_series, 0.0)
+        return 0.5 * s * np.exp(-a * a) * bracket
+    return where_valid(s > 0, [mu, s], formula, 0.0)
+
+
 @register
 class Beckmann(ShapeInvariantNDF):
     name = "beckmann"
@@ -47,31 +62,28 @@ class Beckmann(ShapeInvariantNDF):
     menu_order = 1
     reference = "Walter et al. 2007, eq. 25-27; Heitz 2014, eq. 83"
 
-    @staticmethod
-    def _D(mz, q2):
+    @property
+    def tail_beta(self) -> float:
+        return 0.0  # v = e^{−r̃²}: r̃ grows like √(−ln v)
+
+    def _D(self, mz, q2):
         # D = exp(−tan²θ_m (cos²φ/α_x² + sin²φ/α_y²)) / (π α_x α_y cos⁴θ_m); the
         # exponent is −q²/mz². Limit at mz = 0 is 0; below mz = 1e-154 mz⁴ underflows
         # while the exponential is already 0.
         return where_valid(mz > 0, [mz, q2],
                            lambda z, q: np.exp(-q / (z * z)) / (np.pi * z ** 4), 0.0)
 
-    @staticmethod
-    def _mu_Lambda(mu, s):
-        # Λ(a) = (erf a − 1)/2 + e^{−a²}/(2a√π), a = μ/s (3-30). Times μ, with
-        # erf a − 1 = −erfc a = −erfcx(a) e^{−a²}:
-        #   μΛ = (s e^{−a²}/2) · (1/√π − a·erfcx(a)).
-        # s = 0 is normal incidence, where Λ = 0.
-        def formula(mu, s):
-            a = mu / s
-            bracket = where_valid(a < A_SERIES, [a], _bracket_direct, 0.0) \
-                + where_valid(a >= A_SERIES, [a], _bracket_series, 0.0)
-            return 0.5 * s * np.exp(-a * a) * bracket
-        return where_valid(s > 0, [mu, s], formula, 0.0)
+    def _mu_Lambda(self, mu, s):
+        return beckmann_mu_Lambda(mu, s)
 
-    @staticmethod
-    def radial_cdf(r2):
+    def radial_cdf(self, r2):
         return -np.expm1(-r2)
 
-    @staticmethod
-    def radial_cdf_inv(u):
+    def radial_cdf_inv(self, u):
         return -np.log1p(-u)
+
+    def radial_ccdf(self, r2):
+        return np.exp(-r2)
+
+    def radial_ccdf_inv(self, v):
+        return -np.log(v)

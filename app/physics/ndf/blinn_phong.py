@@ -1,0 +1,74 @@
+"""Blinn-Phong, normalised (3-32), parameterised by its Beckmann-equivalent α_b.
+
+D(m) = (α_p + 2)/(2π) (n·m)^{α_p},  α_p = 2/α_b² − 2  (3-33).
+
+Not shape-invariant, so isotropic only. Its Smith Λ has no closed form; ``smith`` uses
+Walter 2007's substitution a = √(0.5 α_p + 1)/tanθ into Beckmann's Λ — and since
+0.5 α_p + 1 = 1/α_b², that is Beckmann's Λ at α_b exactly. It is an approximation of
+Blinn-Phong's own Smith Λ: ``masking=smith_numeric`` shows the difference.
+
+In stretched slopes r̃ = tanθ/α_b the mass of normals beyond θ is cos^{α_p+2}θ:
+1 − C(r̃) = (1 + α_b² r̃²)^{−1/α_b²}, which tends to Beckmann's e^{−r̃²} as α_b → 0.
+
+References
+----------
+Blinn 1977; Walter et al. 2007, eq. 30-32 (normalisation, α_p, Λ).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import register
+from .base import SlopeSpaceNDF
+from .beckmann import beckmann_mu_Lambda
+
+
+@register
+class BlinnPhong(SlopeSpaceNDF):
+    name = "blinn_phong"
+    label = "Blinn-Phong"
+    menu_order = 2
+    description = ("Normalised (cos θ_m)^α_p with α_p = 2/α² − 2 (α the Beckmann-equivalent "
+                   "roughness); isotropic only.")
+    reference = "Blinn 1977; Walter et al. 2007, eq. 30-33"
+    shape_invariant = False
+    anisotropic = False
+    smith_exact = False
+    derived_doc = {"alpha_p": "2/alpha^2 - 2 (3-33), the Phong exponent"}
+
+    @property
+    def alpha_p(self) -> float:
+        """The Phong exponent (3-33)."""
+        return 2.0 / self.alpha_x ** 2 - 2.0
+
+    def derived(self) -> dict:
+        return {"alpha_p": self.alpha_p}
+
+    @property
+    def tail_beta(self) -> float:
+        # v = (1 + α² r̃²)^{−1/α²} ~ r̃^{−2/α²}
+        return 0.5 * self.alpha_x ** 2
+
+    def _D(self, mz, q2):
+        # α_b² D; mz^α_p is 1 at α_p = 0 (α_b = 1, the uniform cosine lobe) and
+        # underflows smoothly for large α_p.
+        return self.alpha_x ** 2 * (self.alpha_p + 2.0) / (2.0 * np.pi) * np.power(mz, self.alpha_p)
+
+    def _mu_Lambda(self, mu, s):
+        return beckmann_mu_Lambda(mu, s)
+
+    def radial_ccdf(self, r2):
+        a2 = self.alpha_x ** 2
+        return np.exp(-np.log1p(a2 * r2) / a2)
+
+    def radial_ccdf_inv(self, v):
+        a2 = self.alpha_x ** 2
+        return np.expm1(-a2 * np.log(v)) / a2
+
+    def radial_cdf(self, r2):
+        a2 = self.alpha_x ** 2
+        return -np.expm1(-np.log1p(a2 * r2) / a2)
+
+    def radial_cdf_inv(self, u):
+        a2 = self.alpha_x ** 2
+        return np.expm1(-a2 * np.log1p(-u)) / a2

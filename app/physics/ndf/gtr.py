@@ -1,0 +1,113 @@
+"""Generalized Trowbridge-Reitz (GTR, Burley 2012) (3-41, 3-42).
+
+D(m) = k(α, γ) / (π (1 + (n·m)² (α² − 1))^γ),
+k(α, γ) = (γ − 1)(α² − 1) / (1 − (α²)^{1−γ})   (γ ≠ 1, α ≠ 1),
+with removable singularities at γ = 1 and α = 1. With x = ln α² and E(y) = (e^y − 1)/y,
+k = E(x) / E((1 − γ) x), which is continuous through both (MATH.md). γ = 2 is GGX.
+
+Not shape-invariant: isotropic only, and its Smith Λ has no closed form; ``smith``
+interpolates a table of the general Smith integral (smith_table.py).
+
+Tail mass in stretched slopes r̃ = tanθ/α (μ = cosθ = 1/√(1 + α² r̃²)), from
+∫ D cos θ dω over θ_m > θ:  1 − C = k μ² E((1−γ) L) · log(1+y)/y  with y = μ²(α² − 1),
+L = log1p(y); its inverse solves the same closed form for μ² (see radial_ccdf_inv).
+
+References
+----------
+Burley 2012, "Physically-Based Shading at Disney", SIGGRAPH course notes, eq. 8 and
+appendix B (normalisation, sampling).
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from . import register
+from .base import SlopeSpaceNDF
+from ..numeric import SERIES_CUTOFF, expm1_ratio, log1p_ratio, where_valid
+from ..params import Param
+from ..smith_table import mu_Lambda_tabulated
+
+GAMMA = Param("gamma", "γ (GTR tail: 2 = GGX)", 0.5, 10.0, 2.0,
+              "GTR exponent: γ = 2 is GGX, γ = 1 is Berry's, smaller γ has longer tails.")
+
+
+@register
+class GTR(SlopeSpaceNDF):
+    name = "gtr"
+    label = "GTR (generalized Trowbridge-Reitz)"
+    menu_order = 3
+    description = "Burley's generalisation of GGX with tail exponent γ; isotropic only."
+    reference = "Burley 2012, eq. 8; seed 000 (3-41), (3-42)"
+    shape_params = (GAMMA,)
+    shape_invariant = False
+    anisotropic = False
+
+    @property
+    def k(self) -> float:
+        x = np.log(self.alpha_x ** 2)
+        return float(expm1_ratio(x) / expm1_ratio((1.0 - self.gamma) * x))
+
+    def _D(self, mz, q2):
+        # α² D with sin²θ = α² q² (mz² + q² ≥ min(1, 1/α²) > 0 for a unit m):  α² k / (π α^{2γ} (mz² + q²)^γ), in logs.
+        a, g = self.alpha_x, self.gamma
+        return np.exp(np.log(self.k / np.pi) + (2.0 - 2.0 * g) * np.log(a) - g * np.log(mz * mz + q2))
+
+    def _mu_Lambda(self, mu, s):
+        return mu_Lambda_tabulated(self, mu, s)
+
+    def _B(self, r2):
+        """μ₀² = cos²θ = 1/(1 + A r̃²), z = (1 − A) r̃² μ₀² and ln B, where
+        B = 1 + μ₀²(A − 1) = A (1 + z) (A = α²). B is the base of D's denominator;
+        forming it as 1 + μ₀²(A − 1) would lose 8 digits at α = 1e-4 (B ≈ 1e-8)."""
+        A = self.alpha_x ** 2
+        mu2 = 1.0 / (1.0 + A * r2)
+        z = (1.0 - A) * r2 * mu2
+        return mu2, z, np.log(A) + np.log1p(z)
+
+    def radial_ccdf(self, r2):
+        # k ∫_0^{μ₀²} (1 + y (A − 1))^{−γ} dy = k μ₀² E((1 − γ) ln B) · ln B/(B − 1).
+        A, g = self.alpha_x ** 2, self.gamma
+        r2 = np.asarray(r2, dtype=float)
+        finite = np.isfinite(r2)
+        mu2, _, log_B = self._B(np.where(finite, r2, 0.0))
+        y = mu2 * (A - 1.0)                  # B − 1, no cancellation
+        small = np.abs(y) < SERIES_CUTOFF    # ln B/(B − 1) → 1 − y/2 as A → 1
+        ratio = np.where(small, 1.0 - 0.5 * y, where_valid(~small, [log_B, y], lambda lb, yy: lb / yy, 1.0))
+        v = self.k * mu2 * expm1_ratio((1.0 - g) * log_B) * ratio
+        return np.where(finite, v, 0.0)
+
+    def radial_cdf(self, r2):
+        # The mass within r̃, without 1 − (tail):
+        # C = k B^{1−γ} E(−(1−γ) L) · log1p(z)/z · r̃² μ₀², L = log1p(z)
+        # (→ k A^{1−γ} r̃² as r̃ → 0).
+        g = self.gamma
+        r2 = np.asarray(r2, dtype=float)
+        finite = np.isfinite(r2)
+        r2f = np.where(finite, r2, 0.0)
+        mu2, z, log_B = self._B(r2f)
+        c = (self.k * np.exp((1.0 - g) * log_B) * expm1_ratio(-(1.0 - g) * np.log1p(z))
+             * log1p_ratio(z) * r2f * mu2)
+        return np.where(finite, c, 1.0)
+
+    def radial_cdf_inv(self, u):
+        # Solve C(r̃) = u for r̃²: with w = u (γ − 1)(A − 1)/(k A^{1−γ}),
+        # L₂ = log1p(w)/w · u (1 − A)/(k A^{1−γ}) = ln(B/A), Z = E(L₂) log1p(w)/w · u/(k A^{1−γ})
+        # (= z/(1 − A)), r̃² = Z/(1 − A Z). No division by 1 − A or 1 − γ.
+        # Mathematically w ≥ A^{γ−1} − 1 > −1; rounding near u = 1 may overshoot.
+        A, g = self.alpha_x ** 2, self.gamma
+        u = np.asarray(u, dtype=float)
+        scale = u / (self.k * A ** (1.0 - g))
+        w = np.maximum((g - 1.0) * (A - 1.0) * scale, -1.0 + np.finfo(float).eps)
+        ratio = log1p_ratio(w)
+        Z = expm1_ratio(ratio * (1.0 - A) * scale) * ratio * scale
+        return Z / (1.0 - A * Z)
+
+    def radial_ccdf_inv(self, v):
+        # Solve k μ² E((1−γ)L) log1p(y)/y = v: with x_v = v(α² − 1)/k, z = (1 − γ) x_v,
+        # μ² = (v/k) · E(log1p(z)/z · x_v) · log1p(z)/z  (no division by 1 − γ or α² − 1).
+        v = np.asarray(v, dtype=float)
+        x_v = v * (self.alpha_x ** 2 - 1.0) / self.k
+        z = (1.0 - self.gamma) * x_v
+        ratio = log1p_ratio(z)
+        mu2 = v / self.k * expm1_ratio(ratio * x_v) * ratio
+        return (1.0 / mu2 - 1.0) / self.alpha_x ** 2

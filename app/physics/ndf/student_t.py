@@ -1,0 +1,96 @@
+"""Student-t NDF (3-43, 3-44): between GGX (γ = 2) and Beckmann (γ → ∞).
+
+In stretched slopes the α = 1 slope density is
+P22(r̃) = (1/π) (1 + r̃²/(γ − 1))^{−γ},
+normalised (∫ 2π r P22 dr = 1), and 1 − C(r̃) = (1 + r̃²/(γ − 1))^{1−γ}. Written this
+way, (γ − 1)^γ — which overflows for large γ — never appears (MATH.md).
+
+Smith Λ from the marginal slope density, a Student-t with ν = 2γ − 2 scaled by 1/√2:
+g(x) = c (1 + x²/(γ − 1))^{−(γ−½)}, c = Γ(γ−½) / (Γ(γ−1) √(π(γ−1))), and
+Λ(a) = (1/a) ∫_a^∞ (x − a) g(x) dx (MATH.md's corrected (3-22)), so
+μΛ = s (T₁ − a T₂) with
+T₁ = ∫_a^∞ x g = c (γ−1)/(2γ−3) (1 + a²/(γ−1))^{3/2−γ},
+T₂ = ∫_a^∞ g = ½ I_{(γ−1)/(γ−1+a²)}(γ − 1, ½)   (regularised incomplete beta).
+T₂ is computed as the tail itself, not 1 − CDF, so μΛ keeps its relative precision for
+large a. Equivalent to (3-45..3-47); finite only for γ > 1.5, where the mean slope is.
+
+References
+----------
+Ribardière, Bringier, Meneveaux, Simonot 2017, "STD: Student's t-Distribution of Slopes
+for Microfacet Based BRDFs", Computer Graphics Forum 36(2).
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.special import betainc, gammaln
+
+from . import register
+from .base import SlopeSpaceNDF
+from ..numeric import where_valid
+from ..params import Param
+
+GAMMA = Param("gamma", "γ (tail: 2 = GGX, ∞ = Beckmann)", 1.5, 1000.0, 2.0,
+              "Student-t shape: γ = 2 is GGX, γ → ∞ tends to Beckmann; Λ exists for γ > 1.5.",
+              lo_open=True, scale="log")
+
+# exp() of more than this overflows float64; D's horizon limit is +inf there (γ < 2).
+LOG_MAX = 709.0
+
+
+@register
+class StudentT(SlopeSpaceNDF):
+    name = "student_t"
+    label = "Student-t"
+    menu_order = 4
+    description = "Slope distribution with a tunable tail: γ = 2 is GGX, γ → ∞ is Beckmann."
+    reference = "Ribardière et al. 2017; seed 000 (3-43)..(3-47)"
+    shape_params = (GAMMA,)
+
+    @property
+    def tail_beta(self) -> float:
+        # v = (1 + r̃²/(γ−1))^{1−γ} ~ r̃^{2−2γ}: r̃ ~ v^{−1/(2γ−2)}
+        return 1.0 / (2.0 * self.gamma - 2.0)
+
+    def _D(self, mz, q2):
+        # α_x α_y D = P22(q²/mz²)/mz⁴ = mz^{2γ−4} / (π (mz² + q²/(γ−1))^γ), in logs.
+        # At mz = 0 the limit is 0 for γ > 2, 1/(π q⁴) for γ = 2 and +inf for γ < 2.
+        g = self.gamma
+
+        def inside(z, q):
+            log_d = (2.0 * g - 4.0) * np.log(z) - g * np.log(z * z + q / (g - 1.0))
+            return where_valid(log_d < LOG_MAX, [log_d], lambda x: np.exp(x) / np.pi, np.inf)
+
+        if g > 2.0:
+            horizon = 0.0
+        elif g == 2.0:
+            horizon = where_valid(q2 > 0, [q2], lambda q: 1.0 / (np.pi * q * q), np.inf)
+        else:
+            horizon = np.inf
+        return where_valid(mz > 0, [mz, q2], inside, horizon)
+
+    def _mu_Lambda(self, mu, s):
+        g = self.gamma
+        log_c = gammaln(g - 0.5) - gammaln(g - 1.0) - 0.5 * np.log(np.pi * (g - 1.0))
+
+        def formula(mu, s):
+            a = mu / s
+            t1 = np.exp(log_c + (1.5 - g) * np.log1p(a * a / (g - 1.0))) * (g - 1.0) / (2.0 * g - 3.0)
+            t2 = 0.5 * betainc(g - 1.0, 0.5, (g - 1.0) / (g - 1.0 + a * a))
+            return s * (t1 - a * t2)
+        return where_valid(s > 0, [mu, s], formula, 0.0)
+
+    def radial_ccdf(self, r2):
+        g = self.gamma
+        return np.exp((1.0 - g) * np.log1p(r2 / (g - 1.0)))
+
+    def radial_ccdf_inv(self, v):
+        g = self.gamma
+        return (g - 1.0) * np.expm1(-np.log(v) / (g - 1.0))
+
+    def radial_cdf(self, r2):
+        g = self.gamma
+        return -np.expm1((1.0 - g) * np.log1p(r2 / (g - 1.0)))
+
+    def radial_cdf_inv(self, u):
+        g = self.gamma
+        return (g - 1.0) * np.expm1(-np.log1p(-u) / (g - 1.0))
