@@ -640,7 +640,7 @@
         doneKey: null, drawn: false, error: null, loadingTimer: 0,
       };
       const bar = window.BRDF.exportBar(
-        () => ({ kind: view.name, params: figureParams(panel, state), div,
+        () => ({ kind: view.name, params: compact(figureParams(panel, state)), div,
                  title: heading.textContent }),
         (kind, text) => exportReport(panel, kind, text));
       bar.classList.add("panel-export");
@@ -675,6 +675,19 @@
       q.values = s.values;
     }
     return q;
+  }
+
+  // A query without the values that are the API's defaults anyway (a shorter link or
+  // embed code for the same figure); alpha_y and roughness stay: their presence matters.
+  function compact(q) {
+    const out = {};
+    for (const [k, v] of Object.entries(q)) {
+      const g = groups.find((x) => x.name === k);
+      const p = params.get(k);
+      if (k !== "alpha_y" && k !== "roughness" && ((g && v === g.default) || (p && v === p.default))) continue;
+      out[k] = v;
+    }
+    return out;
   }
 
   const overlaid = (panel, s) => !!s.vary && !panel.noOverlay && panel.view.vary.includes(s.vary);

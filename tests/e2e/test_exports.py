@@ -112,7 +112,9 @@ def test_copy_embed_code_and_link(page, page_log, base_url):
     page.context.grant_permissions(["clipboard-read", "clipboard-write"], origin=base_url)
     page.goto("/?alpha=0.15&theta_i_deg=50&log=true")
     wait_quiet(page)
-    page.locator('[data-panel="lobe"] button[data-format="embed"]').click()
+    button = page.locator('[data-panel="lobe"] button[data-format="embed"]')
+    button.click()
+    page.wait_for_function("(b) => b.textContent.includes('Copied')", arg=button.element_handle())
     snippet = page.evaluate("() => navigator.clipboard.readText()")
     m = re.fullmatch(r'<iframe src="([^"]+)" width="\d+" height="\d+" title="[^"]*" loading="lazy" style="[^"]*"></iframe>', snippet)
     assert m, snippet
@@ -120,12 +122,14 @@ def test_copy_embed_code_and_link(page, page_log, base_url):
     assert src.path == "/embed/lobe"
     q = {k: v[0] for k, v in parse_qs(src.query).items()}
     assert q["alpha"] == "0.15" and q["theta_i_deg"] == "50" and q["log"] == "true"
+    assert "kd" not in q and "fresnel" not in q          # the API's defaults are left out
     page.goto(m.group(1))                          # the snippet's page shows that state
     page.wait_for_function(EMBED_QUIET)
     assert page.evaluate("() => document.getElementById('plot').layout.polar.radialaxis.type") == "log"
     page.go_back()
     wait_quiet(page)
     page.click("#copy-link")
+    page.wait_for_function("() => document.getElementById('copy-link').textContent.includes('Copied')")
     assert page.evaluate("() => navigator.clipboard.readText()") == page.url
     assert page_log.problems() == []
 
