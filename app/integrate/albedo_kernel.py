@@ -1,8 +1,8 @@
 """The albedo quadrature's integrand as one compiled loop (optional: numba).
 
 ``albedo._integrate_order`` lays the nodes — ψ (cos, sin, weight), the disk exit U(ψ)
-and 1 − U, the substitution u = U h(s), 1 − u = (1 − U) + U τ(s), du = U w(s) — in
-numpy, at O(n·N) cost. Everything at
+and 1 − U, and the rules in u (albedo._u_rule, albedo._log_rule) — in numpy, at O(n·N)
+cost. Everything at
 the O(n·N²) nodes is the integrand
 
     g = 4 F(v·m) V(l, v) μ_l (v·m)/μ_m,   l the mirror of v about m(ρ̃(u), ψ),
@@ -46,13 +46,24 @@ def _radial_r2(ndf_kind, u, one_minus_u):
     return -math.log(one_minus_u)
 
 
-def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, V0, head, tail, w_u):
-    """Σ_j g(u_j) du_j along one ψ (cos c, sin s) for view v: u = U head_j,
-    1 − u = V0 + U tail_j, du = U w_u_j."""
+def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, V0,
+         head, tail, w_u, h, dh, use_log):
+    """Σ_j g(u_j) du_j along one ψ (cos c, sin s) for view v. The u-rule: u = U head_j,
+    1 − u = V0 + U tail_j, du = U w_u_j; the log rule (use_log and V0 > 0):
+    1 − u = V0^h_j, du = −ln V0 (1 − u) dh_j (albedo._u_rule, albedo._log_rule)."""
     total = 0.0
+    log_rule = use_log and V0 > 0.0
+    L = math.log(V0) if log_rule else 0.0
     for j in range(tail.shape[0]):
-        u = U * head[j]
-        rho = math.sqrt(_radial_r2(ndf_kind, u, V0 + U * tail[j]))
+        if log_rule:
+            one_minus_u = math.exp(h[j] * L)
+            u = -math.expm1(h[j] * L)
+            du = -L * one_minus_u * dh[j]
+        else:
+            u = U * head[j]
+            one_minus_u = V0 + U * tail[j]
+            du = U * w_u[j]
+        rho = math.sqrt(_radial_r2(ndf_kind, u, one_minus_u))
         X = ax * rho * c
         Y = ay * rho * s
         k = vz - vx * X - vy * Y                    # (v·m)/μ_m
@@ -67,11 +78,11 @@ def _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v, c, s, U, V0, h
         den4 = fast.visibility_den(g2_kind, mu_l, vz, ml_l, ml_v)
         F = fast.schlick(f0, f90, p, k * math.sqrt(inv_len2))
         g = 4.0 * F * mu_l * k / den4 if den4 > 0.0 else math.inf
-        total += g * (U * w_u[j])
+        total += g * du
     return total
 
 
-def _rows_parallel(v, cp, sp, U, V0, head, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
+def _rows_parallel(v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
     n_psi = cp.shape[1]
     for q in _prange(cp.shape[0] * n_psi):
         i = q // n_psi
@@ -79,10 +90,10 @@ def _rows_parallel(v, cp, sp, U, V0, head, tail, w_u, out, ndf_kind, ax, ay, g2_
         vx, vy, vz = v[i, 0], v[i, 1], v[i, 2]
         ml_v = fast.mu_lambda(ndf_kind, ax, ay, vx, vy, vz)
         out[i, j] = _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v,
-                         cp[i, j], sp[i, j], U[i, j], V0[i, j], head, tail, w_u)
+                         cp[i, j], sp[i, j], U[i, j], V0[i, j], head, tail, w_u, h, dh, use_log)
 
 
-def _rows_serial(v, cp, sp, U, V0, head, tail, w_u, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
+def _rows_serial(v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log, out, ndf_kind, ax, ay, g2_kind, f0, f90, p):
     # the same as _rows_parallel with range (see fast.py on why there are two)
     n_psi = cp.shape[1]
     for q in range(cp.shape[0] * n_psi):
@@ -91,7 +102,7 @@ def _rows_serial(v, cp, sp, U, V0, head, tail, w_u, out, ndf_kind, ax, ay, g2_ki
         vx, vy, vz = v[i, 0], v[i, 1], v[i, 2]
         ml_v = fast.mu_lambda(ndf_kind, ax, ay, vx, vy, vz)
         out[i, j] = _row(ndf_kind, ax, ay, g2_kind, f0, f90, p, vx, vy, vz, ml_v,
-                         cp[i, j], sp[i, j], U[i, j], V0[i, j], head, tail, w_u)
+                         cp[i, j], sp[i, j], U[i, j], V0[i, j], head, tail, w_u, h, dh, use_log)
 
 
 _prange = range
@@ -103,17 +114,21 @@ if fast.numba is not None:
 ROW_LOOPS = (_rows_parallel, _rows_serial)
 
 
-def integrate(args: tuple, v, cp, sp, U, V0, head, tail, w_u, w_psi) -> np.ndarray:
+def integrate(args: tuple, v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log: bool,
+              w_psi) -> np.ndarray:
     """(1/2π) Σ_ψ w_ψ Σ_u g du for each view direction: E_spec at v (n, 3).
 
     ``cp``, ``sp``, ``U``, ``V0``: (n, P) cos ψ, sin ψ, the disk exit U = C(R(ψ)) and
-    1 − U; ``head``, ``tail``, ``w_u``: (N,), with u = U head, 1 − u = V0 + U tail and
-    du = U w_u; ``w_psi``: (P,) ψ weights.
+    1 − U; ``head``, ``tail``, ``w_u``: (N,) the u-rule, u = U head, 1 − u = V0 + U tail,
+    du = U w_u; ``h``, ``dh``: (N,) the log rule, used where ``use_log`` and V0 > 0;
+    ``w_psi``: (P,) ψ weights.
     """
     v = np.ascontiguousarray(v, dtype=float)
     cp, sp, U, V0 = (np.ascontiguousarray(np.broadcast_to(a, cp.shape), dtype=float)
                      for a in (cp, sp, U, V0))
-    head, tail, w_u = (np.ascontiguousarray(np.ravel(a), dtype=float) for a in (head, tail, w_u))
+    head, tail, w_u, h, dh = (np.ascontiguousarray(np.ravel(a), dtype=float)
+                              for a in (head, tail, w_u, h, dh))
     rows = np.empty(cp.shape)
-    fast.run(ROW_LOOPS, rows.size * tail.size, v, cp, sp, U, V0, head, tail, w_u, rows, *args)
+    fast.run(ROW_LOOPS, rows.size * tail.size, v, cp, sp, U, V0, head, tail, w_u, h, dh,
+             bool(use_log), rows, *args)
     return rows @ np.asarray(w_psi, dtype=float) / (2.0 * np.pi)
