@@ -25,6 +25,8 @@ class Settings:
     max_batch: int = 1_000_000
     #: μ values in one albedo request: BRDF_MAX_ALBEDO_POINTS
     max_albedo_points: int = 257
+    #: models compared in one POST /figures/{kind}: BRDF_MAX_COMPARE_MODELS
+    max_compare_models: int = 8
     #: width × height × scale² of one exported PNG/SVG: BRDF_MAX_EXPORT_PIXELS (4096²)
     max_export_pixels: int = 16_777_216
     #: origins allowed to GET cross-origin (embedding): BRDF_CORS_ORIGINS, comma-separated

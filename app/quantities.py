@@ -34,13 +34,20 @@ def ndf_curve(brdf: BRDF, phi_deg: float, n: int, cosine: bool = False) -> dict:
 
 
 def g1_curve(brdf: BRDF, phi_deg: float, n: int) -> dict:
-    """Λ(θ_v) and G1(θ_v) = 1/(1+Λ) for θ_v = 0..90° at azimuth φ (Λ = +inf at 90°)."""
+    """Λ(θ_v) and G1(θ_v) = 1/(1+Λ) for θ_v = 0..90° at azimuth φ (Λ = +inf at 90°).
+
+    When the masking is not ``smith``, also G1_exact (the NDF's own Smith G1) and
+    G1_error = G1 − G1_exact, so an approximation is always shown with its error."""
     theta = np.linspace(0.0, 90.0, n)
     w = direction_deg(theta, phi_deg)
     ml = brdf.masking.mu_Lambda(brdf.ndf, w)
     mu = w[..., 2]
     Lambda = np.divide(ml, mu, out=np.full_like(mu, np.inf), where=mu > 0)
-    return {"theta_deg": theta, "Lambda": Lambda, "G1": G1(mu, ml)}
+    out = {"theta_deg": theta, "Lambda": Lambda, "G1": G1(mu, ml)}
+    if brdf.masking.name != "smith":
+        out["G1_exact"] = G1(mu, brdf.ndf.mu_Lambda(w))
+        out["G1_error"] = out["G1"] - out["G1_exact"]
+    return out
 
 
 def lobe_curve(brdf: BRDF, theta_i_deg: float, phi_i_deg: float, n: int, cosine: bool) -> dict:

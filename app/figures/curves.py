@@ -27,23 +27,41 @@ def ndf_figure(data: dict, spec: dict, log: bool = True) -> dict:
 
 
 def g1_figure(data: dict, spec: dict) -> dict:
+    """G1 with Λ on a log right axis; for an approximate masking, G1 with the exact Smith
+    G1 dotted and the error G1 − G1_exact on the right axis instead."""
     theta = np.asarray(data["theta_deg"])
-    return {
-        "data": [
-            {"type": "scatter", "mode": "lines", "name": "G1(θ_v)", "x": theta,
-             "y": gaps(data["G1"]), "line": {"color": PALETTE[0], "width": 2},
-             "hovertemplate": "θ=%{x:.2f}°<br>G1=%{y:.5f}<extra></extra>"},
-            {"type": "scatter", "mode": "lines", "name": "Λ(θ_v) (right axis, log)",
-             "x": theta, "y": gaps(data["Lambda"]), "yaxis": "y2",
+    traces = [{"type": "scatter", "mode": "lines", "name": "G1(θ_v)", "x": theta,
+               "y": gaps(data["G1"]), "line": {"color": PALETTE[0], "width": 2},
+               "hovertemplate": "θ=%{x:.2f}°<br>G1=%{y:.5f}<extra></extra>"}]
+    if "G1_error" in data:
+        error = np.asarray(data["G1_error"], dtype=float)
+        span = max(float(np.max(np.abs(error))), 1e-12) * 1.1
+        traces += [
+            {"type": "scatter", "mode": "lines", "name": "G1 exact (Smith)", "x": theta,
+             "y": gaps(data["G1_exact"]), "line": {"color": PALETTE[6], "width": 1.5, "dash": "dot"},
+             "hovertemplate": "θ=%{x:.2f}°<br>exact G1=%{y:.5f}<extra></extra>"},
+            {"type": "scatter", "mode": "lines", "name": "G1 − G1 exact (right axis)",
+             "x": theta, "y": gaps(error), "yaxis": "y2",
              "line": {"color": PALETTE[1], "width": 2, "dash": "dash"},
-             "hovertemplate": "θ=%{x:.2f}°<br>Λ=%{y:.4g}<extra></extra>"},
-        ],
+             "hovertemplate": "θ=%{x:.2f}°<br>error=%{y:.3g}<extra></extra>"}]
+        right = axis("G1 − G1 exact", overlaying="y", side="right", showgrid=False,
+                     range=[-span, span], zeroline=True, zerolinecolor="#bbb", exponentformat="power")
+        title = f"G1 ({spec['masking']}) against exact Smith — {model_title(spec)}"
+    else:
+        traces.append({"type": "scatter", "mode": "lines", "name": "Λ(θ_v) (right axis, log)",
+                       "x": theta, "y": gaps(data["Lambda"]), "yaxis": "y2",
+                       "line": {"color": PALETTE[1], "width": 2, "dash": "dash"},
+                       "hovertemplate": "θ=%{x:.2f}°<br>Λ=%{y:.4g}<extra></extra>"})
+        right = log_axis("Λ", data["Lambda"], LAMBDA_DECADES, overlaying="y", side="right",
+                         showgrid=False)
+        title = f"Smith G1 and Λ — {model_title(spec)}"
+    return {
+        "data": traces,
         "layout": base_layout(
-            f"Smith G1 and Λ — {model_title(spec)}",
+            title,
             xaxis=axis("θ_v (degrees)", range=[0, 90], dtick=15),
             yaxis=axis("G1", range=[0, 1.05]),
-            yaxis2=log_axis("Λ", data["Lambda"], LAMBDA_DECADES, overlaying="y", side="right",
-                            showgrid=False),
+            yaxis2=right,
             margin={"l": 60, "r": 60, "t": 46, "b": 50}),
     }
 
