@@ -1,0 +1,142 @@
+"""What every benchmark shares: timing, statistics, the machine, a live server.
+
+Benchmarks are not tests: they measure and report, they do not pass or fail. On a
+shared machine absolute times move with the load, so each benchmark times the things
+it compares in one run, interleaved (A, B, A, B, ...), and reports medians.
+"""
+from __future__ import annotations
+
+import contextlib
+import os
+import platform
+import socket
+import statistics
+import subprocess
+import sys
+import time
+import urllib.request
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[1]
+if str(ROOT) not in sys.path:       # `python bench/run.py` from a checkout, installed or not
+    sys.path.insert(0, str(ROOT))
+
+
+def log(*args) -> None:
+    """Progress goes to stderr, so that --json leaves stdout to the summary."""
+    print(*args, file=sys.stderr, flush=True)
+
+
+def percentile(values, q: float) -> float:
+    """The q-th percentile (0..100), linear between order statistics."""
+    xs = sorted(values)
+    if not xs:
+        return float("nan")
+    pos = (len(xs) - 1) * q / 100.0
+    lo = int(pos)
+    hi = min(lo + 1, len(xs) - 1)
+    return xs[lo] + (xs[hi] - xs[lo]) * (pos - lo)
+
+
+def median(values) -> float:
+    return statistics.median(values)
+
+
+def interleaved(functions: dict, repeat: int, warmup: int = 1) -> dict[str, list[float]]:
+    """Seconds per call of each function, run round-robin ``repeat`` times after
+    ``warmup`` untimed rounds, so that a change of load hits all of them alike."""
+    for _ in range(warmup):
+        for fn in functions.values():
+            fn()
+    times = {name: [] for name in functions}
+    for _ in range(repeat):
+        for name, fn in functions.items():
+            t0 = time.perf_counter()
+            fn()
+            times[name].append(time.perf_counter() - t0)
+    return times
+
+
+def machine() -> dict:
+    """The machine and software the numbers were measured on."""
+    import numpy
+    import scipy
+    cpu = "unknown"
+    try:
+        for line in Path("/proc/cpuinfo").read_text().splitlines():
+            if line.startswith("model name"):
+                cpu = line.split(":", 1)[1].strip()
+                break
+    except OSError:
+        pass
+    try:
+        import numba
+        numba_version = numba.__version__
+    except ImportError:
+        numba_version = None
+    try:
+        load = os.getloadavg()
+    except OSError:
+        load = None
+    return {
+        "nproc": os.cpu_count(),
+        "cpu": cpu,
+        "python": platform.python_version(),
+        "numpy": numpy.__version__,
+        "scipy": scipy.__version__,
+        "numba": numba_version,
+        "platform": platform.platform(),
+        "loadavg_at_start": load,
+    }
+
+
+def free_port() -> int:
+    """A free TCP port on 127.0.0.1 (never 8000, the default of `brdf-explorer serve`)."""
+    while True:
+        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
+            sock.bind(("127.0.0.1", 0))
+            port = sock.getsockname()[1]
+        if port != 8000:
+            return port
+
+
+def _healthy(url: str) -> bool:
+    try:
+        with urllib.request.urlopen(f"{url}/api/v1/health", timeout=2) as res:
+            return res.status == 200
+    except OSError:
+        return False
+
+
+@contextlib.contextmanager
+def server(env: dict | None = None):
+    """The real app in its own uvicorn process on a free port; yields its base URL and
+    stops it (only it: by its pid) on the way out."""
+    log_path = Path(os.environ.get("TMPDIR", "/tmp")) / f"brdf-bench-uvicorn-{os.getpid()}.log"
+    for _attempt in range(3):
+        port = free_port()
+        url = f"http://127.0.0.1:{port}"
+        with open(log_path, "ab") as log_file:
+            proc = subprocess.Popen(
+                [sys.executable, "-m", "uvicorn", "--factory", "app.main:create_app",
+                 "--host", "127.0.0.1", "--port", str(port), "--log-level", "warning"],
+                cwd=ROOT, stdout=log_file, stderr=subprocess.STDOUT,
+                env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})})
+        deadline = time.monotonic() + 60
+        while proc.poll() is None and time.monotonic() < deadline and not _healthy(url):
+            time.sleep(0.1)
+        if proc.poll() is None and _healthy(url):
+            break
+        proc.kill()
+        proc.wait()
+    else:
+        raise RuntimeError(f"uvicorn did not start; see {log_path}")
+    try:
+        yield url
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=10)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
