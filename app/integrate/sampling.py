@@ -292,3 +292,84 @@ SAMPLERS: dict[str, Sampler] = {s.name: s for s in [
             "GGX, Heitz & d'Eon 2014 for Beckmann); pdf = G1(v)D(h)/(4 n·v)",
             _has_vndf, _vndf_sample, _vndf_pdf),
 ]}
+
+
+# ---- goodness of fit --------------------------------------------------------------------
+
+#: Pearson's χ² needs expected counts of at least about 5 per cell (Cochran 1954); cells
+#: below are pooled (smallest first) until every cell reaches it.
+MIN_EXPECTED = 5.0
+#: Gauss-Legendre points per axis inside each bin for the expected counts.
+BIN_GAUSS_ORDER = 8
+
+
+def hemisphere_cells(cos_edges, phi_edges, order: int = BIN_GAUSS_ORDER):
+    """Gauss nodes of each (cos θ, φ) bin: directions (nc, nφ, order², 3) and weights
+    (same shape without the 3), so that Σ w·g ≈ ∫_bin g dω (dω = d cos θ dφ)."""
+    from ..physics.gauss import gauss_legendre_01
+    x, w = gauss_legendre_01(order)
+    c0, c1 = np.asarray(cos_edges[:-1]), np.asarray(cos_edges[1:])
+    p0, p1 = np.asarray(phi_edges[:-1]), np.asarray(phi_edges[1:])
+    c = c0[:, None] + (c1 - c0)[:, None] * x                     # (nc, order)
+    p = p0[:, None] + (p1 - p0)[:, None] * x                     # (nφ, order)
+    cc = c[:, None, :, None]
+    pp = p[None, :, None, :]
+    s = np.sqrt(np.maximum(0.0, 1.0 - cc * cc))
+    dirs = np.stack(np.broadcast_arrays(s * np.cos(pp), s * np.sin(pp), cc), axis=-1)
+    wts = ((c1 - c0)[:, None, None, None] * (p1 - p0)[None, :, None, None]
+           * w[None, None, :, None] * w[None, None, None, :])
+    nc, nphi = len(c0), len(p0)
+    return dirs.reshape(nc, nphi, order * order, 3), wts.reshape(nc, nphi, order * order)
+
+
+def bin_probabilities(pdf_of_l, cos_edges, phi_edges) -> np.ndarray:
+    """∫ pdf over each (cos θ, φ) bin of the upper hemisphere, shape (nc, nφ)."""
+    dirs, wts = hemisphere_cells(cos_edges, phi_edges)
+    return np.einsum("abk,abk->ab", pdf_of_l(dirs), wts)
+
+
+def histogram(l, cos_edges, phi_edges) -> tuple[np.ndarray, int]:
+    """Counts of upper-hemisphere directions per (cos θ, φ) bin, and the count below."""
+    l = np.asarray(l).reshape(-1, 3)
+    upper = l[:, 2] >= 0
+    phi = np.arctan2(l[upper, 1], l[upper, 0])
+    counts, _, _ = np.histogram2d(l[upper, 2], phi, bins=[cos_edges, phi_edges])
+    return counts, int((~upper).sum())
+
+
+def chi_square(observed, expected) -> dict:
+    """Pearson's χ² of counts against expected counts (same total), with cells of
+    expected count below MIN_EXPECTED pooled; p-value from the χ² law with
+    (cells − 1) degrees of freedom."""
+    from scipy.stats import chi2
+    obs = np.asarray(observed, dtype=float).ravel()
+    exp = np.maximum(np.asarray(expected, dtype=float).ravel(), 0.0)
+    # a count where the density is exactly 0 is a definite misfit, before any pooling
+    impossible = bool(np.any(obs[exp == 0] > 0))
+    order = np.argsort(exp)
+    obs, exp = obs[order], exp[order]
+    small = int(np.sum(exp < MIN_EXPECTED))
+    if small:
+        # pool the smallest cells: all those below MIN_EXPECTED, and more until the pool
+        # itself reaches it
+        k = max(small, int(np.searchsorted(np.cumsum(exp), MIN_EXPECTED, side="left")) + 1)
+        obs = np.concatenate([[obs[:k].sum()], obs[k:]])
+        exp = np.concatenate([[exp[:k].sum()], exp[k:]])
+    keep = exp > 0
+    stat = float(np.sum((obs[keep] - exp[keep]) ** 2 / exp[keep]))
+    dof = int(keep.sum()) - 1
+    p = 0.0 if impossible or dof < 1 else float(chi2.sf(stat, dof))
+    return {"chi2": stat, "dof": dof, "p_value": p, "cells": int(keep.sum())}
+
+
+def goodness_of_fit(l, pdf_of_l, cos_edges, phi_edges) -> dict:
+    """χ² of sampled directions ``l`` against the density ``pdf_of_l`` on (cos θ, φ)
+    bins of the upper hemisphere plus one cell for everything below the horizon (its
+    expected mass is 1 − the sum over the bins)."""
+    n = int(np.asarray(l).reshape(-1, 3).shape[0])
+    counts, below = histogram(l, cos_edges, phi_edges)
+    prob = bin_probabilities(pdf_of_l, cos_edges, phi_edges)
+    expected = np.append(n * prob.ravel(), n * (1.0 - prob.sum()))
+    result = chi_square(np.append(counts.ravel(), below), expected)
+    result.update(counts=counts, expected=n * prob, below=below, below_expected=n * (1.0 - prob.sum()))
+    return result
