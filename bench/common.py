@@ -42,19 +42,36 @@ def median(values) -> float:
     return statistics.median(values)
 
 
-def interleaved(functions: dict, repeat: int, warmup: int = 1) -> dict[str, list[float]]:
+def interleaved(functions: dict, repeat: int, warmup: int = 1, cpu: dict | None = None
+                ) -> dict[str, list[float]]:
     """Seconds per call of each function, run round-robin ``repeat`` times after
-    ``warmup`` untimed rounds, so that a change of load hits all of them alike."""
+    ``warmup`` untimed rounds, so that a change of load hits all of them alike.
+
+    If ``cpu`` is a dict, it receives the CPU seconds of this process per call (all its
+    threads): what the work cost, whatever else the machine was doing meanwhile."""
     for _ in range(warmup):
         for fn in functions.values():
             fn()
     times = {name: [] for name in functions}
+    if cpu is not None:
+        cpu.update({name: [] for name in functions})
     for _ in range(repeat):
         for name, fn in functions.items():
+            c0 = time.process_time()
             t0 = time.perf_counter()
             fn()
             times[name].append(time.perf_counter() - t0)
+            if cpu is not None:
+                cpu[name].append(time.process_time() - c0)
     return times
+
+
+def loadavg() -> float | None:
+    """The 1-minute load average (runnable processes; 2 means both cores busy)."""
+    try:
+        return round(os.getloadavg()[0], 2)
+    except OSError:
+        return None
 
 
 def machine() -> dict:

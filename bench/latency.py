@@ -75,11 +75,15 @@ def run(quick: bool = False) -> dict:
     rounds = 15 if quick else 60
     with common.server() as url:
         common.log(f"  server {url}; {len(ENDPOINTS)} endpoints x {rounds} rounds ...")
-        return measure(url, rounds)
+        load = common.loadavg()
+        out = measure(url, rounds)
+        out["latency_loadavg"] = [load, common.loadavg()]
+        return out
 
 
 def report(r: dict) -> list[str]:
-    lines = [f"API latency, warm, 127.0.0.1 ({r['latency_rounds']} requests each): p50 / p95 ms, body bytes (wire)"]
+    lines = [f"API latency, warm, 127.0.0.1 ({r['latency_rounds']} requests each; load average "
+             f"{r['latency_loadavg'][0]} → {r['latency_loadavg'][1]}): p50 / p95 ms, body bytes (wire)"]
     for key, _, _ in ENDPOINTS:
         lines.append(f"  {key:16s} {r[f'latency_{key}_p50_ms']:7.1f} / {r[f'latency_{key}_p95_ms']:7.1f}"
                      f"   {r[f'bytes_{key}']:>8,} ({r[f'bytes_{key}_wire']:,} {r[f'encoding_{key}']})")

@@ -111,8 +111,10 @@ def run(quick: bool = False) -> dict:
             every = page.evaluate("() => window.__brdf.panels().map((p) => p.name)")
             common.log(f"  {base}: default page, then every panel ({', '.join(every)}); "
                        f"{moves} moves each ...")
+            out["slider_loadavg"] = [common.loadavg()]
             default = measure(page, base + "/", moves, first=200)
             full = measure(page, base + "/?show=" + ",".join(every), moves, first=200 + 3 * (moves + 5))
+            out["slider_loadavg"].append(common.loadavg())
         finally:
             browser.close()
     for key, r in (("", default), ("_all_panels", full)):
@@ -127,7 +129,8 @@ def run(quick: bool = False) -> dict:
 
 
 def report(r: dict) -> list[str]:
-    lines = ["slider → pixels (α slider input → last plotly_afterplot), headless Chromium 1280×800"]
+    lines = ["slider → pixels (α slider input → last plotly_afterplot), headless Chromium 1280×800; "
+             f"load average {r['slider_loadavg'][0]} → {r['slider_loadavg'][-1]}"]
     for key, label in (("", "default page"), ("_all_panels", "every panel")):
         lines.append(f"  {label:13s}: median {r[f'slider{key}_median_ms']:6.1f} ms, p95 "
                      f"{r[f'slider{key}_p95_ms']:6.1f} ms over {r[f'slider{key}_moves']} moves; "

@@ -60,10 +60,15 @@ def run(quick: bool = False) -> dict:
     if not have_fast:
         common.log("  (numba not installed or BRDF_FAST=0: 'fast' is the numpy path)")
     common.log(f"  {n:,} pairs, {repeat} interleaved rounds ...")
-    times = common.interleaved(functions, repeat=repeat, warmup=1)
-    out = {"throughput_pairs": n, "throughput_compiled": have_fast}
+    cpu: dict = {}
+    load0 = common.loadavg()
+    times = common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu)
+    out = {"throughput_pairs": n, "throughput_compiled": have_fast,
+           "throughput_loadavg": [load0, common.loadavg()]}
     for name, ts in times.items():
         out[f"evals_per_s_{name}"] = n / common.median(ts)
+        # per second of CPU of this process: what a core does when it gets to run
+        out[f"evals_per_cpu_s_{name}"] = n / common.median(cpu[name])
     out["evals_per_s"] = out.pop("evals_per_s_fast")
     with fast.disabled():
         ref = brdf.evaluate(l, v, ("f",))["f"]
@@ -76,11 +81,16 @@ def run(quick: bool = False) -> dict:
 
 def report(r: dict) -> list[str]:
     return [
-        f"evaluations/s (GGX, h-c G2, Schlick, float64, {r['throughput_pairs']:,} pairs)",
-        f"  BRDF.evaluate, compiled, 2 threads : {r['evals_per_s'] / 1e6:8.1f} M/s",
-        f"  BRDF.evaluate, compiled, 1 thread  : {r['evals_per_s_fast_serial'] / 1e6:8.1f} M/s",
-        f"  BRDF.evaluate, numpy reference     : {r['evals_per_s_numpy'] / 1e6:8.1f} M/s",
-        f"  quantities.evaluate (degrees in)   : {r['evals_per_s_quantities'] / 1e6:8.1f} M/s",
+        f"evaluations/s (GGX, h-c G2, Schlick, float64, {r['throughput_pairs']:,} pairs; "
+        f"load average {r['throughput_loadavg'][0]} → {r['throughput_loadavg'][1]})",
+        "                                        wall clock    per CPU-second",
+        f"  BRDF.evaluate, compiled, 2 threads : {r['evals_per_s'] / 1e6:8.1f} M/s  {r['evals_per_cpu_s_fast'] / 1e6:8.1f} M/s",
+        f"  BRDF.evaluate, compiled, 1 thread  : {r['evals_per_s_fast_serial'] / 1e6:8.1f} M/s  "
+        f"{r['evals_per_cpu_s_fast_serial'] / 1e6:8.1f} M/s",
+        f"  BRDF.evaluate, numpy reference     : {r['evals_per_s_numpy'] / 1e6:8.1f} M/s  "
+        f"{r['evals_per_cpu_s_numpy'] / 1e6:8.1f} M/s",
+        f"  quantities.evaluate (degrees in)   : {r['evals_per_s_quantities'] / 1e6:8.1f} M/s  "
+        f"{r['evals_per_cpu_s_quantities'] / 1e6:8.1f} M/s",
         f"  speed-up {r['throughput_speedup']:.1f}x; max relative difference to numpy "
         f"{r['throughput_max_rel_diff']:.1e}",
     ]
