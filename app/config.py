@@ -25,6 +25,8 @@ class Settings:
     max_batch: int = 1_000_000
     #: μ values in one albedo request: BRDF_MAX_ALBEDO_POINTS
     max_albedo_points: int = 257
+    #: sampled directions in one /samples request (~50 bytes each in JSON): BRDF_MAX_SAMPLES
+    max_samples: int = 200_000
     #: models compared in one POST /figures/{kind}: BRDF_MAX_COMPARE_MODELS
     max_compare_models: int = 8
     #: width × height × scale² of one exported PNG/SVG: BRDF_MAX_EXPORT_PIXELS (4096²)

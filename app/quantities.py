@@ -180,3 +180,29 @@ def half_difference_slice(brdf: BRDF, phi_h_deg: float, phi_d_deg: float, n: int
             value = where_valid(mu_l > 0.0, [value, mu_l], lambda a, b: a * b, 0.0)
         f[above] = value
     return {"theta_d_deg": theta, "theta_h_deg": theta, ("f_cos" if cosine else "f"): f}
+
+
+def samples(brdf: BRDF, sampler: str, n: int, seed: int, theta_i_deg: float, phi_i_deg: float) -> dict:
+    """n directions l drawn by ``sampler`` for the fixed direction at (θ_i, φ_i) (the v of
+    the sampler), with pdf(l) (per steradian, over the whole sphere) and the Monte Carlo
+    weight f·cos θ_l/pdf (0 below the horizon), whose mean is the albedo estimate E.
+    The χ² goodness of fit of the samples against the pdf is on SAMPLE_BINS uniform
+    (cos θ, φ) bins plus one cell below the horizon, expected counts by Gauss rules."""
+    from .integrate.montecarlo import SAMPLERS, weights
+    from .integrate.sampling import goodness_of_fit
+    v = direction_deg(theta_i_deg, phi_i_deg)
+    chosen = SAMPLERS[sampler]
+    l, pdf, w = weights(brdf, chosen, v[None, :], n, seed)
+    l, pdf, w = l[0], pdf[0], w[0]
+    n_cos, n_phi = SAMPLE_BINS
+    fit = goodness_of_fit(l, lambda x: chosen.pdf(brdf, x, v), np.linspace(0.0, 1.0, n_cos + 1),
+                          np.linspace(-np.pi, np.pi, n_phi + 1))
+    return {"x": l[:, 0], "y": l[:, 1], "z": l[:, 2], "pdf": pdf, "weight": w,
+            "E": float(w.mean()), "E_error": float(w.std(ddof=1) / np.sqrt(n)),
+            "chi2": fit["chi2"], "dof": fit["dof"], "p_value": fit["p_value"],
+            "below_horizon": fit["below"], "below_horizon_expected": float(fit["below_expected"]),
+            "sampler": sampler, "seed": seed}
+
+
+#: (cos θ, φ) bins of the χ² test of /samples: uniform in both, so equal solid angles.
+SAMPLE_BINS = (16, 32)

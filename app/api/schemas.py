@@ -181,3 +181,14 @@ class SliceQuery(ModelQuery):
 
 class SliceFigureQuery(SliceQuery):
     log: bool = True
+
+
+class SamplesQuery(ModelQuery):
+    sampler: Annotated[Literal["uniform", "cosine", "ndf", "vndf"], Field(
+        description="uniform: hemisphere; cosine: cos θ/π (Malley); ndf: D(m)(n·m) reflected; "
+                    "vndf: visible normals reflected (GGX, Beckmann)")] = "vndf"
+    n: Annotated[int, Field(ge=2, description="number of sampled directions")] = 4096
+    seed: Annotated[int, Field(ge=0, le=2 ** 63 - 1, description="seed of the random generator")] = 0
+    theta_i_deg: Annotated[Theta, Field(description="polar angle of the fixed direction (v of the "
+                                                    "sampler), degrees, [0, 90]")] = 45.0
+    phi_i_deg: Annotated[Phi, Field(description="its azimuth, degrees")] = 0.0

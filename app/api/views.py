@@ -101,3 +101,21 @@ VIEWS: dict[str, View] = {v.name: v for v in [
                                                           q.n, q.cosine),
          lambda data, spec, q: figures.slice_figure(data, spec.values, q.phi_d_deg, q.log)),
 ]}
+
+
+def _check_samples(q, s: Settings):
+    from ..integrate.sampling import SAMPLERS
+    from ..model import make_spec
+    _limit("n", q.n, s.max_samples, "BRDF_MAX_SAMPLES")
+    try:
+        SAMPLERS[q.sampler].check(make_spec(**schemas.model_values(q)).brdf())
+    except ValueError as exc:
+        raise ParamError("sampler", str(exc)) from None
+
+
+VIEWS["samples"] = View(
+    "samples", "Directions l sampled for a fixed v, with pdf(l) and the weight f·cos θ_l/pdf; "
+               "χ² of the samples against the pdf",
+    schemas.SamplesQuery, schemas.SamplesQuery, _check_samples,
+    lambda spec, q: quantities.samples(spec.brdf(), q.sampler, q.n, q.seed, q.theta_i_deg, q.phi_i_deg),
+    lambda data, spec, q: figures.samples_figure(data, spec.values, q.theta_i_deg))

@@ -48,3 +48,7 @@ def to_json(figure: dict) -> str:
 __all__ = ["albedo_figure", "fresnel_figure", "g1_figure", "g2_figure", "lobe3d_figure",
            "lobe_figure", "ndf_figure", "to_json",
            "lit_sphere_figure", "slice_figure"]
+
+from .samples import samples_figure  # noqa: E402
+
+__all__ += ["samples_figure"]
