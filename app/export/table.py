@@ -135,7 +135,9 @@ def to_csv(payload: dict, meta: dict | None = None) -> str:
 
 def to_csv_variants(vary: str, payloads: Iterable[tuple[object, dict]], meta: dict | None = None) -> str:
     """CSV of several payloads of one view (an overlay): a first column ``vary`` holds
-    the varied parameter's value; scalars are listed per value in the comments."""
+    the varied parameter's value; scalars are listed per value in the comments. A column
+    only some values have (the error of an approximation against the exact form) is
+    empty in the rows of the others."""
     blocks, comments = [], dict(meta or {})
     for value, payload in payloads:
         cols = columns(payload)
@@ -144,10 +146,9 @@ def to_csv_variants(vary: str, payloads: Iterable[tuple[object, dict]], meta: di
             comments[f"{k} [{vary}={value}]"] = s
         n = next(iter(cols.values())).size
         blocks.append(({vary: np.full(n, value, dtype=object), **cols}))
-    names = list(blocks[0])
-    if any(list(b) != names for b in blocks):
-        raise TableError("the variants have different columns")
-    merged = {k: np.concatenate([b[k] for b in blocks]) for k in names}
+    names = list(dict.fromkeys(k for b in blocks for k in b))
+    merged = {k: np.concatenate([b[k] if k in b else np.full(len(b[vary]), np.nan)
+                                 for b in blocks]) for k in names}
     return _write(merged, comments)
 
 

@@ -59,6 +59,7 @@ def test_embed_controls_move_the_figure_and_the_url(page, page_log):
     strict_csp(page)
     page.goto("/embed/lobe?alpha=0.2&theta_i_deg=30&controls=1")
     page.wait_for_function(EMBED_QUIET)
+    page.wait_for_selector("#embed-controls:not([hidden]) label")     # built from /models, /views
     for label in ("α", "θ", "log scale"):
         assert page.locator("#embed-controls label", has_text=label).count() >= 1
     # every control has a label the browser associates with it
