@@ -49,6 +49,7 @@
     fresnel: { title: "Fresnel", sub: "F(θ_d)" },
     sphere: { title: "Lit sphere", sub: "f·cos θ_l under one light (θ_i, φ_i)" },
     slice: { title: "θ_h / θ_d slice", sub: "the Disney explorer's image", labels: { cosine: "× cos θ_l" } },
+    samples: { title: "Importance sampling", sub: "directions drawn for v" },
   };
   const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
   const FIELD_LABELS = { log: "log scale", cosine: "× cos θ", display: "display",
