@@ -2,16 +2,21 @@
 
 For each case N = 100 000 directions are drawn with the fixed seed SEED and binned on
 the upper hemisphere in (cos θ, φ) plus one cell for everything below the horizon. The
-bin edges are quantiles of an independent pilot sample merged with uniform edges (seed PILOT_SEED, so the bins do
-not depend on the tested sample and the χ² law holds); they follow the lobe at every α.
-Expected counts are N × the pdf integrated over each bin by an 8×8 Gauss rule; cells
-with expected count < 5 are pooled. A sampler passes at p ≥ P_MIN. The seeds are fixed so
-the suite is deterministic; with ~60 cases a correct sampler would fail one at p < 0.01
-in about half of all seed choices, so the seeds were not tuned: they are 20240501 and
-its successor, chosen before the first run.
+bin edges are quantiles of an independent pilot sample (seed PILOT_SEED, so the bins do
+not depend on the tested sample and the χ² law holds) merged with uniform edges; they
+follow the lobe at every α. Expected counts are N × the pdf integrated over each bin by
+an 8×8 Gauss rule; cells with expected count < 5 are pooled. The seeds are fixed so the
+suite is deterministic: 20240501 and its successor, chosen before the first run and not
+tuned.
 
-Independent of the χ² machinery: the pdfs integrate to 1 over the whole sphere (checked
-with a product Gauss rule here), and a deliberately wrong pdf is rejected (p < 1e-6).
+Threshold: the family of 60 cases is tested at 0.01 as a whole (Bonferroni), so
+P_MIN = 0.01 / len(CASES) per case. At 0.01 per case a correct sampler set fails one
+case in about half of all seed choices, and this happened on the first run (vndf, GGX
+α = (0.1, 0.5), 80°: p = 0.0046; the same case gives p = 0.07..0.98 at seeds 1-3 with
+N = 10⁵ and 10⁶). A wrong pdf is still rejected at p < 1e-6, far below P_MIN.
+
+Independent of the χ² machinery: the pdfs integrate to 1 over the whole sphere at
+normal incidence (a product Gauss rule here), and a deliberately wrong pdf is rejected.
 """
 from __future__ import annotations
 
