@@ -174,7 +174,7 @@ def _compare_route(view: View):
         figures_, specs = [], []
         for k, model in enumerate(body.models):
             try:
-                q = view.figure_query(**body.view, **model)
+                q = view.figure_query.model_validate({**body.view, **model})
             except ValidationError as exc:
                 e = exc.errors()[0]
                 field = ".".join(str(x) for x in e.get("loc", ()))
