@@ -54,13 +54,15 @@ ENTRIES: tuple[Entry, ...] = (
           "Walter's rational approximation of Beckmann's Λ needs no error function, and the "
           "G1 it gives is within 0.004 of the exact Smith G1 at every angle. At this scale "
           "the two curves lie on top of each other.",
-          "g1", ({"ndf": "beckmann", "alpha": 0.5, "vary": "masking", "values": "smith,walter"},),
+          "g1", ({"ndf": "beckmann", "alpha": 0.5, "masking": "walter"},
+                 {"ndf": "beckmann", "alpha": 0.5, "vary": "masking", "values": "smith,walter"}),
           "Walter et al. 2007, eq. 27"),
     Entry("g1-karis", "Karis's approximation against exact Smith (GGX)",
           "Karis's G1 ≈ 2μ/(μ(2 − α) + α) replaces the square root of the exact Smith G1 "
           "of GGX by a rational function. It is exact at the normal and at grazing incidence "
           "and falls below the exact curve in between, by up to 0.05 at α = 0.6.",
-          "g1", ({"ndf": "ggx", "alpha": 0.6, "vary": "masking", "values": "smith,karis"},),
+          "g1", ({"ndf": "ggx", "alpha": 0.6, "masking": "karis"},
+                 {"ndf": "ggx", "alpha": 0.6, "vary": "masking", "values": "smith,karis"}),
           "Karis 2013, Real Shading in Unreal Engine 4, eq. 4"),
     Entry("fresnel-schlick-dielectric", "Schlick against exact Fresnel for glass",
           "Schlick's polynomial with F₀ = 0.04 equals the exact reflectance of glass "
