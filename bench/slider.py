@@ -65,6 +65,30 @@ MOVES_JS = """async ([positions, sliderId]) => {
 }"""
 
 
+# Runs in the page: for each shown panel, its figure fetched once, then Plotly.react
+# with it (fresh objects each time, so Plotly redoes the work) — the main-thread cost
+# of drawing that panel, without the network and without the other panels.
+DRAW_JS = """async ([names, repeat]) => {
+  const out = {};
+  for (const name of names) {
+    const div = document.getElementById('plot-' + name);
+    const url = window.__brdf.url(name);
+    if (!div || !url || !div.layout) continue;
+    const text = await (await fetch(url, { headers: { Accept: 'application/json' } })).text();
+    const ts = [];
+    for (let k = 0; k < repeat; k++) {
+      const t0 = performance.now();
+      const body = JSON.parse(text);
+      await Plotly.react(div, body.data, { ...div.layout });
+      ts.push(performance.now() - t0);
+    }
+    ts.sort((a, b) => a - b);
+    out[name] = ts[Math.floor(ts.length / 2)];
+  }
+  return out;
+}"""
+
+
 def measure(page, url: str, moves: int, first: int) -> dict:
     page.goto(url)
     page.wait_for_function(QUIET_JS, timeout=60_000)
@@ -91,7 +115,11 @@ def measure(page, url: str, moves: int, first: int) -> dict:
                 "afterplot_ms": round(common.median(drawn), 1),
                 "bytes_wire": int(common.median(wire)) if wire else None,
                 "bytes_body": int(common.median(body)) if body else None}
-    return {"breakdown": breakdown,"median_ms": common.median(ms) if ms else float("nan"),
+    page.wait_for_function(QUIET_JS, timeout=60_000)
+    draw = page.evaluate(DRAW_JS, [shown, 7])
+    for name, ms_draw in draw.items():
+        breakdown.setdefault(name, {})["draw_alone_ms"] = round(ms_draw, 1)
+    return {"breakdown": breakdown, "draw_sum_ms": round(sum(draw.values()), 1),"median_ms": common.median(ms) if ms else float("nan"),
             "p95_ms": common.percentile(ms, 95),
             "moves": len(ms), "missed": len(res) - len(ms),
             "panels_shown": shown,
@@ -125,6 +153,7 @@ def run(quick: bool = False) -> dict:
         out[f"slider{key}_panels"] = r["panels_shown"]
         out[f"slider{key}_panels_redrawn"] = r["panels_redrawn_median"]
         out[f"slider{key}_breakdown"] = r["breakdown"]
+        out[f"slider{key}_draw_sum_ms"] = r["draw_sum_ms"]
     return out
 
 
@@ -136,10 +165,12 @@ def report(r: dict) -> list[str]:
                      f"{r[f'slider{key}_p95_ms']:6.1f} ms over {r[f'slider{key}_moves']} moves; "
                      f"{r[f'slider{key}_panels_redrawn']:g} panels redrawn per move "
                      f"({', '.join(r[f'slider{key}_panels'])})")
+        lines.append(f"      JSON.parse + Plotly.react of every shown panel, one after another, "
+                     f"alone: {r[f'slider{key}_draw_sum_ms']} ms")
         for name, b in r[f"slider{key}_breakdown"].items():
-            lines.append(f"      {name:8s} fetch {b['fetch_start_ms']}→{b['response_end_ms']} ms, "
-                         f"drawn at {b['afterplot_ms']} ms; {b['bytes_body']} B "
-                         f"({b['bytes_wire']} B on the wire)")
+            lines.append(f"      {name:8s} fetch {b.get('fetch_start_ms')}→{b.get('response_end_ms')} ms, "
+                         f"drawn at {b.get('afterplot_ms')} ms (draw alone {b.get('draw_alone_ms')} ms); "
+                         f"{b.get('bytes_body')} B ({b.get('bytes_wire')} B on the wire)")
     return lines
 
 
