@@ -10,6 +10,7 @@ from typing import Callable
 
 import numpy as np
 
+from .integrate.compensation import MULTISCATTERS, compensated
 from .physics.brdf import BRDF
 from .physics.fresnel import FRESNELS
 from .physics.g2 import DEFAULT_LAMBDA_PHI, G2_FORMS, LAMBDA_PHIS
@@ -40,6 +41,7 @@ OPTIONS = {
     "masking": ("Masking Λ, G1", MASKINGS, "smith"),
     "g2": ("Masking-shadowing G2", G2_FORMS, "height_correlated"),
     "fresnel": ("Fresnel F", FRESNELS, "schlick"),
+    "multiscatter": ("Multiple scattering", MULTISCATTERS, "none"),
 }
 
 
@@ -108,9 +110,12 @@ class ModelSpec:
         ndf_class = NDFS[v["ndf"]]
         lobe2 = ndf_class(v["alpha2"], None, **shape) if v.get("alpha2") is not None else None
         lambda_phi = LAMBDA_PHIS[v["lambda_phi"]].fn if v.get("lambda_phi") else None
-        return BRDF(ndf_class(v["alpha"], v.get("alpha_y"), **shape), MASKINGS[v["masking"]],
+        brdf = BRDF(ndf_class(v["alpha"], v.get("alpha_y"), **shape), MASKINGS[v["masking"]],
                     G2_FORMS[v["g2"]], FRESNELS[v["fresnel"]](**fresnel_values), v.get("kd", 0.0),
                     lambda_phi=lambda_phi, lobe2=lobe2, lobe_mix=v.get("lobe_mix", 0.0))
+        if v.get("multiscatter") == "kulla_conty":
+            return compensated(brdf)
+        return brdf
 
 
 def make_spec(**given) -> ModelSpec:
@@ -204,6 +209,14 @@ def _check_applicability(values: dict) -> None:
     anisotropic = values["alpha_y"] is not None and values["alpha_y"] != values["alpha"]
     if getattr(g2, "isotropic_only", False) and anisotropic:
         raise ModelError("g2", f"g2={values['g2']} is for isotropic roughness only (alpha_y = alpha)")
+    if (values.get("multiscatter") == "kulla_conty" and values["masking"] == "smith"
+            and not NDFS[ndf].smith_exact):
+        raise ModelError("multiscatter", f"multiscatter=kulla_conty needs the NDF's exact Smith Λ: "
+                                         f"ndf={ndf} with masking=smith uses an approximate Λ whose "
+                                         "albedo exceeds 1 (use masking=smith_numeric)")
+    if anisotropic and values.get("multiscatter") == "kulla_conty":
+        raise ModelError("multiscatter", "multiscatter=kulla_conty is for isotropic roughness only "
+                                         "(alpha_y = alpha): its E(μ, α) table is isotropic")
     if anisotropic and not NDFS[ndf].anisotropic:
         raise ModelError("alpha_y", f"ndf={ndf} is isotropic only: it is not shape-invariant, "
                                     "so it has no anisotropic form")

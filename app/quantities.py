@@ -5,11 +5,9 @@ degrees (API units) and are converted here, once.
 """
 from __future__ import annotations
 
-import time
-
 import numpy as np
 
-from .integrate.albedo import albedo, albedo_average
+from .integrate.methods import albedo_by
 from .physics.brdf import BRDF
 from .physics.masking import G1
 from .physics.numeric import where_valid
@@ -69,18 +67,12 @@ def lobe_grid(brdf: BRDF, theta_i_deg: float, phi_i_deg: float, n_theta: int, n_
     return {"theta_deg": theta, "phi_deg": phi, "f": f}
 
 
-def albedo_curve(brdf: BRDF, mu, phi_deg: float, tol: float) -> dict:
-    """E(μ) at the given cosines, E_avg over [0, 1], with errors and cost."""
-    t0 = time.perf_counter()
-    res = albedo(brdf, mu, np.deg2rad(phi_deg), tol)
-    E_avg, E_avg_error, avg_evals = albedo_average(brdf, np.deg2rad(phi_deg), tol)
-    return {
-        "mu": res.mu, "E": res.E, "E_error": res.E_error,
-        "E_avg": E_avg, "E_avg_error": E_avg_error,
-        "method": "quadrature",
-        "evaluations": res.evaluations + avg_evals,
-        "seconds": time.perf_counter() - t0,
-    }
+def albedo_curve(brdf: BRDF, mu, phi_deg: float, tol: float, method: str = "quadrature",
+                 order: int | None = None, samples: int = 1024, seed: int = 0) -> dict:
+    """E(μ) at the given cosines and E_avg over [0, 1], with errors and cost, by
+    ``method`` (integrate/methods.py; quadrature by default). With Kulla-Conty
+    compensation E is single + multiple scattering and E_single is reported too."""
+    return albedo_by(brdf, mu, np.deg2rad(phi_deg), method, tol, order, samples, seed)
 
 
 def g2_grid(brdf: BRDF, phi_deg: float, n: int) -> dict:

@@ -13,7 +13,7 @@ Cook & Torrance 1982; Walter et al. 2007, eq. 20; Heitz 2014, eq. 4.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, replace
+from dataclasses import dataclass, fields, replace
 from typing import Callable
 
 import numpy as np
@@ -117,3 +117,30 @@ class BRDF:
 
     def f(self, l, v) -> np.ndarray:
         return self.evaluate(l, v, ("f",))["f"]
+
+
+@dataclass(frozen=True)
+class CompensatedBRDF(BRDF):
+    """f = f_single + f_ms: the single-scattering BRDF plus a multiple-scattering lobe
+    ``multiscatter(μ_l, μ_v)`` (Kulla & Conty 2017, (3-53)..(3-57), Fresnel factor
+    included), built in app/integrate/compensation.py: physics does not import integrate.
+
+    A subclass, not a field of :class:`BRDF`: the compiled fast path (fast.py) accepts
+    only BRDF's own fields, and keeps serving the uncompensated models and the single
+    part here (:meth:`single`)."""
+    multiscatter: Callable | None = None   # (mu_l, mu_v) -> f_ms, reciprocal
+
+    def single(self) -> BRDF:
+        """The single-scattering BRDF (plain :class:`BRDF`, same terms)."""
+        return BRDF(**{f.name: getattr(self, f.name) for f in fields(BRDF)})
+
+    def evaluate(self, l, v, want=("f",)) -> dict[str, np.ndarray]:
+        out = self.single().evaluate(l, v, want)
+        if "f" in want and self.multiscatter is not None:
+            l = np.asarray(l, dtype=float)
+            v = np.asarray(v, dtype=float)
+            mu_l, mu_v = np.broadcast_arrays(l[..., 2], v[..., 2])
+            upper = (mu_l >= 0) & (mu_v >= 0)
+            f_ms = where_valid(upper, [mu_l, mu_v], self.multiscatter, 0.0)
+            out["f"] = out["f"] + f_ms
+        return out

@@ -1,0 +1,146 @@
+"""The directional albedo by a chosen method, with its error and cost.
+
+``method``:
+
+* ``quadrature`` — the deterministic reference (albedo.py); ``order`` fixes the Gauss
+  order (one comparison N vs 2N), otherwise it refines to ``tol``. E_error is a bound.
+* ``mc_uniform``, ``mc_cosine``, ``mc_ndf``, ``mc_vndf`` — Monte Carlo (montecarlo.py)
+  with ``samples`` directions per μ and ``seed``; E_error is one standard error.
+* ``table`` — the interpolated E(μ, α) tables (tables.py): F = 1 or generalised Schlick,
+  isotropic; E_error is the table's measured error bound; no integrand evaluations at
+  lookup (the build's are reported under ``table``).
+* ``auto`` — the cheapest of those whose error bound meets ``tol``: the table if it
+  applies and its bound is ≤ tol, else the quadrature at ``tol``. Monte Carlo is never
+  chosen: one standard error is not a bound. The response names the method used.
+
+With Kulla-Conty compensation the single-scattering part is computed by the method and
+the multiple-scattering part added in closed form (its albedo is F_ms (1 − Ê(μ)) exactly,
+compensation.py): E = E_single + E_ms, and E_single, F_avg and Ē are reported too.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..physics.brdf import BRDF, CompensatedBRDF
+from .albedo import DEFAULT_TOL, albedo, albedo_average
+from .montecarlo import SAMPLERS, albedo_mc
+from .tables import table_for, tabulated_albedo
+
+MC_METHODS = {f"mc_{name}": name for name in SAMPLERS}
+METHODS = ("quadrature", *MC_METHODS, "table", "auto")
+DEFAULT_SAMPLES = 1024
+
+
+class MethodError(ValueError):
+    """A method that does not apply to this model (the API answers 422 naming ``param``)."""
+
+    def __init__(self, param: str, message: str):
+        super().__init__(message)
+        self.param = param
+
+
+def _table(brdf: BRDF, mu) -> dict:
+    t0 = time.perf_counter()
+    try:
+        E, error, tables = tabulated_albedo(brdf, mu)
+    except ValueError as exc:
+        raise MethodError("method", str(exc)) from exc
+    return {"E": E, "E_error": np.full(E.shape, error), "evaluations": 0,
+            "seconds": time.perf_counter() - t0,
+            "table": {"size": tables[0].size if tables else None, "error": error,
+                      "build_seconds": sum(t.build_seconds for t in tables),
+                      "build_evaluations": sum(t.build_evaluations for t in tables)}}
+
+
+def _table_bound(brdf: BRDF) -> float | None:
+    """The table's error bound for this model, or None where tables do not apply."""
+    try:
+        return tabulated_albedo(brdf, [0.5])[1]
+    except ValueError:
+        return None
+
+
+def single_albedo(brdf: BRDF, mu, phi: float, method: str, tol: float = DEFAULT_TOL,
+                  order: int | None = None, samples: int = DEFAULT_SAMPLES, seed: int = 0) -> dict:
+    """E(μ) of a single-scattering BRDF by ``method`` (not ``auto``)."""
+    mu = np.atleast_1d(np.asarray(mu, dtype=float))
+    if method == "quadrature":
+        res = albedo(brdf, mu, phi, tol, order)
+        return {"E": res.E, "E_error": res.E_error, "evaluations": res.evaluations,
+                "seconds": res.seconds, "order": res.order}
+    if method in MC_METHODS:
+        try:
+            res = albedo_mc(brdf, mu, phi, MC_METHODS[method], samples, seed)
+        except ValueError as exc:
+            raise MethodError("method", f"method={method}: {exc}") from exc
+        return {"E": res.E, "E_error": res.E_error, "evaluations": res.evaluations,
+                "seconds": res.seconds, "samples": res.samples, "seed": res.seed}
+    if method == "table":
+        if not brdf.ndf.isotropic:
+            raise MethodError("method", "method=table is for isotropic roughness only "
+                                        "(alpha_y = alpha)")
+        return _table(brdf, mu)
+    raise MethodError("method", f"method must be one of {', '.join(METHODS)}; got {method!r}")
+
+
+def choose(brdf: BRDF, tol: float) -> str:
+    """``auto``: the table when it applies and meets tol, else the quadrature."""
+    bound = _table_bound(brdf) if brdf.ndf.isotropic else None
+    return "table" if bound is not None and bound <= tol else "quadrature"
+
+
+def albedo_by(brdf: BRDF, mu, phi: float = 0.0, method: str = "quadrature",
+              tol: float = DEFAULT_TOL, order: int | None = None,
+              samples: int = DEFAULT_SAMPLES, seed: int = 0, average: bool = True) -> dict:
+    """E(μ) of the model as configured, by ``method``; with ``average`` also E_avg.
+
+    Keys: mu, E, E_error, evaluations, seconds, method (the one used), requested_method;
+    with compensation E_single, E_single_error, F_avg, E_avg_single (Kulla-Conty's Ē) and
+    F_ms; ``E_avg``/``E_avg_error`` when ``average``.
+    """
+    t0 = time.perf_counter()
+    mu = np.atleast_1d(np.asarray(mu, dtype=float))
+    requested = method
+    single = brdf.single() if isinstance(brdf, CompensatedBRDF) else brdf
+    if method == "auto":
+        method = choose(single, tol)
+    out = single_albedo(single, mu, phi, method, tol, order, samples, seed)
+    out.update(mu=mu, method=method, requested_method=requested)
+    if average:
+        if method == "table":
+            avg = _table_average(single)
+            out.update(E_avg=avg[0], E_avg_error=avg[1])
+        else:
+            # E_avg by the deterministic rule whatever the method: a number without
+            # its own sampling noise, computed to the request's tol.
+            E_avg, E_avg_error, evals = albedo_average(single, phi, tol)
+            out.update(E_avg=E_avg, E_avg_error=E_avg_error)
+            out["evaluations"] += evals
+    kc = getattr(brdf, "multiscatter", None)
+    if kc is not None:
+        E_ms = kc.albedo(mu)
+        out.update(E_single=out["E"], E_single_error=out["E_error"], E=out["E"] + E_ms,
+                   F_avg=kc.F_avg, E_avg_single=kc.E_avg, F_ms=kc.F_ms,
+                   compensation_error=kc.error)
+        if average:
+            out["E_single_avg"] = out["E_avg"]
+            out["E_avg"] = out["E_avg"] + kc.albedo_average()
+    out["seconds"] = time.perf_counter() - t0
+    return out
+
+
+def _table_average(brdf: BRDF) -> tuple[float, float]:
+    """E_avg from the tables: Σ_lobes w (F₀ Ē₁ + (F₉₀ − F₀) Ē_S) + kd."""
+    fresnel = brdf.fresnel
+    parts = [(1.0, None)] if fresnel.name == "none" else \
+        [(fresnel.f0, None), (fresnel.f90 - fresnel.f0, fresnel.fresnel_p)]
+    total, error = float(brdf.kd), 0.0
+    for w, lobe in brdf.lobes():
+        for c, basis in parts:
+            if c:
+                table = table_for(lobe, basis)
+                total += w * c * table.E_avg(lobe.ndf.alpha_x)
+                error += abs(w * c) * table.error
+    return total, error

@@ -1,0 +1,230 @@
+"""Tables of the directional albedo E(μ, α) of one single-scattering lobe, interpolated.
+
+A table holds E at the nodes of a (√α, y) grid, each node computed by the deterministic
+quadrature :func:`app.integrate.albedo.albedo`, for one NDF (with its shape parameters),
+masking, G2 form (and λ(φ)) and one Fresnel *basis*: F = 1 (Kulla & Conty 2017 build
+their compensation from it) or the Schlick basis S = (1 − cos θ_d)^p, with which
+E = F₀ E₁ + (F₉₀ − F₀) E_S for any generalised Schlick F (E is linear in F).
+
+Axes (chosen by measurement, bench/tables.py):
+
+* r = √α (perceptual roughness, as Kulla & Conty) on [ROUGHNESS_MIN, 1] = α ∈ [1e-4, 1];
+  a uniform grid in log α put too few nodes at α ~ 0.5 (error 3e-4 with 32×32 against
+  4e-5 in √α).
+* y = √a/(1 + √a) ∈ [0, 1] with a = μ/(α sinθ) = 1/(α tanθ), Smith's variable. For
+  small α, E depends on μ through a alone (the grazing dip sits at μ ~ α), so a grid
+  uniform in μ misses it below α ~ 1/n (error 2e-2 with 32×32); in y it is a fixed
+  feature. y = 0 is μ = 0, y = 1 is μ = 1.
+
+Interpolation: a bicubic interpolating spline (scipy RectBivariateSpline, s = 0).
+Its error is measured when the table is built, against the quadrature at off-grid points
+(cell centres with a seeded jitter), and reported (``error``) as TABLE_ERROR_SAFETY times
+the largest deviation seen plus the largest quadrature error of the nodes.
+
+The table is cached per key (functools.lru_cache, bounded). Anisotropic roughness is not
+tabulated (its E depends on φ and on both α): callers refuse it.
+
+References
+----------
+Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks" (32×32 table of
+E(μ, r)); Heitz 2014 (a = 1/(α tanθ)); Dierckx 1993 (bicubic splines, FITPACK).
+"""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass, replace
+from functools import lru_cache
+
+import numpy as np
+from scipy.interpolate import RectBivariateSpline
+
+from ..physics.brdf import BRDF
+from ..physics.fresnel import FRESNELS
+from ..physics.gauss import gauss_legendre_01
+from ..physics.numeric import where_valid
+from .albedo import albedo
+
+#: Smallest tabulated perceptual roughness: √(1e-4), the smallest α the API takes.
+ROUGHNESS_MIN = 1e-2
+#: Default grid (μ axis y, roughness axis r). 32×32 as Kulla & Conty: measured max
+#: error 4e-5 for GGX (64×64: 1.3e-5; bench/tables.py).
+TABLE_N_Y = 32
+TABLE_N_R = 32
+#: Quadrature tolerance of each node: 10× below the interpolation error of 64×64 tables
+#: (the reported error adds the nodes' own estimated errors).
+BUILD_TOL = 1e-6
+#: Off-grid check points: CHECK_R roughness values × CHECK_Y cosines.
+CHECK_R = 8
+CHECK_Y = 16
+#: Reported error = this × the largest deviation seen at the check points (which sample
+#: the cells, they do not find the worst point of each) + the nodes' quadrature error.
+TABLE_ERROR_SAFETY = 2.0
+#: Tables kept (each 32×32 floats plus a spline: a few tens of kB).
+TABLE_CACHE_ENTRIES = 16
+#: Gauss nodes per y interval of the E_avg rule (the spline is a cubic there).
+E_AVG_NODES_PER_CELL = 8
+
+
+def mu_from_y(y, alpha):
+    """μ at y for roughness α: a = (y/(1 − y))², μ = aα/√(1 + (aα)²) (μ = 1 at y = 1)."""
+    y = np.asarray(y, dtype=float)
+    alpha = np.asarray(alpha, dtype=float)
+    y, alpha = np.broadcast_arrays(y, alpha)
+    return where_valid(y < 1.0, [y, alpha], _mu_finite, 1.0)
+
+
+def _mu_finite(y, alpha):
+    aa = (y / (1.0 - y)) ** 2 * alpha
+    return aa / np.sqrt(1.0 + aa * aa)
+
+
+def y_from_mu(mu, alpha):
+    """Inverse of :func:`mu_from_y`: a = μ/(α sinθ), y = √a/(1 + √a) (y = 1 at μ = 1)."""
+    mu = np.clip(np.asarray(mu, dtype=float), 0.0, 1.0)
+    alpha = np.asarray(alpha, dtype=float)
+    mu, alpha = np.broadcast_arrays(mu, alpha)
+
+    def finite(m, al):
+        root_a = np.sqrt(m / (al * np.sqrt((1.0 - m) * (1.0 + m))))
+        return root_a / (1.0 + root_a)
+    return where_valid(mu < 1.0, [mu, alpha], finite, 1.0)
+
+
+def table_key(lobe: BRDF, basis_p: float | None = None) -> tuple:
+    """What E of a single isotropic lobe depends on besides (μ, α): NDF class and shape,
+    masking, G2 form, λ(φ), and the Fresnel basis (None: F = 1; p: Schlick basis)."""
+    ndf = lobe.ndf
+    shape = tuple((p.name, getattr(ndf, p.name)) for p in ndf.shape_params)
+    return (type(ndf), shape, lobe.masking, lobe.g2, lobe.lambda_phi, basis_p)
+
+
+@dataclass(frozen=True, eq=False)   # hashed by identity (a cache key)
+class ETable:
+    key: tuple
+    r: np.ndarray            # roughness nodes √α
+    y: np.ndarray            # y nodes
+    values: np.ndarray       # E at (r, y), shape (len(r), len(y))
+    spline: RectBivariateSpline
+    error: float             # reported bound on |E_table − E| anywhere in the table
+    measured: float          # largest deviation seen at the check points
+    node_error: float        # largest quadrature error of a node
+    build_seconds: float
+    build_evaluations: int
+
+    @property
+    def size(self) -> str:
+        return f"{self.y.size}×{self.r.size}"
+
+    def E(self, mu, alpha) -> np.ndarray:
+        """Interpolated E(μ, α), clipped to [0, 1] (MATH.md identity 7)."""
+        alpha = np.asarray(alpha, dtype=float)
+        r = np.clip(np.sqrt(alpha), self.r[0], self.r[-1])
+        y = y_from_mu(mu, np.clip(alpha, self.r[0] ** 2, 1.0))
+        r, y = np.broadcast_arrays(r, y)
+        return np.clip(self.spline.ev(r, y), 0.0, 1.0)
+
+    def E_avg(self, alpha: float) -> float:
+        """2 ∫₀¹ Ê(μ, α) μ dμ of the interpolant itself (so that the Kulla-Conty lobe
+        built on Ê has albedo exactly 1 − Ê(μ)), by Gauss-Legendre in y on every interval
+        of the y grid, μ = μ(y)."""
+        return float(_E_avg_cached(self, float(alpha)))
+
+
+@lru_cache(maxsize=1024)
+def _E_avg_cached(table: ETable, alpha: float) -> float:
+    t, w = gauss_legendre_01(E_AVG_NODES_PER_CELL)
+    lo, hi = table.y[:-1, None], table.y[1:, None]
+    y = (lo + (hi - lo) * t).ravel()
+    wy = ((hi - lo) * w).ravel()
+    al = max(alpha, table.r[0] ** 2)
+    mu = mu_from_y(y, al)
+    # dμ/dy: μ = aα/√(1 + a²α²), a = (y/(1−y))² → dμ/da = α/(1 + a²α²)^{3/2},
+    # da/dy = 2y/(1 − y)³ (y < 1 at every Gauss node).
+    a = (y / (1.0 - y)) ** 2
+    dmu = al / (1.0 + (a * al) ** 2) ** 1.5 * 2.0 * y / (1.0 - y) ** 3
+    return 2.0 * np.sum(table.E(mu, alpha) * mu * dmu * wy)
+
+
+def _basis_fresnel(basis_p):
+    if basis_p is None:
+        return FRESNELS["none"]()
+    return FRESNELS["schlick"](f0=0.0, f90=1.0, fresnel_p=basis_p)
+
+
+def _lobe_at(key: tuple, alpha: float) -> BRDF:
+    ndf_class, shape, masking, g2, lambda_phi, basis_p = key
+    return BRDF(ndf_class(alpha, None, **dict(shape)), masking, g2, _basis_fresnel(basis_p),
+                lambda_phi=lambda_phi)
+
+
+def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = BUILD_TOL,
+          seed: int = 0) -> ETable:
+    """Compute the nodes, fit the spline, measure its error (see the module docstring).
+    A node's quadrature error is part of the reported error, so a build that a request's
+    time budget cut short reports the larger error it has."""
+    t0 = time.perf_counter()
+    r = np.linspace(ROUGHNESS_MIN, 1.0, n_r)
+    y = np.linspace(0.0, 1.0, n_y)
+    values = np.empty((n_r, n_y))
+    evaluations, node_error = 0, 0.0
+    for i, ri in enumerate(r):
+        res = albedo(_lobe_at(key, ri * ri), mu_from_y(y, ri * ri), tol=tol)
+        values[i] = res.E
+        evaluations += res.evaluations
+        node_error = max(node_error, float(np.max(res.E_error)))
+    spline = RectBivariateSpline(r, y, values, kx=3, ky=3, s=0)
+    table = ETable(key, r, y, values, spline, 0.0, 0.0, node_error, 0.0, 0)
+    # Check points: CHECK_R cells in r, CHECK_Y cells in y, each at its centre moved
+    # by a seeded jitter of up to ±40 % of the cell (never on a node).
+    rng = np.random.default_rng(seed)
+    ri = rng.choice(n_r - 1, min(CHECK_R, n_r - 1), replace=False)
+    r_check = r[ri] + (0.5 + rng.uniform(-0.4, 0.4, ri.size)) * (r[1] - r[0])
+    measured = 0.0
+    for rc in r_check:
+        yi = rng.choice(n_y - 1, min(CHECK_Y, n_y - 1), replace=False)
+        y_check = y[yi] + (0.5 + rng.uniform(-0.4, 0.4, yi.size)) * (y[1] - y[0])
+        mu = mu_from_y(y_check, rc * rc)
+        res = albedo(_lobe_at(key, rc * rc), mu, tol=tol)
+        evaluations += res.evaluations
+        node_error = max(node_error, float(np.max(res.E_error)))
+        measured = max(measured, float(np.max(np.abs(table.E(mu, rc * rc) - res.E))))
+    return replace(table, measured=measured, node_error=node_error,
+                   error=TABLE_ERROR_SAFETY * measured + node_error,
+                   build_seconds=time.perf_counter() - t0, build_evaluations=evaluations)
+
+
+@lru_cache(maxsize=TABLE_CACHE_ENTRIES)
+def table_for_key(key: tuple) -> ETable:
+    return build(key, TABLE_N_Y, TABLE_N_R)
+
+
+def table_for(lobe: BRDF, basis_p: float | None = None) -> ETable:
+    """The (cached) default-size table for a single isotropic lobe (``BRDF.lobes()``)."""
+    if not lobe.ndf.isotropic:
+        raise ValueError("E(μ, α) tables are for isotropic roughness only (alpha_y = alpha)")
+    return table_for_key(table_key(lobe, basis_p))
+
+
+def tabulated_albedo(brdf: BRDF, mu) -> tuple[np.ndarray, float, list[ETable]]:
+    """E(μ) of a BRDF from tables: Σ_lobes w (F₀ E₁ + (F₉₀ − F₀) E_S) + kd, for F = 1 or
+    generalised Schlick (E is linear in f and in F). Returns (E, error bound, tables).
+    Raises ValueError for other Fresnel forms and anisotropic roughness."""
+    fresnel = brdf.fresnel
+    if fresnel.name == "none":
+        parts = [(1.0, None)]
+    elif fresnel.name == "schlick":
+        parts = [(fresnel.f0, None), (fresnel.f90 - fresnel.f0, fresnel.fresnel_p)]
+    else:
+        raise ValueError(f"method=table needs fresnel=none or schlick (E is tabulated with F = 1 "
+                         f"and the Schlick basis); got fresnel={fresnel.name}")
+    mu = np.atleast_1d(np.asarray(mu, dtype=float))
+    E, error, tables = np.full(mu.shape, float(brdf.kd)), 0.0, []
+    for w, lobe in brdf.lobes():
+        for c, basis in parts:
+            if c == 0:
+                continue
+            table = table_for(lobe, basis)
+            E = E + w * c * table.E(mu, lobe.ndf.alpha_x)
+            error += abs(w * c) * table.error
+            tables.append(table)
+    return E, error, tables
