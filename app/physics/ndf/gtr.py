@@ -100,7 +100,9 @@ class GTR(SlopeSpaceNDF):
         w = np.maximum((g - 1.0) * (A - 1.0) * scale, -1.0 + np.finfo(float).eps)
         ratio = log1p_ratio(w)
         Z = expm1_ratio(ratio * (1.0 - A) * scale) * ratio * scale
-        return Z / (1.0 - A * Z)
+        # 1 − A Z → 0 as u → 1 (r̃ → ∞); within rounding of u = 1 it reaches 0 or below:
+        # that is r̃ = ∞ (use radial_ccdf_inv near u = 1, where this is ill-conditioned).
+        return where_valid(1.0 - A * Z > 0, [Z], lambda zz: zz / (1.0 - A * zz), np.inf)
 
     def radial_ccdf_inv(self, v):
         # Solve k μ² E((1−γ)L) log1p(y)/y = v: with x_v = v(α² − 1)/k, z = (1 − γ) x_v,
@@ -110,4 +112,6 @@ class GTR(SlopeSpaceNDF):
         z = (1.0 - self.gamma) * x_v
         ratio = log1p_ratio(z)
         mu2 = v / self.k * expm1_ratio(ratio * x_v) * ratio
-        return (1.0 / mu2 - 1.0) / self.alpha_x ** 2
+        # μ² ≤ 1; at v ≈ 1 (r̃ ≈ 0) rounding can put it a few ulps above 1, and r̃² = 0
+        # is the value there.
+        return np.maximum(1.0 / mu2 - 1.0, 0.0) / self.alpha_x ** 2
