@@ -36,17 +36,19 @@
   // Presentation hints per view; everything else about a panel comes from the API.
   //   shown: visible by default; primary: drawn first (the one a slider is watched on);
   //   slice: its phi_deg follows the plane of incidence when anisotropic;
-  //   keys: the URL names of its own toggles where they predate generic panels.
+  //   keys: the URL names of its own toggles where they predate generic panels;
+  //   pin: its figure is made of curves, so POST /figures/{name} can overlay pinned
+  //        models (image and surface figures answer 422 there); tails: "compare tails".
   const PANEL_HINTS = {
-    lobe: { title: "BRDF lobe", sub: "in the plane of incidence", primary: true, shown: true,
+    lobe: { title: "BRDF lobe", sub: "in the plane of incidence", primary: true, shown: true, pin: true,
             keys: { log: "log", cosine: "cosine" }, labels: { cosine: "× cos θ_i" } },
-    ndf: { title: "Normal distribution", sub: "D(θ_m)", shown: true, slice: true,
+    ndf: { title: "Normal distribution", sub: "D(θ_m)", shown: true, slice: true, pin: true, tails: true,
            labels: { cosine: "× cos θ_m" } },
-    g1: { title: "Smith masking", sub: "Λ and G_1", shown: true, slice: true },
-    albedo: { title: "Directional albedo", sub: "E(μ)", shown: true, slice: true },
+    g1: { title: "Smith masking", sub: "Λ and G_1", shown: true, slice: true, pin: true },
+    albedo: { title: "Directional albedo", sub: "E(μ)", shown: true, slice: true, pin: true },
     lobe3d: { title: "3-D lobe", sub: "f over the hemisphere of v", wide: true },
     g2: { title: "Masking-shadowing", sub: "G_2(θ_l, θ_v)" },
-    fresnel: { title: "Fresnel", sub: "F(θ_d)" },
+    fresnel: { title: "Fresnel", sub: "F(θ_d)", pin: true },
     sphere: { title: "Lit sphere", sub: "f·cos θ_l under one light (θ_i, φ_i)" },
     slice: { title: "θ_h / θ_d slice", sub: "the Disney explorer's image", labels: { cosine: "× cos θ_l" } },
     samples: { title: "Importance sampling", sub: "directions drawn for v" },
@@ -107,9 +109,66 @@
   const perceptualAllowed = () => params.has("roughness");
   const isPerceptual = (s) => !!s.perceptual && perceptualAllowed();
 
-  function appliesTo(choice, ndf) {
-    return !choice.applies_to || choice.applies_to.includes(ndf);
+  // A parameter as the chosen choices define it: two choices may share a name with
+  // different ranges and defaults (γ of GTR and of Student-t; η of a dielectric and
+  // of a conductor). s may be a state or a query (both carry the choice names).
+  function paramFor(name, s) {
+    for (const g of groups) {
+      const p = (choiceOf(g.name, s[g.name])?.params || []).find((x) => x.name === name);
+      if (p) return p;
+    }
+    return params.get(name);
   }
+  // The chosen choices' parameters at their own defaults.
+  function choiceDefaults(s) {
+    for (const g of groups) for (const p of choiceOf(g.name, s[g.name])?.params || []) s[p.name] = p.default;
+  }
+  const sameSpec = (a, b) => a.lo === b.lo && a.hi === b.hi && a.default === b.default && !!a.lo_open === !!b.lo_open;
+  // Choose `name` in group g: a parameter the new choice shares with other choices
+  // under another range or default starts at the new choice's default.
+  function switchChoice(g, s, name) {
+    const old = choiceOf(g.name, s[g.name]);
+    s[g.name] = name;
+    for (const p of choiceOf(g.name, name)?.params || []) {
+      const prev = (old?.params || []).find((x) => x.name === p.name);
+      const shared = g.choices.filter((c) => (c.params || []).some((x) => x.name === p.name)).length > 1;
+      if (prev ? !sameSpec(prev, p) : (shared || !inRange(p, s[p.name]))) s[p.name] = p.default;
+    }
+  }
+
+  // α_x ≠ α_y in either form (an option that is isotropic_only cannot take it).
+  function anisoAlpha(s) {
+    if (isAnisotropic(s)) return s.alpha_y !== s.alpha;
+    return isPerceptual(s) && anisoAllowed(s) && s.anisotropy > 0;
+  }
+
+  // A choice applies to the NDF of s (applies_to) and, if isotropic_only, to its α.
+  function appliesTo(choice, s) {
+    if (choice.applies_to && !choice.applies_to.includes(s.ndf)) return false;
+    return !(choice.isotropic_only && anisoAlpha(s));
+  }
+  function whyNot(choice, s) {
+    if (choice.applies_to && !choice.applies_to.includes(s.ndf)) {
+      return `only for ${choice.applies_to.join(", ")}`;
+    }
+    return "isotropic roughness only (α_y = α)";
+  }
+
+  // Sub-options (GET /models "sub_options") refine one choice; the API answers 422
+  // when one is sent where it does not apply, so it is sent only where it does.
+  //   lambda_phi: λ(φ) of a G2 whose choice says needs_phi;
+  //   aniso_map: the (r, k) -> (α_x, α_y) map of the perceptual form.
+  const subOptions = () => Object.entries(models.sub_options || {}).map(([name, g]) => ({ name, ...g }));
+  function subApplies(name, s) {
+    if (name === "lambda_phi") return !!choiceOf("g2", s.g2)?.needs_phi;
+    if (name === "aniso_map") return isPerceptual(s) && anisoAllowed(s);
+    return false;   // an unknown sub-option: its rule is not known here, so never sent
+  }
+
+  // The second lobe (alpha2 with weight lobe_mix) takes part only when switched on.
+  const SECOND_LOBE = ["alpha2", "lobe_mix"];
+  const SECOND_LOBE_START_MIX = 0.5;
+  const secondLobeAllowed = () => SECOND_LOBE.every((n) => params.has(n));
 
   // The continuous parameters that belong in a query for state s, in a fixed order.
   function activeParams(s) {
@@ -118,6 +177,8 @@
       if (p.name === "alpha_y" && !isAnisotropic(s)) continue;
       if (PERCEPTUAL.params.includes(p.name) && !isPerceptual(s)) continue;
       if (PERCEPTUAL.replaces.includes(p.name) && isPerceptual(s)) continue;
+      if (p.name === "anisotropy" && !anisoAllowed(s)) continue;
+      if (SECOND_LOBE.includes(p.name) && !s.secondLobe) continue;
       out.push(p);
     }
     for (const g of groups) {
@@ -130,17 +191,26 @@
   function modelQuery(s) {
     const q = {};
     for (const g of groups) q[g.name] = s[g.name];
+    for (const g of subOptions()) if (subApplies(g.name, s)) q[g.name] = s[g.name];
     for (const p of activeParams(s)) q[p.name] = s[p.name];
     return q;
   }
 
+  // Parameters whose presence in a query says something (anisotropic, perceptual form,
+  // second lobe on): kept even at their default value.
+  const PRESENCE = new Set(["alpha_y", "roughness", "alpha2"]);
+
   // State -> page URL: API names, only non-default values (alpha_y whenever
-  // anisotropic: its presence is what says "anisotropic").
+  // anisotropic: its presence is what says "anisotropic"), and one `pin` per pinned
+  // model (see encodePin).
   function stateToSearch(s) {
     const q = new URLSearchParams();
     for (const g of groups) if (s[g.name] !== g.default) q.set(g.name, s[g.name]);
+    for (const g of subOptions()) {
+      if (subApplies(g.name, s) && s[g.name] !== g.default) q.set(g.name, s[g.name]);
+    }
     for (const p of [...activeParams(s), ...models.geometry]) {
-      if (p.name === "alpha_y" || p.name === "roughness" || s[p.name] !== p.default) {
+      if (PRESENCE.has(p.name) || s[p.name] !== p.default) {
         q.set(p.name, String(s[p.name]));
       }
     }
@@ -153,8 +223,10 @@
       q.set("vary", s.vary);
       q.set("values", s.values);
     }
+    for (const pin of s.pins) q.append("pin", encodePin(pin));
     if (embed) q.set("embed", "1");
-    const str = q.toString();
+    // ':' and ',' may stand as they are in a query (RFC 3986 3.4): readable pins and lists
+    const str = q.toString().replace(/%3A/gi, ":").replace(/%2C/gi, ",");
     return str ? `?${str}` : "";
   }
 
@@ -164,13 +236,15 @@
     const q = new URLSearchParams(search);
     const s = structuredClone(defaultState);
     const notes = [];
-    for (const g of groups) {
+    for (const g of [...groups, ...subOptions()]) {
       const v = q.get(g.name);
       if (v === null) continue;
-      if (choiceOf(g.name, v)) s[g.name] = v;
+      if (g.choices.some((c) => c.name === v)) s[g.name] = v;
       else notes.push(`${g.name}=${v} is not one of ${g.choices.map((c) => c.name).join(", ")}; using ${g.default}.`);
     }
-    for (const p of params.values()) {
+    choiceDefaults(s);
+    for (const name of params.keys()) {
+      const p = paramFor(name, s);
       const raw = q.get(p.name);
       if (raw === null) continue;
       const x = raw.trim() === "" ? NaN : Number(raw);
@@ -186,6 +260,7 @@
     }
     s.anisotropic = params.has("alpha_y") && q.has("alpha_y");
     s.perceptual = perceptualAllowed() && q.has("roughness");
+    s.secondLobe = secondLobeAllowed() && q.has("alpha2");
     for (const [key, loc] of locals) {
       const raw = q.get(key);
       if (raw === null) continue;
@@ -214,19 +289,118 @@
       s.values = q.get("values");
     }
     notes.push(...fixApplicability(s));
+    s.pins = [];
+    for (const raw of q.getAll("pin")) {
+      const { pin, note } = decodePin(raw);
+      if (note) notes.push(note);
+      if (pin && !s.pins.some((x) => samePin(x, pin)) && s.pins.length < MAX_PINS) s.pins.push(pin);
+    }
     return { s, notes };
   }
 
-  // A masking (or any choice with applies_to) that does not apply to the NDF is
-  // replaced by the group's default, or else the first choice that applies.
+  // ---------------------------------------------------------------- pins ------
+  // A pinned model is kept as its non-default model parameters, the API's names and
+  // values (a POST /figures/{kind} "models" entry as it stands). In the URL each pin
+  // is one `pin` parameter, its entries name:value joined by commas, e.g.
+  //   ?pin=ndf:beckmann,alpha:0.2&pin=ndf:blinn_phong,alpha:0.2
+  // (names and choice values are [a-z0-9_], numbers are plain decimals, so neither
+  // ':' nor ',' can occur inside one). A pin always names its ndf; the rest are the
+  // values that differ from the API's defaults.
+  const MAX_PINS = 6;                // a legend of 7 curves is still readable
+
+  // The choices named in a raw pin (to check its numbers against their own ranges).
+  function pinChoices(raw) {
+    const out = {};
+    for (const part of raw.split(",")) {
+      const [k, v] = part.split(":");
+      if (groups.some((g) => g.name === k)) out[k] = (v || "").trim();
+    }
+    return out;
+  }
+
+  function encodePin(pin) {
+    const parts = Object.entries(pin).map(([k, v]) => `${k}:${v}`);
+    return parts.join(",");
+  }
+
+  // The state a pin stands for: the defaults with the pin's values; the forms that
+  // are chosen by presence (alpha_y, roughness, alpha2) follow from its keys.
+  function pinState(pin) {
+    const s = structuredClone(defaultState);
+    for (const g of groups) if (pin[g.name]) s[g.name] = pin[g.name];
+    choiceDefaults(s);
+    Object.assign(s, pin);
+    s.anisotropic = "alpha_y" in pin;
+    s.perceptual = "roughness" in pin;
+    s.secondLobe = "alpha2" in pin;
+    s.pins = [];
+    return s;
+  }
+
+  // The model of state s, without the values that are the API's defaults anyway.
+  const modelOf = (s) => compact(modelQuery(s));
+  // A pin names its NDF always (a link stays the same model if the default changes).
+  const pinOf = (s) => ({ ndf: s.ndf, ...modelOf(s) });
+  const samePin = (a, b) => encodePin(a) === encodePin(b);
+
+  // One `pin` value -> {pin} or {note} saying why it was left out.
+  function decodePin(raw) {
+    const bad = (why) => ({ pin: null, note: `pin=${raw}: ${why}; left out.` });
+    const pin = {};
+    {
+      for (const part of raw.split(",")) {
+        const i = part.indexOf(":");
+        if (i < 1) return bad(`“${part}” is not name:value`);
+        const k = part.slice(0, i).trim(), v = part.slice(i + 1).trim();
+        const g = [...groups, ...subOptions()].find((x) => x.name === k);
+        const p = params.has(k) ? paramFor(k, pinChoices(raw)) : null;
+        if (g) {
+          if (!g.choices.some((c) => c.name === v)) return bad(`${k}=${v} is not one of ${g.choices.map((c) => c.name).join(", ")}`);
+          pin[k] = v;
+        } else if (p && !models.geometry.some((x) => x.name === k)) {
+          const x = v === "" ? NaN : Number(v);
+          if (!Number.isFinite(x) || !inRange(p, x)) return bad(`${k}=${v} is not a number in ${rangeText(p)}`);
+          pin[k] = x;
+        } else {
+          return bad(`${k} is not a model parameter`);
+        }
+      }
+    }
+    const s = pinState(pin);
+    const notes = fixApplicability(s);
+    if (notes.length) return bad(notes[0]);
+    // back to its canonical form: parameters that do not take part are dropped
+    return { pin: pinOf(s), note: null };
+  }
+
+  // A short name for a pinned model: its NDF and roughness always, then what else
+  // differs from the defaults.
+  function pinLabel(pin) {
+    const s = pinState(pin);
+    const q = modelQuery(s);
+    const parts = [q.ndf];
+    if (isPerceptual(s)) parts.push(`r=${q.roughness}`);
+    else parts.push(isAnisotropic(s) ? `α=${q.alpha}×${q.alpha_y}` : `α=${q.alpha}`);
+    for (const [k, v] of Object.entries(pin)) {
+      if (["ndf", "alpha", "alpha_y", "roughness"].includes(k)) continue;
+      parts.push(groups.some((g) => g.name === k) ? String(v) : `${k}=${v}`);
+    }
+    return parts.join(", ");
+  }
+
+  // A masking or G2 (any choice with applies_to or isotropic_only) that does not apply
+  // to the NDF or to anisotropic α is replaced by the group's default, or else the
+  // first choice that applies.
   function fixApplicability(s) {
     const notes = [];
     for (const g of groups) {
       const c = choiceOf(g.name, s[g.name]);
-      if (!c || appliesTo(c, s.ndf)) continue;
-      const alt = [choiceOf(g.name, g.default), ...g.choices].find((x) => x && appliesTo(x, s.ndf));
+      if (!c || appliesTo(c, s)) continue;
+      const alt = [choiceOf(g.name, g.default), ...g.choices].find((x) => x && appliesTo(x, s));
       if (alt) {
-        notes.push(`${g.label} “${c.label}” does not apply to ${s.ndf}; using “${alt.label}”.`);
+        const what = c.applies_to && !c.applies_to.includes(s.ndf) ? `does not apply to ${s.ndf}`
+          : "is for isotropic roughness only";
+        notes.push(`${g.label} “${c.label}” ${what}; using “${alt.label}”.`);
         s[g.name] = alt.name;
       }
     }
@@ -317,8 +491,8 @@
     return el("fieldset", { class: "group" }, el("legend", { text: title }), ...kids);
   }
 
-  function paramControl(p) {
-    const id = controlId(p.name);
+  function paramControl(p, key = p.name) {
+    const id = key === p.name ? controlId(p.name) : key;
     const map = p.scale === "log" ? logMap(p) : linearMap(p);
     const box = el("input", {
       type: "number", id, name: p.name, min: p.lo, max: p.hi, step: "any",
@@ -339,29 +513,29 @@
         el("span", { text: fmtEnd(p.scale === "log" ? sliderLo(p) : p.lo, p) }),
         el("span", { text: fmtEnd(p.hi, p) })),
       msg);
-    const c = { param: p, box, slider, row, msg, map, invalid: false, invalidTimer: 0 };
+    const c = { key, param: p, box, slider, row, msg, map, invalid: false, invalidTimer: 0 };
 
     slider.addEventListener("input", () => {
-      setParam(p.name, map.fromSlider(slider.value), "slider");
+      setParam(c, map.fromSlider(slider.value), "slider");
     });
     box.addEventListener("input", () => {
       const raw = box.value.trim();
       const x = raw === "" ? NaN : Number(raw);
       if (!Number.isFinite(x)) return showInvalid(c, "Enter a number.");
       if (!inRange(p, x)) return showInvalid(c, `Must be in ${rangeText(p)}.`);
-      setParam(p.name, x, "box");
+      setParam(c, x, "box");
     });
     box.addEventListener("change", () => {   // leaving an invalid box restores the value
-      if (c.invalid) syncControl(p.name);
+      if (c.invalid) syncControl(c);
     });
     box.addEventListener("keydown", (ev) => {
       if (ev.key !== "ArrowUp" && ev.key !== "ArrowDown") return;
       ev.preventDefault();
       const dir = ev.key === "ArrowUp" ? 1 : -1;
       const next = map.nudge(state[p.name], dir, ev.shiftKey);
-      setParam(p.name, p.scale === "log" ? map.fromSlider(next) : next, "key");
+      setParam(c, p.scale === "log" ? map.fromSlider(next) : next, "key");
     });
-    controls.set(p.name, c);
+    controls.set(key, c);
     return row;
   }
 
@@ -399,7 +573,7 @@
       sel.append(el("option", { value: c.name, text: c.label, title: c.description || "" }));
     }
     sel.addEventListener("change", () => {
-      state[g.name] = sel.value;
+      switchChoice(g, state, sel.value);
       const notes = fixApplicability(state);
       if (notes.length) showNotices(notes);
       syncAllControls();
@@ -407,12 +581,15 @@
     });
     const info = el("p", { class: "choice-info", id: `${g.name}-info` });
     const paramsBox = el("div", { class: "choice-params" });
-    const seen = new Set();
+    // One control per parameter; a name that two choices define differently (γ, η)
+    // gets one control per choice, each with its own range (id "<choice>-<name>").
+    const allParams = groups.flatMap((x) => x.choices.flatMap((c) => c.params || []));
     for (const c of g.choices) {
       for (const p of c.params || []) {
-        if (seen.has(p.name) || controls.has(p.name)) continue;
-        seen.add(p.name);
-        paramsBox.append(paramControl(p));
+        const differs = allParams.some((x) => x.name === p.name && !sameSpec(x, p));
+        const key = differs ? `${c.name}-${p.name}` : p.name;
+        if (controls.has(key)) continue;
+        paramsBox.append(paramControl(p, key));
       }
     }
     return el("div", { class: "choice", "data-group": g.name },
@@ -441,11 +618,31 @@
           el("input", { type: "checkbox", id: "anisotropic", name: "anisotropic" }),
           el("span", {}, richText("anisotropic (α_x ≠ α_y)"))));
       }
+      if (p.name === "alpha2" && secondLobeAllowed()) {
+        surface.push(el("label", { class: "toggle aniso", for: "second-lobe",
+                                   title: "Add a second specular lobe of the same NDF: (1 − w) f(α) + w f(α₂) (Kulla & Conty 2017)" },
+          el("input", { type: "checkbox", id: "second-lobe", name: "second-lobe" }),
+          el("span", {}, richText("second lobe (α_2, weight w)"))));
+      }
       surface.push(paramControl(p));
+      if (p.name === "anisotropy" && models.sub_options?.aniso_map) {
+        surface.push(subSelect({ name: "aniso_map", ...models.sub_options.aniso_map }));
+      }
     }
     form.append(section("Surface", ...surface));
-    form.append(section("Incidence", ...models.geometry.map(paramControl)));
+    form.append(section("Incidence", ...models.geometry.map((p) => paramControl(p))));
     if (others.length) form.append(section("Shadowing & Fresnel", ...others.map(choiceSelect)));
+    const g2Box = form.querySelector('.choice[data-group="g2"] .choice-params');
+    if (g2Box && models.sub_options?.lambda_phi) {
+      g2Box.append(subSelect({ name: "lambda_phi", ...models.sub_options.lambda_phi }));
+    }
+    form.append(section("Compare (pinned models)",
+      el("p", { class: "pin-help", id: "pin-help",
+                text: "Pin keeps the current model as a curve on the D, G₁, lobe, albedo and Fresnel panels while the controls move on." }),
+      el("ul", { class: "pin-list", id: "pin-list", "aria-label": "Pinned models" }),
+      el("div", { class: "pin-actions" },
+        el("button", { type: "button", id: "pin-current", class: "small-btn", text: "Pin current model" }),
+        el("button", { type: "button", id: "pin-clear", class: "small-btn", text: "Clear pins" }))));
     const list = el("div", { class: "panel-list" });
     for (const v of views) {
       const h = PANEL_HINTS[v.name] || {};
@@ -467,6 +664,18 @@
         onStateChange();
       });
     }
+    const second = $("#second-lobe");
+    if (second) {
+      second.addEventListener("change", () => {
+        state.secondLobe = second.checked;
+        // a weight of 0 would show nothing: switching the lobe on gives it a share
+        if (second.checked && state.lobe_mix === 0) state.lobe_mix = SECOND_LOBE_START_MIX;
+        syncAllControls();
+        onStateChange();
+      });
+    }
+    $("#pin-current").addEventListener("click", pinCurrent);
+    $("#pin-clear").addEventListener("click", () => setPins([]));
     const aniso = $("#anisotropic");
     if (aniso) {
       aniso.addEventListener("change", () => {
@@ -496,53 +705,118 @@
     form.hidden = false;
   }
 
-  function setParam(name, value, source) {
-    state[name] = value;
-    const c = controls.get(name);
+  // A menu for a sub-option (lambda_phi, aniso_map): shown only where it applies.
+  function subSelect(g) {
+    const sel = el("select", { id: g.name, name: g.name });
+    for (const c of g.choices) sel.append(el("option", { value: c.name, text: c.label, title: c.description || "" }));
+    sel.addEventListener("change", () => {
+      state[g.name] = sel.value;
+      syncAllControls();
+      onStateChange();
+    });
+    return el("div", { class: "choice sub-choice", "data-sub": g.name, title: `applies with ${g.applies_with || "?"}` },
+      el("label", { for: g.name, class: "choice-label" }, richText(g.label || g.name)),
+      sel, el("p", { class: "choice-info", id: `${g.name}-info` }));
+  }
+
+  // ----------------------------------------------------------- pin actions ------
+  function setPins(pins) {
+    state.pins = pins.slice(0, MAX_PINS);
+    syncAllControls();
+    onStateChange();
+  }
+  function pinCurrent() {
+    const m = pinOf(state);
+    if (state.pins.some((x) => samePin(x, m))) return;
+    if (state.pins.length >= MAX_PINS) {
+      showNotices([`At most ${MAX_PINS} pinned models; remove one first.`]);
+      return;
+    }
+    setPins([...state.pins, m]);
+  }
+  // GGX, Beckmann and Blinn-Phong at the current α (Blinn-Phong's α is its
+  // Beckmann-equivalent), D(θ) on a log axis: the tails side by side in one click.
+  const TAIL_NDFS = ["ggx", "beckmann", "blinn_phong"];
+  function compareTails() {
+    const alpha = isPerceptual(state) ? Number((state.roughness ** 2).toPrecision(3)) : state.alpha;
+    const pins = TAIL_NDFS.filter((n) => choiceOf("ndf", n)).map((ndf) => {
+      const s = structuredClone(state);
+      s.ndf = ndf;
+      choiceDefaults(s);
+      Object.assign(s, { alpha, anisotropic: false, perceptual: false, pins: [] });
+      fixApplicability(s);
+      return pinOf(s);
+    });
+    const logKey = localKey("ndf", "log");
+    if (locals.has(logKey)) state[logKey] = true;
+    setPins(pins);
+  }
+
+  function setParam(c, value, source) {
+    state[c.param.name] = value;
     clearInvalid(c);
     if (source !== "box") c.box.value = String(value);
     if (source !== "slider") c.slider.value = c.map.toSlider(value);
     onStateChange();
   }
 
-  function syncControl(name) {
-    const c = controls.get(name);
-    if (!c) return;
-    c.box.value = String(state[name]);
-    c.slider.value = c.map.toSlider(state[name]);
+  function syncControl(c) {
+    c.box.value = String(state[c.param.name]);
+    c.slider.value = c.map.toSlider(state[c.param.name]);
     clearInvalid(c);
   }
 
   // Only the parameters that take part (α_y when anisotropic, a choice's params when
   // that choice is selected) are shown and enabled.
   function syncActiveRows() {
-    const active = new Set([...activeParams(state), ...models.geometry].map((p) => p.name));
-    for (const [name, c] of controls) {
-      const on = active.has(name);
+    const active = new Set([...activeParams(state), ...models.geometry]);
+    for (const c of controls.values()) {
+      const on = active.has(c.param);
       c.row.hidden = !on;
       c.box.disabled = c.slider.disabled = !on;
     }
   }
 
-  // Controls <- state (after load, reset, or a change that moves other controls).
-  function syncAllControls() {
-    for (const name of controls.keys()) syncControl(name);
-    syncActiveRows();
+  // Menus <- state: the selected choice, which choices apply, the choice's note.
+  function syncChoices() {
     for (const g of groups) {
       const sel = document.getElementById(g.name);
       sel.value = state[g.name];
       for (const opt of sel.options) {
         const c = choiceOf(g.name, opt.value);
-        opt.disabled = !appliesTo(c, state.ndf);
-        opt.title = opt.disabled ? `Not available for ${state.ndf}` : (c.description || "");
+        opt.disabled = !appliesTo(c, state);
+        opt.title = opt.disabled ? `Not available: ${whyNot(c, state)}` : (c.description || "");
       }
       const c = choiceOf(g.name, state[g.name]);
       const info = document.getElementById(`${g.name}-info`);
+      if (info.dataset.choice === state[g.name]) continue;
+      info.dataset.choice = state[g.name];
       info.textContent = "";
       if (c && c.description) info.append(el("span", {}, richText(c.description)));
       if (c && c.reference) info.append(el("span", { class: "ref", text: c.reference }));
       info.hidden = !info.textContent;
     }
+  }
+
+  // Controls <- state (after load, reset, or a change that moves other controls).
+  function syncAllControls() {
+    for (const c of controls.values()) syncControl(c);
+    syncActiveRows();
+    syncChoices();
+    for (const g of subOptions()) {
+      const sel = document.getElementById(g.name);
+      if (!sel) continue;
+      sel.value = state[g.name];
+      sel.closest(".sub-choice").hidden = !subApplies(g.name, state);
+      const info = document.getElementById(`${g.name}-info`);
+      const c = g.choices.find((x) => x.name === state[g.name]);
+      info.textContent = c?.description || "";
+      info.hidden = !info.textContent;
+    }
+    const second = $("#second-lobe");
+    if (second) second.checked = !!state.secondLobe;
+    syncDerived();
+    syncPinList();
     const perceptual = $("#perceptual");
     if (perceptual) perceptual.checked = isPerceptual(state);
     const aniso = $("#anisotropic");
@@ -560,6 +834,46 @@
     const compare = $("#compare");
     compare.hidden = !state.vary;
     $("#compare-text").textContent = state.vary ? `Comparing ${state.vary} = ${state.values.split(",").join(", ")} (one curve each, where a panel can overlay curves).` : "";
+  }
+
+  // Blinn-Phong's α is the Beckmann-equivalent α_b; its Phong exponent
+  // α_p = 2/α_b² − 2 (Walter et al. 2007, eq. 33) is shown beside the roughness.
+  const DERIVED = { blinn_phong: (alpha) => `α_p = 2/α² − 2 = ${fmtNum(2 / alpha ** 2 - 2)}` };
+  function fmtNum(x) {
+    return Math.abs(x) >= 1e4 ? x.toExponential(2).replace("e+", "e") : String(Number(x.toPrecision(4)));
+  }
+  function syncDerived() {
+    let out = $("#derived");
+    if (!out) out = el("p", { class: "derived", id: "derived", "aria-live": "polite" });
+    const f = DERIVED[state.ndf];
+    const row = controls.get(isPerceptual(state) ? "roughness" : "alpha")?.row;
+    if (!f || !row) { out.hidden = true; return; }
+    const alpha = isPerceptual(state) ? state.roughness ** 2 : state.alpha;
+    out.textContent = f(alpha);
+    out.title = choiceOf("ndf", state.ndf)?.derived_doc?.alpha_p || "";
+    out.hidden = false;
+    if (out.parentElement !== row) row.append(out);
+  }
+
+  function syncPinList() {
+    const list = $("#pin-list");
+    if (!list) return;
+    list.textContent = "";
+    const current = pinOf(state);
+    state.pins.forEach((pin, i) => {
+      const label = pinLabel(pin);
+      const rm = el("button", { type: "button", class: "pin-remove", "aria-label": `Remove pin ${label}`,
+                                title: "Remove this pinned model", text: "×" });
+      rm.addEventListener("click", () => setPins(state.pins.filter((_, j) => j !== i)));
+      list.append(el("li", { class: samePin(pin, current) ? "pin is-current" : "pin", "data-pin": encodePin(pin) },
+        el("span", { class: "pin-label", title: encodePin(pin) }, richText(label)), rm));
+    });
+    list.hidden = !state.pins.length;
+    $("#pin-clear").disabled = !state.pins.length;
+    $("#pin-current").disabled = state.pins.length >= MAX_PINS || state.pins.some((x) => samePin(x, current));
+    for (const panel of panels) {
+      if (panel.pinButton) panel.pinButton.disabled = $("#pin-current").disabled;
+    }
   }
 
   // --------------------------------------------------------------- panels ------
@@ -637,7 +951,7 @@
         el("div", { class: "plot-wrap" }, div, status));
       const panel = {
         view, name: view.name, hint, section, div, status, heading,
-        inflight: false, dirty: false, noOverlay: false,
+        inflight: false, dirty: false, noOverlay: false, noPin: false, pinButton: null,
         doneKey: null, drawn: false, error: null, loadingTimer: 0,
       };
       const bar = window.BRDF.exportBar(
@@ -645,7 +959,28 @@
                  title: heading.textContent }),
         (kind, text) => exportReport(panel, kind, text));
       bar.classList.add("panel-export");
-      section.querySelector(".panel-actions").append(bar);
+      const actions = section.querySelector(".panel-actions");
+      if (hint.pin || hint.tails) {
+        const pinBar = el("div", { class: "pin-bar", role: "group", "aria-label": "Compare models" });
+        if (hint.pin) {
+          panel.pinButton = el("button", { type: "button", class: "export pin-btn", "data-action": "pin",
+                                           title: "Keep the current model as a curve (pinned models are drawn on every curve panel)",
+                                           text: "Pin" });
+          panel.pinButton.addEventListener("click", pinCurrent);
+          pinBar.append(panel.pinButton);
+        }
+        if (hint.tails) {
+          const tails = el("button", { type: "button", class: "export pin-btn", "data-action": "tails",
+                                       title: "Pin GGX, Beckmann and Blinn-Phong at the current α and show D on a log scale",
+                                       text: "Compare tails" });
+          tails.addEventListener("click", compareTails);
+          pinBar.append(tails);
+        }
+        // one unit with the export buttons: they wrap to a new line together
+        actions.append(el("div", { class: "panel-buttons" }, pinBar, bar));
+      } else {
+        actions.append(bar);
+      }
       panelsBox.append(section);
       return panel;
     });
@@ -662,7 +997,11 @@
   // The parameters of a panel's figure: the model, the view's own fields, and the
   // comparison (vary, values) where this panel can overlay curves.
   function figureParams(panel, s) {
-    const q = { ...modelQuery(s) };
+    return { ...modelQuery(s), ...viewParams(panel, s) };
+  }
+  // The parameters of a panel's figure that are not the model's (the "view" of a POST).
+  function viewParams(panel, s) {
+    const q = {};
     const geometry = new Set(models.geometry.map((p) => p.name));
     for (const f of panel.view.fields) {
       if (geometry.has(f.name)) q[f.name] = s[f.name];
@@ -679,19 +1018,49 @@
   }
 
   // A query without the values that are the API's defaults anyway (a shorter link or
-  // embed code for the same figure); alpha_y and roughness stay: their presence matters.
+  // embed code for the same figure); alpha_y, roughness, alpha2 stay: their presence matters.
   function compact(q) {
     const out = {};
     for (const [k, v] of Object.entries(q)) {
-      const g = groups.find((x) => x.name === k);
-      const p = params.get(k);
-      if (k !== "alpha_y" && k !== "roughness" && ((g && v === g.default) || (p && v === p.default))) continue;
+      const g = [...groups, ...subOptions()].find((x) => x.name === k);
+      const p = paramFor(k, q);
+      if (!PRESENCE.has(k) && ((g && v === g.default) || (p && v === p.default))) continue;
       out[k] = v;
     }
     return out;
   }
 
-  const overlaid = (panel, s) => !!s.vary && !panel.noOverlay && panel.view.vary.includes(s.vary);
+  const overlaid = (panel, s) => !!s.vary && !panel.noOverlay && panel.view.vary.includes(s.vary)
+    && !pinned(panel, s);
+  // Pinned models are drawn (instead of a vary comparison) on the panels that can.
+  const pinned = (panel, s) => s.pins.length > 0 && !!panel.hint.pin && !panel.noPin;
+
+  // POST /figures/{kind}: the pinned models and the current one (once, if it is also
+  // pinned), labelled as in the pin list, the current one marked "now".
+  function compareBody(panel, s) {
+    const current = pinOf(s);
+    const models_ = [...s.pins];
+    const labels = s.pins.map((pin) => (samePin(pin, current) ? `${pinLabel(pin)} (now)` : pinLabel(pin)));
+    if (!s.pins.some((pin) => samePin(pin, current))) {
+      models_.push(current);
+      labels.push(`now: ${pinLabel(current)}`);
+    }
+    return { models: models_, view: compact(viewParams(panel, s)), labels };
+  }
+
+  // The request behind a panel: {key, url, init}; key is what the panel last drew
+  // (a GET's URL, or a POST's URL and body).
+  function panelRequest(panel) {
+    const accept = { Accept: "application/json" };
+    if (pinned(panel, state)) {
+      const url = `${API}/figures/${panel.name}`;
+      const body = JSON.stringify(compareBody(panel, state));
+      return { key: `POST ${url} ${body}`, url,
+               init: { method: "POST", headers: { ...accept, "Content-Type": "application/json" }, body } };
+    }
+    const url = panelUrl(panel);
+    return { key: url, url, init: { headers: accept } };
+  }
 
   function panelUrl(panel) {
     const q = window.BRDF.query(figureParams(panel, state));
@@ -702,14 +1071,15 @@
   function uirevision(panel) {
     const own = [...locals].filter(([, l]) => l.view === panel.name && l.field.type === "boolean")
       .map(([k]) => `${k}:${state[k]}`);
-    return [panel.name, ...own, overlaid(panel, state) ? state.vary : ""].join("|");
+    return [panel.name, ...own, overlaid(panel, state) ? state.vary : "",
+            pinned(panel, state) ? "pins" : ""].join("|");
   }
 
   function schedule(panel) {
     panel.section.hidden = !isVisible(panel);
     if (!isVisible(panel)) return;
     if (panel.inflight) { panel.dirty = true; return; }
-    if (panelUrl(panel) === panel.doneKey) return;   // nothing this panel shows has changed
+    if (panelRequest(panel).key === panel.doneKey) return;   // nothing this panel shows has changed
     fetchAndDraw(panel);
   }
 
@@ -721,16 +1091,25 @@
       // The lobe goes first (server time and main-thread drawing); the others follow
       // with whatever the state is by then.
       if (!panel.hint.primary) await primaryDrawn();
-      url = panelUrl(panel);
+      const req = panelRequest(panel);
+      url = req.key;
       if (url === panel.doneKey) return;
       const uirev = uirevision(panel);
       let res;
       try {
-        res = await fetch(url, { headers: { Accept: "application/json" } });
+        res = await fetch(req.url, req.init);
       } catch (e) {
         throw new Error("Cannot reach the server.");
       }
       const body = await res.json().catch(() => null);
+      if (res.status === 422 && req.init.method === "POST"
+          && /cannot be compared/.test(apiMessage(body, res))) {
+        // This figure cannot overlay models after all: draw the current one alone.
+        panel.noPin = true;
+        panel.dirty = true;
+        url = null;
+        return;
+      }
       if (res.status === 422 && overlaid(panel, state) && window.BRDF.errorLoc(body).includes("vary")) {
         // This figure (an image, a surface) cannot overlay curves: draw it plain.
         panel.noOverlay = true;
@@ -843,6 +1222,12 @@
   }
 
   function onStateChange() {
+    // α_y or the anisotropy can make an isotropic_only choice (Hammon's G2) stop applying
+    const notes = fixApplicability(state);
+    if (notes.length) showNotices(notes);
+    syncChoices();
+    syncDerived();
+    syncPinList();
     scheduleUrlWrite();
     syncActiveRows();
     for (const panel of panels) schedule(panel);
@@ -860,8 +1245,12 @@
     const s = {};
     for (const g of groups) s[g.name] = g.default;
     for (const p of params.values()) s[p.name] = p.default;
+    for (const g of subOptions()) s[g.name] = g.default;
+    choiceDefaults(s);
     s.anisotropic = false;
     s.perceptual = false;
+    s.secondLobe = false;
+    s.pins = [];
     for (const [key, loc] of locals) s[key] = loc.field.default;
     s.show = views.map((v) => v.name).filter((n) => PANEL_HINTS[n] && PANEL_HINTS[n].shown);
     s.vary = null;
@@ -937,6 +1326,7 @@
     panels: () => panels.map((p) => ({ name: p.name, inflight: p.inflight, dirty: p.dirty,
                                        drawn: p.drawn, error: p.error, visible: isVisible(p) })),
     url: (name) => { const p = panels.find((x) => x.name === name); return p && panelUrl(p); },
+    request: (name) => { const p = panels.find((x) => x.name === name); return p && panelRequest(p); },
   };
 
   boot();
