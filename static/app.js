@@ -1119,6 +1119,7 @@
       }
       if (!res.ok) throw new Error(apiMessage(body, res));
       if (!body || !Array.isArray(body.data)) throw new Error("The server sent no figure.");
+      if (req.init.method === "POST") compactLegend(body.data);
       const layout = fitLayout(panel, body.layout || {});
       if (layout.uirevision === undefined) layout.uirevision = uirev;
       await Plotly.react(panel.div, body.data, layout, PLOT_CONFIG);
@@ -1140,6 +1141,26 @@
         panel.dirty = false;
         schedule(panel);
       }
+    }
+  }
+
+  // An overlay names its traces "<quantity> · <model>": with several quantities per
+  // model (G1 and Λ; F, exact F and their difference) the legend would fill the panel.
+  // The first model keeps one entry per quantity (they explain the line styles); each
+  // other model gets one entry, its name, and one click shows or hides all its traces.
+  const OVERLAY_SEP = " · ";
+  function compactLegend(data) {
+    let first = null;
+    const named = new Set();
+    for (const t of data) {
+      const i = typeof t.name === "string" ? t.name.lastIndexOf(OVERLAY_SEP) : -1;
+      if (i < 0) continue;
+      const model = t.name.slice(i + OVERLAY_SEP.length);
+      t.legendgroup = model;
+      if (first === null) first = model;
+      if (model === first) continue;
+      if (named.has(model)) t.showlegend = false;
+      else { named.add(model); t.name = model; }
     }
   }
 
