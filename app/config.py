@@ -31,6 +31,18 @@ class Settings:
     max_compare_models: int = 8
     #: width × height × scale² of one exported PNG/SVG: BRDF_MAX_EXPORT_PIXELS (4096²)
     max_export_pixels: int = 16_777_216
+    #: wall-clock seconds one request may compute: BRDF_MAX_SECONDS. Adaptive work
+    #: (albedo refinement) stops before it would run past this and says so.
+    max_seconds: float = 10.0
+    #: integrand evaluations the worst case of one albedo request may need (ORDER_MAX at
+    #: every μ): BRDF_MAX_EVALUATIONS; above it the request is refused before any work.
+    max_evaluations: int = 200_000_000
+    #: bytes of the query string: BRDF_MAX_QUERY_BYTES (414 above it; use POST /eval)
+    max_query_bytes: int = 16_384
+    #: bytes of a request body: BRDF_MAX_BODY_BYTES (413 above it)
+    max_body_bytes: int = 64 * 1024 * 1024
+    #: seconds a browser or CDN may reuse a GET /api/v1 response: BRDF_CACHE_MAX_AGE
+    cache_max_age: int = 3600
     #: origins allowed to GET cross-origin (embedding): BRDF_CORS_ORIGINS, comma-separated
     cors_origins: tuple[str, ...] = field(default=("*",))
 
@@ -42,5 +54,19 @@ class Settings:
             if f.name == "cors_origins":
                 values[f.name] = _env(env, ("*",), lambda s: tuple(x.strip() for x in s.split(",") if x.strip()))
             else:
-                values[f.name] = _env(env, f.default, int)
+                values[f.name] = _env(env, f.default, _non_negative(env, type(f.default)))
         return cls(**values)
+
+
+def _non_negative(env: str, cast):
+    """A parser for one numeric setting that names the variable when its value is bad
+    (a typo must stop the server at start-up, not surface as a 500 later)."""
+    def parse(raw: str):
+        try:
+            value = cast(raw)
+        except ValueError:
+            raise ValueError(f"{env}={raw!r}: expected a {cast.__name__}") from None
+        if not value >= 0:
+            raise ValueError(f"{env}={raw!r}: must not be negative")
+        return value
+    return parse

@@ -6,12 +6,11 @@ from pathlib import Path
 
 import plotly
 from fastapi import FastAPI
-from fastapi.middleware.cors import CORSMiddleware
 from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
 
 from . import __version__
-from .api import errors
+from .api import errors, middleware
 from .api.routes import router
 from .api.routes_export import router as export_router
 from .config import Settings
@@ -29,8 +28,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     app.state.settings = settings or Settings.from_env()
     errors.install(app)
-    app.add_middleware(CORSMiddleware, allow_origins=list(app.state.settings.cors_origins),
-                       allow_methods=["GET"], allow_headers=[])
+    middleware.install(app, app.state.settings, STATIC_DIR)
     app.include_router(router)
     app.include_router(export_router)
 

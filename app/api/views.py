@@ -6,15 +6,22 @@ Each view gives a data route ``/api/v1/{name}`` and a figure route
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 from typing import Callable
 
 import numpy as np
 
 from .. import figures, quantities
 from ..config import Settings
-from ..model import ModelSpec
+from ..integrate import budget
+from ..integrate.albedo import max_evaluations
+from ..model import ModelSpec, make_spec
 from . import schemas
 from .errors import ParamError
+
+
+#: albedo results kept (each a few kB: E, E_error at ≤ BRDF_MAX_ALBEDO_POINTS μ values)
+ALBEDO_CACHE_ENTRIES = 256
 
 
 def _limit(name: str, value: int, limit: int, env: str) -> None:
@@ -51,11 +58,66 @@ def _albedo_mu(q) -> np.ndarray:
     return np.asarray(q.mu, dtype=float) if q.mu is not None else np.linspace(0.0, 1.0, q.n)
 
 
+class _Incomplete(Exception):
+    """Carries a result cut short by the time budget out of the cache (lru_cache does
+    not store a call that raises): only complete results are reused."""
+
+    def __init__(self, data: dict):
+        self.data = data
+
+
+class _SpecKey:
+    """A ModelSpec as a cache key: equal when the model values are."""
+
+    def __init__(self, spec: ModelSpec):
+        self.spec, self.key = spec, tuple(sorted(spec.values.items()))
+
+    def __hash__(self):
+        return hash(self.key)
+
+    def __eq__(self, other):
+        return isinstance(other, _SpecKey) and self.key == other.key
+
+
+@lru_cache(maxsize=ALBEDO_CACHE_ENTRIES)
+def _albedo_cached(model: _SpecKey, mu: tuple | int, phi_deg: float, tol: float) -> dict:
+    mu_values = np.asarray(mu, dtype=float) if isinstance(mu, tuple) else np.linspace(0.0, 1.0, mu)
+    data = quantities.albedo_curve(model.spec.brdf(), mu_values, phi_deg, tol)
+    for value in data.values():
+        if isinstance(value, np.ndarray):
+            value.setflags(write=False)          # shared by every hit
+    b = budget.current()
+    data["complete"] = not (b and b.notes)
+    if not data["complete"]:
+        data["note"] = "; ".join(b.notes) + " (setting BRDF_MAX_SECONDS)"
+        raise _Incomplete(data)
+    return data
+
+
+def _albedo(spec: ModelSpec, q) -> dict:
+    """E(μ) and E_avg, from a bounded cache keyed by the model and the request: the
+    quadrature is the one computation here that takes long enough to be worth keeping
+    (tenths of a second against the milliseconds of a lookup), and a browser that
+    revalidates with If-None-Match makes the server rebuild the body to compare tags."""
+    mu = tuple(q.mu) if q.mu is not None else q.n
+    try:
+        data = _albedo_cached(_SpecKey(spec), mu, q.phi_deg, q.tol)
+    except _Incomplete as cut:
+        data = cut.data
+    return dict(data)
+
+
 def _check_albedo(q, s: Settings):
     if q.mu is not None and len(q.mu) == 0:
         raise ParamError("mu", "mu must hold at least one value in [0, 1]")
     count = len(q.mu) if q.mu is not None else q.n
     _limit("mu" if q.mu is not None else "n", count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
+    worst = max_evaluations(make_spec(**schemas.model_values(q)).brdf(), count)
+    if worst > s.max_evaluations:
+        raise ParamError("mu" if q.mu is not None else "n",
+                         f"{count} μ values may need up to {worst:.3g} integrand evaluations "
+                         f"(every μ refined to the highest order); the limit is "
+                         f"{s.max_evaluations:.3g} (setting BRDF_MAX_EVALUATIONS): ask for fewer")
 
 
 VIEWS: dict[str, View] = {v.name: v for v in [
@@ -77,7 +139,7 @@ VIEWS: dict[str, View] = {v.name: v for v in [
          lambda data, spec, q: figures.lobe3d_figure(data, spec.values, q.theta_i_deg, q.phi_i_deg, q.log)),
     View("albedo", "Directional albedo E(μ) by quadrature, with error estimate and cost",
          schemas.AlbedoQuery, schemas.AlbedoQuery, _check_albedo,
-         lambda spec, q: quantities.albedo_curve(spec.brdf(), _albedo_mu(q), q.phi_deg, q.tol),
+         lambda spec, q: _albedo(spec, q),
          lambda data, spec, q: figures.albedo_figure(data, spec.values)),
     View("g2", "G2(θ_l, θ_v) over θ_l, θ_v = 0..90° (rows θ_l) with v at azimuth φ from l",
          schemas.G2Query, schemas.G2Query, _check_square_grid,

@@ -1,0 +1,17 @@
+"""Report the size of the fuzz run: how many requests schemathesis sent, per operation."""
+from __future__ import annotations
+
+import sys
+
+
+def pytest_terminal_summary(terminalreporter):
+    module = sys.modules.get("tests.robustness.test_fuzz_api")
+    calls = getattr(module, "CALLS", None)
+    if calls:
+        terminalreporter.write_line(
+            f"schemathesis: {sum(calls.values())} requests over {len(calls)} operations "
+            f"(fewest {min(calls.values())}, most {max(calls.values())})")
+        seconds = getattr(module, "SECONDS", {})
+        slow = sorted(seconds.items(), key=lambda kv: -kv[1])[:5]
+        terminalreporter.write_line(
+            "slowest: " + ", ".join(f"{k} {calls[k]}× {v:.1f} s" for k, v in slow))
