@@ -8,7 +8,9 @@ lobe grids, large POST /eval batches and the albedo quadrature — at about 10 m
 evaluations per second on one core.
 
 Here the same formulas run as one loop per direction pair, compiled by numba: no
-temporaries, each term computed once, the two cores shared by ``prange``. It covers
+temporaries, each term computed once, the two cores shared by ``prange``. GGX with
+Schlick's p = 5 (the default model) has its own loop without branches, which the
+compiler vectorises (53 against 40 M evaluations per CPU-second through BRDF.evaluate). It covers
 exactly these models, and :func:`spec_args` says so by returning None for anything else
 (which then takes the reference path, unchanged):
 
@@ -250,6 +252,34 @@ def _f_pair(ndf_kind, ax, ay, g2_kind, f0, f90, p, kd_over_pi,
     return num / (d_den * v_den) + kd_over_pi
 
 
+def _f_pair_ggx(ax, ay, inv_ax2, inv_ay2, norm_D, g2_kind, f0, f90, kd_over_pi,
+                lx, ly, lz, vx, vy, vz):
+    """:func:`_f_pair` for GGX with Schlick's p = 5 (or F = 1), without branches: every
+    term is computed and the special cases are selected at the end, so that the compiler
+    can keep the loop in SIMD registers (measured: 55 against 39 M evaluations per CPU-
+    second). Where h does not exist the terms are NaN and are not selected."""
+    sx, sy, sz = lx + vx, ly + vy, lz + vz
+    norm = math.sqrt(sx * sx + sy * sy + sz * sz)
+    inv = 1.0 / norm
+    hx, hy, hz = sx * inv, sy * inv, sz * inv
+    t = hz * hz + hx * hx * inv_ax2 + hy * hy * inv_ay2           # GGX: D = norm_D / t²
+    c = min(max(vx * hx + vy * hy + vz * hz, 0.0), 1.0)
+    x = 1.0 - c
+    x2 = x * x
+    num = (f0 + (f90 - f0) * (x2 * x2 * x)) * norm_D
+    sl2 = (ax * lx) ** 2 + (ay * ly) ** 2
+    sv2 = (ax * vx) ** 2 + (ay * vy) ** 2
+    ml_l = sl2 / (2.0 * (math.sqrt(lz * lz + sl2) + lz))
+    ml_v = sv2 / (2.0 * (math.sqrt(vz * vz + sv2) + vz))
+    hc = 4.0 * (lz * vz + vz * ml_l + lz * ml_v)
+    sep = 4.0 * ((lz + ml_l) * (vz + ml_v))
+    v_den = hc if g2_kind == G2_HEIGHT_CORRELATED else sep
+    spec = num / (t * t * v_den) if v_den > 0.0 else math.inf
+    spec = spec if num > 0.0 else 0.0
+    spec = spec if norm > HALF_VECTOR_MIN_NORM else 0.0
+    return spec + kd_over_pi if (lz >= 0.0) & (vz >= 0.0) else 0.0
+
+
 # Each loop comes twice, parallel (prange) and serial (range): numba's on-disk cache
 # keys a function by its source, not by its `parallel` flag, so one Python function
 # cannot be cached in both forms.
@@ -265,6 +295,20 @@ def _f_loop_serial(l, v, out, ndf_kind, ax, ay, g2_kind, f0, f90, p, kd_over_pi)
                          l[i, 0], l[i, 1], l[i, 2], v[i, 0], v[i, 1], v[i, 2])
 
 
+def _f_ggx_loop_parallel(l, v, out, ax, ay, g2_kind, f0, f90, kd_over_pi):
+    inv_ax2, inv_ay2, norm_D = 1.0 / (ax * ax), 1.0 / (ay * ay), 1.0 / (math.pi * ax * ay)
+    for i in _prange(out.shape[0]):
+        out[i] = _f_pair_ggx(ax, ay, inv_ax2, inv_ay2, norm_D, g2_kind, f0, f90, kd_over_pi,
+                             l[i, 0], l[i, 1], l[i, 2], v[i, 0], v[i, 1], v[i, 2])
+
+
+def _f_ggx_loop_serial(l, v, out, ax, ay, g2_kind, f0, f90, kd_over_pi):
+    inv_ax2, inv_ay2, norm_D = 1.0 / (ax * ax), 1.0 / (ay * ay), 1.0 / (math.pi * ax * ay)
+    for i in range(out.shape[0]):
+        out[i] = _f_pair_ggx(ax, ay, inv_ax2, inv_ay2, norm_D, g2_kind, f0, f90, kd_over_pi,
+                             l[i, 0], l[i, 1], l[i, 2], v[i, 0], v[i, 1], v[i, 2])
+
+
 _prange = range
 JIT_OPTIONS = dict(nogil=True, error_model="numpy")
 if numba is not None:
@@ -278,6 +322,7 @@ if numba is not None:
     _visibility_den = _device(_visibility_den)
     _schlick = _device(_schlick)
     _f_pair = _device(_f_pair)
+    _f_pair_ggx = _device(_f_pair_ggx)
 
 
 # The per-term formulas, for other compiled loops (the albedo quadrature's integrand in
@@ -332,6 +377,7 @@ def run(loops: tuple, n_items: int, *args) -> None:
 
 
 F_LOOPS = (_f_loop_parallel, _f_loop_serial)
+F_GGX_LOOPS = (_f_ggx_loop_parallel, _f_ggx_loop_serial)
 
 
 def evaluate_f(args: tuple, l: np.ndarray, v: np.ndarray) -> np.ndarray:
@@ -342,5 +388,9 @@ def evaluate_f(args: tuple, l: np.ndarray, v: np.ndarray) -> np.ndarray:
     v2 = np.ascontiguousarray(v.reshape(-1, 3))
     out = np.empty(l2.shape[0])
     ndf_kind, ax, ay, g2_kind, f0, f90, p, kd = args
-    run(F_LOOPS, out.shape[0], l2, v2, out, ndf_kind, ax, ay, g2_kind, f0, f90, p, kd / math.pi)
+    if ndf_kind == NDF_GGX and p == 5.0:
+        run(F_GGX_LOOPS, out.shape[0], l2, v2, out, ax, ay, g2_kind, f0, f90, kd / math.pi)
+    else:
+        run(F_LOOPS, out.shape[0], l2, v2, out, ndf_kind, ax, ay, g2_kind, f0, f90, p,
+            kd / math.pi)
     return out.reshape(shape)
