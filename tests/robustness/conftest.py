@@ -1,4 +1,4 @@
-"""Report the size of the fuzz run: how many requests schemathesis sent, per operation."""
+"""Report the size of the runs: requests schemathesis sent, models and points swept."""
 from __future__ import annotations
 
 import sys
@@ -15,3 +15,9 @@ def pytest_terminal_summary(terminalreporter):
         slow = sorted(seconds.items(), key=lambda kv: -kv[1])[:5]
         terminalreporter.write_line(
             "slowest: " + ", ".join(f"{k} {calls[k]}× {v:.1f} s" for k, v in slow))
+    sweep = sys.modules.get("tests.robustness.test_extremes_sweep")
+    size = getattr(sweep, "SIZE", None)
+    if size and size["combinations"]:
+        terminalreporter.write_line(
+            f"extremes sweep: {size['combinations']} combinations, {size['models']} models, "
+            f"{size['points']} (l, v) evaluations")
