@@ -1,12 +1,37 @@
-FROM python:3.11-slim
+# BRDF Lobe Explorer: the page and its API. Stateless — run as many containers as you
+# like behind any load balancer (docs/robustness.md).
+#
+#   docker build -t brdf-explorer . && docker run -p 8000:8000 brdf-explorer
+#   docker run -p 8000:8000 -e BRDF_MAX_SECONDS=5 brdf-explorer \
+#       brdf-explorer serve --host 0.0.0.0 --port 8000 --workers 2
+FROM python:3.11-slim-bookworm
+
+# Chromium renders the server-side SVG/PNG exports (kaleido finds it on PATH; without
+# it those two formats answer 503 and everything else works).
+RUN apt-get update \
+ && apt-get install -y --no-install-recommends chromium \
+ && rm -rf /var/lib/apt/lists/*
+
+ENV PYTHONDONTWRITEBYTECODE=1 \
+    PYTHONUNBUFFERED=1 \
+    PIP_NO_CACHE_DIR=1 \
+    PIP_DISABLE_PIP_VERSION_CHECK=1 \
+    NUMBA_CACHE_DIR=/tmp/numba-cache
+
 WORKDIR /srv
 COPY pyproject.toml README.md ./
 COPY app ./app
 COPY static ./static
-RUN pip install --no-cache-dir -e . \
-    && useradd --create-home --uid 10001 explorer
+# Editable: the app serves static/ from beside its package directory. Everything under
+# /srv stays owned by root, so the user that runs the server cannot change it; the
+# compiled fast path (numba) caches to /tmp.
+RUN pip install -e '.[fast]' \
+ && useradd --create-home --uid 10001 --shell /usr/sbin/nologin explorer
 USER explorer
+
 EXPOSE 8000
-HEALTHCHECK --interval=30s --timeout=3s \
-  CMD python -c "import urllib.request,sys; sys.exit(urllib.request.urlopen('http://127.0.0.1:8000/api/v1/health').status != 200)"
+# Healthy when /api/v1/health answers 200 within 2 s (urlopen raises on any other
+# status or a timeout, which exits non-zero). start-period: imports and the first JIT.
+HEALTHCHECK --interval=30s --timeout=5s --start-period=30s --retries=3 \
+  CMD ["python", "-c", "import urllib.request as u; u.urlopen('http://127.0.0.1:8000/api/v1/health', timeout=2)"]
 CMD ["brdf-explorer", "serve", "--host", "0.0.0.0", "--port", "8000"]
