@@ -44,8 +44,8 @@ import numpy as np
 from ..physics.brdf import BRDF
 from ..physics.g2 import azimuth_difference
 from ..physics.numeric import where_valid
+from ..physics.gauss import gauss_legendre_01
 from . import albedo_kernel, budget
-from .gauss import gauss_legendre_01
 
 # Orders (Gauss points per half of ψ, and along u); each level doubles both.
 ORDER_START = 24
@@ -282,6 +282,15 @@ def albedo(brdf: BRDF, mu, phi: float = 0.0, tol: float = DEFAULT_TOL,
     doubles from :data:`ORDER_START` until the estimated error is below ``tol`` (a
     scalar, or one tolerance per μ).
     """
+    lobes = brdf.lobes()
+    if len(lobes) > 1 or brdf.kd:
+        # E is linear in f: a weighted sum over specular lobes, plus kd exactly
+        # (∫ (kd/π) μ_l dl = kd).
+        parts = [(w, albedo(lobe, mu, phi, tol, order)) for w, lobe in lobes]
+        first = parts[0][1]
+        return AlbedoResult(first.mu, sum(w * r.E for w, r in parts) + brdf.kd,
+                            sum(w * r.E_error for w, r in parts), np.max([r.order for _, r in parts], axis=0),
+                            sum(r.evaluations for _, r in parts), sum(r.seconds for _, r in parts))
     t0 = time.perf_counter()
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
     tol = np.broadcast_to(np.asarray(tol, dtype=float), mu.shape)
@@ -307,7 +316,6 @@ def albedo(brdf: BRDF, mu, phi: float = 0.0, tol: float = DEFAULT_TOL,
             break
         keep = err[todo] > tol[todo]
         todo, coarse, n = todo[keep], fine[keep], 2 * n
-    E = E + brdf.kd  # ∫ (kd/π) μ_l dl = kd exactly
     return AlbedoResult(mu, E, err, used, evaluations, time.perf_counter() - t0)
 
 
