@@ -21,8 +21,10 @@ class Settings:
     max_grid_points: int = 250_000
     #: direction pairs in one GET /eval (query string): BRDF_MAX_QUERY_LIST
     max_query_list: int = 4096
-    #: direction pairs in one POST /eval: BRDF_MAX_BATCH
-    max_batch: int = 1_000_000
+    #: direction pairs in one POST /eval: BRDF_MAX_BATCH. 250 000 pairs take ~3.5 s and
+    #: ~0.5 GB (parse, evaluate, encode); 10⁶ took 11 s of CPU and 0.9 GB, past the
+    #: time budget with no way to cut it (bench/worst_case.py)
+    max_batch: int = 250_000
     #: μ values in one albedo request: BRDF_MAX_ALBEDO_POINTS
     max_albedo_points: int = 257
     #: sampled directions in one /samples request (~50 bytes each in JSON): BRDF_MAX_SAMPLES
@@ -39,8 +41,9 @@ class Settings:
     max_evaluations: int = 200_000_000
     #: bytes of the query string: BRDF_MAX_QUERY_BYTES (414 above it; use POST /eval)
     max_query_bytes: int = 16_384
-    #: bytes of a request body: BRDF_MAX_BODY_BYTES (413 above it)
-    max_body_bytes: int = 64 * 1024 * 1024
+    #: bytes of a request body: BRDF_MAX_BODY_BYTES (413 above it, before any parsing): a
+    #: full batch of four full-precision lists is ~21 MB
+    max_body_bytes: int = 24 * 1024 * 1024
     #: seconds a browser or CDN may reuse a GET /api/v1 response: BRDF_CACHE_MAX_AGE
     cache_max_age: int = 3600
     #: origins allowed to GET cross-origin (embedding): BRDF_CORS_ORIGINS, comma-separated
