@@ -4,8 +4,13 @@ from __future__ import annotations
 import sys
 
 
+def _module(name: str):
+    """A test module by its file name, whatever package path pytest imported it under."""
+    return next((m for key, m in list(sys.modules.items()) if key.split(".")[-1] == name), None)
+
+
 def pytest_terminal_summary(terminalreporter):
-    module = sys.modules.get("tests.robustness.test_fuzz_api")
+    module = _module("test_fuzz_api")
     calls = getattr(module, "CALLS", None)
     if calls:
         terminalreporter.write_line(
@@ -15,7 +20,7 @@ def pytest_terminal_summary(terminalreporter):
         slow = sorted(seconds.items(), key=lambda kv: -kv[1])[:5]
         terminalreporter.write_line(
             "slowest: " + ", ".join(f"{k} {calls[k]}× {v:.1f} s" for k, v in slow))
-    sweep = sys.modules.get("tests.robustness.test_extremes_sweep")
+    sweep = _module("test_extremes_sweep")
     size = getattr(sweep, "SIZE", None)
     if size and size["combinations"]:
         terminalreporter.write_line(
