@@ -27,7 +27,9 @@ def _serve(argv: list[str]) -> int:
     parser.add_argument("--reload", action="store_true", help="restart on code changes (development)")
     args = parser.parse_args(argv)
     import uvicorn
-    uvicorn.run("app.main:app", host=args.host, port=args.port,
+
+    from .server import HTTP_PROTOCOL
+    uvicorn.run("app.main:app", host=args.host, port=args.port, http=HTTP_PROTOCOL,
                 workers=None if args.reload else args.workers, reload=args.reload)
     return 0
 
