@@ -52,6 +52,9 @@
     sphere: { title: "Lit sphere", sub: "f·cos θ_l under one light (θ_i, φ_i)" },
     slice: { title: "θ_h / θ_d slice", sub: "the Disney explorer's image", labels: { cosine: "× cos θ_l" } },
     samples: { title: "Importance sampling", sub: "directions drawn for v" },
+    checks: { title: "Checks", sub: "identities computed next to the values they must have" },
+    tradeoff: { title: "Speed vs accuracy", sub: "albedo error against cost, per method", wide: true },
+    advise: { title: "Model only what the scene needs", sub: "cheaper choices, their error and cost", wide: true },
   };
   const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
   const FIELD_LABELS = { log: "log scale", cosine: "× cos θ", display: "display",

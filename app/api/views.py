@@ -5,8 +5,11 @@ Each view gives a data route ``/api/v1/{name}`` and a figure route
 """
 from __future__ import annotations
 
+import importlib
+import pkgutil
 from dataclasses import dataclass
 from functools import lru_cache
+from pathlib import Path
 from typing import Callable
 
 import numpy as np
@@ -165,19 +168,22 @@ VIEWS: dict[str, View] = {v.name: v for v in [
 ]}
 
 
-def _check_samples(q, s: Settings):
-    from ..integrate.sampling import SAMPLERS
-    from ..model import make_spec
-    _limit("n", q.n, s.max_samples, "BRDF_MAX_SAMPLES")
-    try:
-        SAMPLERS[q.sampler].check(make_spec(**schemas.model_values(q)).brdf())
-    except ValueError as exc:
-        raise ParamError("sampler", str(exc)) from None
+def register(view: View) -> View:
+    """Add a view: it gets its data, figure, compare and export routes, a panel on the
+    page and a CLI figure kind. Views that are more than a few lines live in their own
+    module ``app/api/view_<name>.py``, which calls this; those modules are imported below,
+    so adding such a view is adding one file."""
+    if view.name in VIEWS:
+        raise ValueError(f"view {view.name!r} registered twice")
+    VIEWS[view.name] = view
+    return view
 
 
-VIEWS["samples"] = View(
-    "samples", "Directions l sampled for a fixed v, with pdf(l) and the weight f·cos θ_l/pdf; "
-               "χ² of the samples against the pdf",
-    schemas.SamplesQuery, schemas.SamplesQuery, _check_samples,
-    lambda spec, q: quantities.samples(spec.brdf(), q.sampler, q.n, q.seed, q.theta_i_deg, q.phi_i_deg),
-    lambda data, spec, q: figures.samples_figure(data, spec.values, q.theta_i_deg))
+def _import_view_modules() -> None:
+    for info in sorted(pkgutil.iter_modules([str(Path(__file__).parent)]),
+                       key=lambda i: i.name):
+        if info.name.startswith("view_"):
+            importlib.import_module(f"{__package__}.{info.name}")
+
+
+_import_view_modules()
