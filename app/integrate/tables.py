@@ -16,6 +16,12 @@ Axes (chosen by measurement, bench/tables.py):
   uniform in μ misses it below α ~ 1/n (error 2e-2 with 32×32); in y it is a fixed
   feature. y = 0 is μ = 0, y = 1 is μ = 1.
 
+The Schlick-basis table holds the ratio ρ = E_S/E₁ instead, on (r, x = √μ), and gives
+E_S = ρ̂ Ê₁. On the y axis E_S was wrong by up to 6e-2 (GGX, 32×32): for small α, E_S ≈
+E₁ (1 − μ)^p (the mirror has θ_d = θ_v), a polynomial spread over all μ, which y squeezes
+into y ∈ [0.99, 1]. The ratio tends to (1 − μ)^p there, smooth in √μ at every α: measured
+2.8e-5 at 32×32 (/tmp experiments, reproduced by tests/physics/test_tables.py).
+
 Interpolation: a bicubic interpolating spline (scipy RectBivariateSpline, s = 0).
 Its error is measured when the table is built, against the quadrature at off-grid points
 (cell centres with a seeded jitter), and reported (``error``) as TABLE_ERROR_SAFETY times
@@ -53,12 +59,21 @@ TABLE_N_R = 32
 #: Quadrature tolerance of each node: 10× below the interpolation error of 64×64 tables
 #: (the reported error adds the nodes' own estimated errors).
 BUILD_TOL = 1e-6
-#: Off-grid check points: CHECK_R roughness values × CHECK_Y cosines.
+#: Off-grid check points: CHECK_R + 2 roughness cells × every y cell.
 CHECK_R = 8
-CHECK_Y = 16
+#: y nodes are (k/(n−1))^Y_GRADING, denser near y = 0 (grazing), where 1 − E ~ y² ln y
+#: at high roughness (measured slope 1.9 → 2 in log-log): a cubic spline on uniform y
+#: missed it by 1.4e-4 at 32×32; graded 1.5 gives 3e-5 (2: 7e-5, finer at 0 but
+#: coarser mid-range). Measured by a dense check (bench/table_sizes.py).
+Y_GRADING = 1.5
 #: Reported error = this × the largest deviation seen at the check points (which sample
 #: the cells, they do not find the worst point of each) + the nodes' quadrature error.
 TABLE_ERROR_SAFETY = 2.0
+def build_points(n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R) -> int:
+    """E(μ) values one build computes by quadrature: the nodes and the check points."""
+    return n_r * n_y + min(CHECK_R + 2, n_r - 1) * (n_y - 1)
+
+
 #: Tables kept (each 32×32 floats plus a spline: a few tens of kB).
 TABLE_CACHE_ENTRIES = 16
 #: Gauss nodes per y interval of the E_avg rule (the spline is a cubic there).
@@ -110,6 +125,9 @@ class ETable:
     node_error: float        # largest quadrature error of a node
     build_seconds: float
     build_evaluations: int
+    #: None: ``values`` are E on (r, y). A table: ``values`` are E/base.E on (r, √μ)
+    #: (the Schlick basis, see the module docstring).
+    base: "ETable | None" = None
 
     @property
     def size(self) -> str:
@@ -119,6 +137,10 @@ class ETable:
         """Interpolated E(μ, α), clipped to [0, 1] (MATH.md identity 7)."""
         alpha = np.asarray(alpha, dtype=float)
         r = np.clip(np.sqrt(alpha), self.r[0], self.r[-1])
+        if self.base is not None:
+            x = np.sqrt(np.clip(np.asarray(mu, dtype=float), 0.0, 1.0))
+            r, x = np.broadcast_arrays(r, x)
+            return np.clip(self.spline.ev(r, x) * self.base.E(mu, alpha), 0.0, 1.0)
         y = y_from_mu(mu, np.clip(alpha, self.r[0] ** 2, 1.0))
         r, y = np.broadcast_arrays(r, y)
         return np.clip(self.spline.ev(r, y), 0.0, 1.0)
@@ -133,7 +155,10 @@ class ETable:
 @lru_cache(maxsize=1024)
 def _E_avg_cached(table: ETable, alpha: float) -> float:
     t, w = gauss_legendre_01(E_AVG_NODES_PER_CELL)
-    lo, hi = table.y[:-1, None], table.y[1:, None]
+    # on the y cells of the F = 1 table, whose features (the grazing dip) the ratio
+    # table's product inherits; the ratio's spline is C² across its own knots.
+    grid = table.y if table.base is None else table.base.y
+    lo, hi = grid[:-1, None], grid[1:, None]
     y = (lo + (hi - lo) * t).ravel()
     wy = ((hi - lo) * w).ravel()
     al = max(alpha, table.r[0] ** 2)
@@ -157,33 +182,59 @@ def _lobe_at(key: tuple, alpha: float) -> BRDF:
                 lambda_phi=lambda_phi)
 
 
-def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = BUILD_TOL,
-          seed: int = 0) -> ETable:
-    """Compute the nodes, fit the spline, measure its error (see the module docstring).
-    A node's quadrature error is part of the reported error, so a build that a request's
-    time budget cut short reports the larger error it has."""
-    t0 = time.perf_counter()
-    r = np.linspace(ROUGHNESS_MIN, 1.0, n_r)
-    y = np.linspace(0.0, 1.0, n_y)
-    values = np.empty((n_r, n_y))
+def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | None):
+    """Values at the nodes (E, or E/E₁ of the ratio table), evaluations, node error.
+    The ratio's error is that of E_S/E₁ to first order: (e_S + ρ e₁)/E₁; where E₁ = 0
+    (μ = 0: no light reaches) E_S = 0 too and the ratio is taken as its limit along
+    the row, the value at the next node (the spline needs a number; Ê₁ = 0 there)."""
+    values = np.empty((r.size, y.size))
     evaluations, node_error = 0, 0.0
     for i, ri in enumerate(r):
-        res = albedo(_lobe_at(key, ri * ri), mu_from_y(y, ri * ri), tol=tol)
-        values[i] = res.E
-        evaluations += res.evaluations
-        node_error = max(node_error, float(np.max(res.E_error)))
+        alpha = ri * ri
+        if base is None:
+            res = albedo(_lobe_at(key, alpha), mu_from_y(y, alpha), tol=tol)
+            values[i], evaluations = res.E, evaluations + res.evaluations
+            node_error = max(node_error, float(np.max(res.E_error)))
+            continue
+        mu = y * y
+        res_s = albedo(_lobe_at(key, alpha), mu, tol=tol)
+        res_1 = albedo(_lobe_at(base.key, alpha), mu, tol=tol)
+        evaluations += res_s.evaluations + res_1.evaluations
+        lit = res_1.E > 0.0
+        ratio = where_valid(lit, [res_s.E, res_1.E], lambda a, b: a / b, np.nan)
+        ratio[~lit] = ratio[lit][0] if lit.any() else 1.0
+        values[i] = ratio
+        # the product ρ̂ Ê₁ is what is used: its node error is e_S + ρ (error of Ê₁)
+        node_error = max(node_error, float(np.max(res_s.E_error + ratio * res_1.E_error)))
+    return values, evaluations, node_error
+
+
+def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = BUILD_TOL,
+          seed: int = 0, base: ETable | None = None) -> ETable:
+    """Compute the nodes, fit the spline, measure its error (see the module docstring).
+    With ``base`` (the F = 1 table of the same lobe) the table is the ratio E/E₁ on
+    (r, √μ). A node's quadrature error is part of the reported error, so a build that a
+    request's time budget cut short reports the larger error it has."""
+    t0 = time.perf_counter()
+    r = np.linspace(ROUGHNESS_MIN, 1.0, n_r)
+    y = np.linspace(0.0, 1.0, n_y) ** (Y_GRADING if base is None else 1.0)
+    values, evaluations, node_error = _nodes(key, r, y, tol, base)
     spline = RectBivariateSpline(r, y, values, kx=3, ky=3, s=0)
-    table = ETable(key, r, y, values, spline, 0.0, 0.0, node_error, 0.0, 0)
-    # Check points: CHECK_R cells in r, CHECK_Y cells in y, each at its centre moved
-    # by a seeded jitter of up to ±40 % of the cell (never on a node).
+    table = ETable(key, r, y, values, spline, 0.0, 0.0, node_error, 0.0, 0, base)
+    axis_to_mu = mu_from_y if base is None else (lambda x, alpha: np.asarray(x) ** 2)
+    # Check points: every y cell, in CHECK_R roughness cells (the first and the last
+    # always: the grazing corner at r = 1 is where a 32×32 table was worst), each at
+    # the cell's centre moved by a seeded jitter of up to ±40 % of the cell (never on a
+    # node). Every y cell: a random subset of them missed that corner and the bound
+    # came out 7× too small (bench/table_sizes.py's dense check found it).
     rng = np.random.default_rng(seed)
-    ri = rng.choice(n_r - 1, min(CHECK_R, n_r - 1), replace=False)
-    r_check = r[ri] + (0.5 + rng.uniform(-0.4, 0.4, ri.size)) * (r[1] - r[0])
+    inner = rng.choice(np.arange(1, n_r - 2), min(CHECK_R, n_r - 3), replace=False)
+    ri = np.unique(np.concatenate([[0, n_r - 2], inner]))
+    r_check = r[ri] + (0.5 + rng.uniform(-0.4, 0.4, ri.size)) * np.diff(r)[ri]
     measured = 0.0
     for rc in r_check:
-        yi = rng.choice(n_y - 1, min(CHECK_Y, n_y - 1), replace=False)
-        y_check = y[yi] + (0.5 + rng.uniform(-0.4, 0.4, yi.size)) * (y[1] - y[0])
-        mu = mu_from_y(y_check, rc * rc)
+        y_check = y[:-1] + (0.5 + rng.uniform(-0.4, 0.4, n_y - 1)) * np.diff(y)
+        mu = axis_to_mu(y_check, rc * rc)
         res = albedo(_lobe_at(key, rc * rc), mu, tol=tol)
         evaluations += res.evaluations
         node_error = max(node_error, float(np.max(res.E_error)))
@@ -195,7 +246,10 @@ def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = B
 
 @lru_cache(maxsize=TABLE_CACHE_ENTRIES)
 def table_for_key(key: tuple) -> ETable:
-    return build(key, TABLE_N_Y, TABLE_N_R)
+    basis_p = key[-1]
+    if basis_p is None:
+        return build(key, TABLE_N_Y, TABLE_N_R)
+    return build(key, TABLE_N_Y, TABLE_N_R, base=table_for_key(key[:-1] + (None,)))
 
 
 def table_for(lobe: BRDF, basis_p: float | None = None) -> ETable:
