@@ -29,6 +29,15 @@ class Settings:
     max_albedo_points: int = 257
     #: sampled directions in one /samples request (~50 bytes each in JSON): BRDF_MAX_SAMPLES
     max_samples: int = 200_000
+    #: Monte Carlo BRDF evaluations (μ values × samples) of one albedo request:
+    #: BRDF_MAX_MC_EVALUATIONS. Measured 0.35-3.6 M/s (sampler and NDF; numpy), so the
+    #: worst allowed request takes ~6 s on a loaded machine.
+    max_mc_evaluations: int = 2_097_152
+    #: largest budget of one /tradeoff request (max_budget: Monte Carlo samples per μ;
+    #: Gauss orders stop at 64 anyway): BRDF_MAX_TRADEOFF_SAMPLES. At 9 μ the top points
+    #: of the four samplers take ~0.4 s together (GGX, measured); more μ are stopped by
+    #: the time budget, with a note.
+    max_tradeoff_samples: int = 65_536
     #: models compared in one POST /figures/{kind}: BRDF_MAX_COMPARE_MODELS
     max_compare_models: int = 8
     #: width × height × scale² of one exported PNG/SVG: BRDF_MAX_EXPORT_PIXELS (4096²)

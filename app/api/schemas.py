@@ -9,6 +9,8 @@ from typing import Annotated, Literal, Optional
 
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
+from ..integrate.albedo import ORDER_MAX
+from ..integrate.methods import DEFAULT_SAMPLES, MC_SAMPLES_MAX, METHODS
 from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_param_names
 
 STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
@@ -140,7 +142,21 @@ class AlbedoQuery(ModelQuery):
     n: Annotated[int, Field(ge=2, description="μ_k = k/(n−1), k = 0..n−1 (ignored when mu is given)")] = 17
     mu: Optional[MuList] = None
     phi_deg: Annotated[Phi, Field(description="azimuth of v (matters when anisotropic)")] = 0.0
-    tol: Annotated[float, Field(ge=1e-7, le=1e-2, description="target quadrature error")] = 1e-5
+    method: Annotated[Literal[METHODS], Field(
+        description="quadrature: deterministic, E_error a bound; mc_uniform, mc_cosine, mc_ndf, "
+                    "mc_vndf: Monte Carlo with `samples` per μ and `seed`, E_error one standard "
+                    "error; table: the interpolated E(μ, α) table (isotropic, fresnel none or "
+                    "schlick), E_error its measured bound; auto: the cheapest of table and "
+                    "quadrature whose bound meets `tol` (the response names it)")] = "quadrature"
+    tol: Annotated[float, Field(ge=1e-7, le=1e-2, description="target error of the quadrature "
+                                "(and of E_avg); auto's tolerance")] = 1e-5
+    order: Annotated[Optional[int], Field(
+        ge=2, le=ORDER_MAX // 2, description=f"quadrature only: fixed Gauss order N (one "
+        f"comparison N vs 2N, E_error from it) instead of refining to tol; [2, {ORDER_MAX // 2}]")] = None
+    samples: Annotated[int, Field(ge=2, le=MC_SAMPLES_MAX, description=f"Monte Carlo only: "
+                                  f"directions per μ, [2, {MC_SAMPLES_MAX}]")] = DEFAULT_SAMPLES
+    seed: Annotated[int, Field(ge=0, le=2 ** 63 - 1, description="Monte Carlo only: seed of the "
+                               "random generator (same seed, same numbers)")] = 0
 
 
 class G2Query(ModelQuery):

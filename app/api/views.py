@@ -18,6 +18,7 @@ from .. import figures, quantities
 from ..config import Settings
 from ..integrate import budget
 from ..integrate.albedo import max_evaluations
+from ..integrate.methods import MethodError
 from ..model import ModelSpec, make_spec
 from . import schemas
 from .errors import ParamError
@@ -83,9 +84,12 @@ class _SpecKey:
 
 
 @lru_cache(maxsize=ALBEDO_CACHE_ENTRIES)
-def _albedo_cached(model: _SpecKey, mu: tuple | int, phi_deg: float, tol: float) -> dict:
+def _albedo_cached(model: _SpecKey, mu: tuple | int, phi_deg: float, method: tuple) -> dict:
     mu_values = np.asarray(mu, dtype=float) if isinstance(mu, tuple) else np.linspace(0.0, 1.0, mu)
-    data = quantities.albedo_curve(model.spec.brdf(), mu_values, phi_deg, tol)
+    try:
+        data = quantities.albedo_curve(model.spec.brdf(), mu_values, phi_deg, **dict(method))
+    except MethodError as exc:
+        raise ParamError(exc.param, str(exc)) from None
     for value in data.values():
         if isinstance(value, np.ndarray):
             value.setflags(write=False)          # shared by every hit
@@ -104,17 +108,36 @@ def _albedo(spec: ModelSpec, q) -> dict:
     revalidates with If-None-Match makes the server rebuild the body to compare tags."""
     mu = tuple(q.mu) if q.mu is not None else q.n
     try:
-        data = _albedo_cached(_SpecKey(spec), mu, q.phi_deg, q.tol)
+        data = _albedo_cached(_SpecKey(spec), mu, q.phi_deg, _method_key(q))
     except _Incomplete as cut:
         data = cut.data
     return dict(data)
+
+
+def _method_key(q) -> tuple:
+    """The method's arguments, only those that change its result (the cache key): the
+    seed of a quadrature is not part of it. tol always is: E_avg is computed to it."""
+    args = {"method": q.method, "tol": q.tol}
+    if q.method == "quadrature":
+        args["order"] = q.order
+    elif q.method.startswith("mc_"):
+        args.update(samples=q.samples, seed=q.seed)
+    return tuple(args.items())
 
 
 def _check_albedo(q, s: Settings):
     if q.mu is not None and len(q.mu) == 0:
         raise ParamError("mu", "mu must hold at least one value in [0, 1]")
     count = len(q.mu) if q.mu is not None else q.n
-    _limit("mu" if q.mu is not None else "n", count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
+    where = "mu" if q.mu is not None else "n"
+    _limit(where, count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
+    if q.order is not None and q.method != "quadrature":
+        raise ParamError("order", f"order applies to method=quadrature only, not method={q.method}")
+    if q.method.startswith("mc_"):
+        if count * q.samples > s.max_mc_evaluations:
+            raise ParamError("samples", f"{count} μ values × samples={q.samples} = "
+                             f"{count * q.samples} Monte Carlo evaluations exceed the limit "
+                             f"{s.max_mc_evaluations} (setting BRDF_MAX_MC_EVALUATIONS)")
     worst = max_evaluations(make_spec(**schemas.model_values(q)).brdf(), count)
     if worst > s.max_evaluations:
         raise ParamError("mu" if q.mu is not None else "n",
@@ -140,7 +163,8 @@ VIEWS: dict[str, View] = {v.name: v for v in [
          schemas.Lobe3dQuery, schemas.Lobe3dFigureQuery, _check_grid,
          lambda spec, q: quantities.lobe_grid(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n_theta, q.n_phi),
          lambda data, spec, q: figures.lobe3d_figure(data, spec.values, q.theta_i_deg, q.phi_i_deg, q.log)),
-    View("albedo", "Directional albedo E(μ) by quadrature, with error estimate and cost",
+    View("albedo", "Directional albedo E(μ) by quadrature, Monte Carlo or table, with its error "
+                   "and cost; with compensation also the single-scattering E",
          schemas.AlbedoQuery, schemas.AlbedoQuery, _check_albedo,
          lambda spec, q: _albedo(spec, q),
          lambda data, spec, q: figures.albedo_figure(data, spec.values)),

@@ -66,22 +66,43 @@ def g1_figure(data: dict, spec: dict) -> dict:
     }
 
 
+def _method_text(data: dict) -> str:
+    """How E was computed and what its bar means, for the legend."""
+    method = data.get("method", "quadrature")
+    if method.startswith("mc_"):
+        return f"{method}, {data['samples']} samples/μ, bar ±1 standard error"
+    if method == "table":
+        return f"table {data['table']['size']}, bar = its measured error bound"
+    return "quadrature, bar = error bound"
+
+
 def albedo_figure(data: dict, spec: dict) -> dict:
     mu = np.asarray(data["mu"])
     E, err = np.asarray(data["E"]), np.asarray(data["E_error"])
+    chosen = " (auto)" if data.get("requested_method") == "auto" else ""
+    compensated = "E_single" in data
     traces = [
         {"type": "scatter", "mode": "lines", "x": np.concatenate([mu, mu[::-1]]),
          "y": np.concatenate([E + err, (E - err)[::-1]]), "fill": "toself",
          "fillcolor": "rgba(0,114,178,0.2)", "line": {"width": 0}, "hoverinfo": "skip",
          "name": "± error estimate", "showlegend": False},
-        {"type": "scatter", "mode": "lines+markers", "name": "E(μ)", "x": mu, "y": E,
+        {"type": "scatter", "mode": "lines+markers",
+         "name": f"E(μ){' with compensation' if compensated else ''}: {_method_text(data)}{chosen}",
+         "x": mu, "y": E,
          "error_y": {"type": "data", "array": err, "visible": True, "thickness": 1},
          "line": {"color": PALETTE[0], "width": 2}, "marker": {"size": 5},
          "hovertemplate": "μ=%{x:.3f}<br>E=%{y:.6f}<extra></extra>"},
-        {"type": "scatter", "mode": "lines", "name": f"E_avg = {data['E_avg']:.5f}",
-         "x": [0, 1], "y": [data["E_avg"]] * 2,
-         "line": {"color": PALETTE[2], "width": 1.5, "dash": "dot"}, "hoverinfo": "skip"},
     ]
+    if compensated:
+        traces.append({
+            "type": "scatter", "mode": "lines+markers", "x": mu, "y": np.asarray(data["E_single"]),
+            "name": f"E_single(μ): single scattering (Ē = {data['E_avg_single']:.4f} at F = 1, "
+                    f"F_avg = {data['F_avg']:.4f})",
+            "line": {"color": PALETTE[1], "width": 1.5, "dash": "dash"}, "marker": {"size": 4},
+            "hovertemplate": "μ=%{x:.3f}<br>E_single=%{y:.6f}<extra></extra>"})
+    traces.append({"type": "scatter", "mode": "lines", "name": f"E_avg = {data['E_avg']:.5f}",
+                   "x": [0, 1], "y": [data["E_avg"]] * 2,
+                   "line": {"color": PALETTE[2], "width": 1.5, "dash": "dot"}, "hoverinfo": "skip"})
     annotations = []
     if np.max(E - err) > 1.0:
         annotations.append({

@@ -31,6 +31,9 @@ from .tables import table_for, tabulated_albedo
 MC_METHODS = {f"mc_{name}": name for name in SAMPLERS}
 METHODS = ("quadrature", *MC_METHODS, "table", "auto")
 DEFAULT_SAMPLES = 1024
+#: Most Monte Carlo directions per μ one request may ask for (the total over all μ is
+#: bounded by the setting BRDF_MAX_MC_EVALUATIONS).
+MC_SAMPLES_MAX = 2 ** 20
 
 
 class MethodError(ValueError):
