@@ -20,7 +20,8 @@ The Schlick-basis table holds the ratio ρ = E_S/E₁ instead, on (r, x = √μ)
 E_S = ρ̂ Ê₁. On the y axis E_S was wrong by up to 6e-2 (GGX, 32×32): for small α, E_S ≈
 E₁ (1 − μ)^p (the mirror has θ_d = θ_v), a polynomial spread over all μ, which y squeezes
 into y ∈ [0.99, 1]. The ratio tends to (1 − μ)^p there, smooth in √μ at every α: measured
-2.8e-5 at 32×32 (/tmp experiments, reproduced by tests/physics/test_tables.py).
+2e-3 at 32×32 (worst at α ≈ 1e-3, μ ≈ 0.005, where the ratio has its own grazing dip;
+tests/physics/test_tables.py checks its bound there).
 
 Interpolation: a bicubic interpolating spline (scipy RectBivariateSpline, s = 0).
 Its error is measured when the table is built, against the quadrature at off-grid points
@@ -48,14 +49,24 @@ from ..physics.brdf import BRDF
 from ..physics.fresnel import FRESNELS
 from ..physics.gauss import gauss_legendre_01
 from ..physics.numeric import where_valid
+from . import albedo_kernel, budget
 from .albedo import albedo
 
 #: Smallest tabulated perceptual roughness: √(1e-4), the smallest α the API takes.
 ROUGHNESS_MIN = 1e-2
-#: Default grid (μ axis y, roughness axis r). 32×32 as Kulla & Conty: measured max
-#: error 4e-5 for GGX (64×64: 1.3e-5; bench/tables.py).
-TABLE_N_Y = 32
-TABLE_N_R = 32
+#: Default grid (μ axis y, roughness axis r): the smallest whose reported bound is
+#: ≤ 1e-5 for GGX. Measured by `python bench/table_sizes.py ggx 32 40 48 56 64`
+#: (reported bound / dense independent check): 32² 6.4e-5 / 3.0e-5, 48² 1.1e-5 /
+#: 4.4e-6, 56² 5.9e-6 / 2.1e-6, 64² 3.8e-6 / 1.2e-6; 56² takes ~1.7 s to build.
+#: Kulla & Conty's 32×32 is 3e-5 with these axes.
+TABLE_N_Y = 56
+TABLE_N_R = 56
+#: Grid of lobes the compiled integrand does not cover (NDFs other than GGX and
+#: Beckmann, direction-correlated G2): their numpy quadrature is ~10× slower, and a
+#: 56² build (30 s for Student-t, measured) would not fit one request's time budget
+#: (BRDF_MAX_SECONDS, 10 s), so every request would be cut short and rebuild it. 32²:
+#: ~9 s; its bound (measured at build, ~3e-5 for GGX) is what the response reports.
+SLOW_TABLE_N = 32
 #: Quadrature tolerance of each node: 10× below the interpolation error of 64×64 tables
 #: (the reported error adds the nodes' own estimated errors).
 BUILD_TOL = 1e-6
@@ -74,7 +85,7 @@ def build_points(n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R) -> int:
     return n_r * n_y + min(CHECK_R + 2, n_r - 1) * (n_y - 1)
 
 
-#: Tables kept (each 32×32 floats plus a spline: a few tens of kB).
+#: Tables kept (each 56×56 floats plus a spline: a few tens of kB).
 TABLE_CACHE_ENTRIES = 16
 #: Gauss nodes per y interval of the E_avg rule (the spline is a cubic there).
 E_AVG_NODES_PER_CELL = 8
@@ -244,12 +255,38 @@ def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = B
                    build_seconds=time.perf_counter() - t0, build_evaluations=evaluations)
 
 
+class _CutShort(Exception):
+    """Carries a table whose build the request's time budget cut short out of the
+    cache (lru_cache does not keep a call that raises): its bound is honest but large,
+    and the next request, with a fresh budget, builds it whole."""
+
+    def __init__(self, table: ETable):
+        self.table = table
+
+
 @lru_cache(maxsize=TABLE_CACHE_ENTRIES)
-def table_for_key(key: tuple) -> ETable:
+def _table_cached(key: tuple) -> ETable:
+    b = budget.current()
+    notes = len(b.notes) if b else 0
     basis_p = key[-1]
-    if basis_p is None:
-        return build(key, TABLE_N_Y, TABLE_N_R)
-    return build(key, TABLE_N_Y, TABLE_N_R, base=table_for_key(key[:-1] + (None,)))
+    base = None if basis_p is None else table_for_key(key[:-1] + (None,))
+    n = TABLE_N_Y if albedo_kernel.spec_args(_lobe_at(key, 0.25)) is not None else SLOW_TABLE_N
+    table = build(key, n, n if n == SLOW_TABLE_N else TABLE_N_R, base=base)
+    if b and len(b.notes) > notes:
+        raise _CutShort(table)
+    return table
+
+
+def table_for_key(key: tuple) -> ETable:
+    """The default-size table for ``key``, from a bounded cache of whole builds."""
+    try:
+        return _table_cached(key)
+    except _CutShort as cut:
+        return cut.table
+
+
+table_for_key.cache_clear = _table_cached.cache_clear    # what the tests reset
+table_for_key.cache_info = _table_cached.cache_info      # what the trade-off reads
 
 
 def table_for(lobe: BRDF, basis_p: float | None = None) -> ETable:

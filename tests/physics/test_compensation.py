@@ -22,6 +22,7 @@ def small_tables(monkeypatch):
     smaller size keeps six NDFs' builds to seconds."""
     monkeypatch.setattr(tables, "TABLE_N_Y", 16)
     monkeypatch.setattr(tables, "TABLE_N_R", 16)
+    monkeypatch.setattr(tables, "SLOW_TABLE_N", 16)
     tables.table_for_key.cache_clear()
     yield
     tables.table_for_key.cache_clear()
