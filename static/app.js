@@ -60,7 +60,7 @@
   const FIELD_LABELS = { log: "log scale", cosine: "× cos θ", display: "display",
                          exposure: "exposure (stops)" };
   // Fields that set resolution or accuracy: the page leaves them at the API's defaults.
-  const SKIP_FIELDS = new Set(["n", "n_theta", "n_phi", "mu", "tol"]);
+  const SKIP_FIELDS = new Set(["n", "n_theta", "n_phi", "mu", "tol", "order"]);
 
   // D, Λ/G1 and E(μ) are taken at one azimuth: that of the plane of incidence when
   // anisotropic; for an isotropic surface every azimuth is the same (API default).
@@ -890,8 +890,8 @@
     const hint = PANEL_HINTS[view.name] || {};
     return view.fields.filter((f) => !SKIP_FIELDS.has(f.name) && !geometry.has(f.name)
       && !(hint.slice && f.name === "phi_deg")
-      && (f.type === "boolean" || f.enum || (f.type === "number" && Number.isFinite(f.minimum)
-                                             && Number.isFinite(f.maximum))));
+      && (f.type === "boolean" || f.enum || ((f.type === "number" || f.type === "integer")
+                                             && Number.isFinite(f.minimum) && Number.isFinite(f.maximum))));
   }
 
   function fieldLabel(view, f) {
@@ -917,13 +917,14 @@
                  el("span", {}, richText(fieldLabel(view, f))), input);
       input.addEventListener("change", () => { state[key] = input.value; onStateChange(); });
     } else {
+      const integer = f.type === "integer";
       input = el("input", { type: "number", id, class: "mini", min: f.minimum, max: f.maximum,
-                            step: "any", inputmode: "decimal" });
+                            step: integer ? 1 : "any", inputmode: integer ? "numeric" : "decimal" });
       label = el("label", { class: "mini-field", for: id, title: f.description },
                  el("span", {}, richText(fieldLabel(view, f))), input);
       input.addEventListener("input", () => {
         const x = input.value.trim() === "" ? NaN : Number(input.value);
-        const ok = Number.isFinite(x) && x >= f.minimum && x <= f.maximum;
+        const ok = Number.isFinite(x) && x >= f.minimum && x <= f.maximum && (!integer || Number.isInteger(x));
         if (ok) input.removeAttribute("aria-invalid");
         else input.setAttribute("aria-invalid", "true");
         if (ok) { state[key] = x; onStateChange(); }
