@@ -52,3 +52,7 @@ __all__ = ["albedo_figure", "fresnel_figure", "g1_figure", "g2_figure", "lobe3d_
 from .samples import samples_figure  # noqa: E402
 
 __all__ += ["samples_figure"]
+
+from .tradeoff import tradeoff_figure  # noqa: E402
+
+__all__ += ["tradeoff_figure"]
