@@ -56,3 +56,7 @@ __all__ += ["samples_figure"]
 from .tradeoff import tradeoff_figure  # noqa: E402
 
 __all__ += ["tradeoff_figure"]
+
+from .checks import checks_figure  # noqa: E402
+
+__all__ += ["checks_figure"]

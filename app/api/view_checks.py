@@ -1,0 +1,45 @@
+"""The checks view: MATH.md's identities computed numerically for the current model,
+each next to the value it must have (app/checks.py), drawn as a table."""
+from __future__ import annotations
+
+from typing import Annotated, Literal, Optional
+
+from pydantic import BeforeValidator, Field
+
+from .. import checks, figures
+from ..config import Settings
+from . import schemas
+from .errors import ParamError
+from .views import View, register
+
+#: Largest θ of v: at 90° (μ_v = 0) rows 2–4 are 0 = 0 and 0/0. A closed bound (not
+#: θ < 90) so that the page, which shows numeric fields with both bounds, offers it.
+THETA_MAX_DEG = 89.9
+
+RowId = Literal[checks.ROW_IDS]
+
+
+class ChecksQuery(schemas.ModelQuery):
+    theta_deg: Annotated[float, Field(
+        ge=0.0, le=THETA_MAX_DEG, examples=[60.0],
+        description=f"polar angle of the view direction v in degrees, [0, {THETA_MAX_DEG}]")] = 60.0
+    phi_deg: Annotated[float, Field(
+        ge=-360.0, le=360.0, examples=[0.0],
+        description="azimuth of v in degrees, [-360, 360] (matters when anisotropic)")] = 0.0
+    ids: Annotated[Optional[list[RowId]], BeforeValidator(schemas._split_commas), Field(
+        description="rows to compute, comma-separated, of " + ", ".join(checks.ROW_IDS)
+                    + "; default all", json_schema_extra={"minItems": 1},
+        examples=[["3", "4"]])] = None
+
+
+def _check(q, s: Settings):
+    if q.ids is not None and len(q.ids) == 0:
+        raise ParamError("ids", "ids must name at least one row of " + ", ".join(checks.ROW_IDS))
+
+
+register(View(
+    "checks", "MATH.md's identities 1–4 and 7 computed numerically for the model and a view "
+              "direction, each next to the value it must have, with error and cost",
+    ChecksQuery, ChecksQuery, _check,
+    lambda spec, q: checks.checks(spec, q.theta_deg, q.phi_deg, q.ids),
+    lambda data, spec, q: figures.checks_figure(data, spec.values)))
