@@ -67,6 +67,9 @@ def overlay(figures: list[dict], labels: list[str], title: str) -> dict:
         colour = PALETTE[k % len(PALETTE)]
         curves = [t for t in fig["data"] if not is_guide(t)]
         named = [t for t in curves if t.get("showlegend", True) is not False]
+        # positions by identity: `trace in named` compares dicts by value, which for
+        # numpy arrays of different lengths raises (a 500 found on POST /figures/tradeoff)
+        slot = {id(t): i for i, t in enumerate(named)}
         for j, trace in enumerate(curves):
             t = copy.copy(trace)
             t["legendgroup"] = label
@@ -75,7 +78,7 @@ def overlay(figures: list[dict], labels: list[str], title: str) -> dict:
             line = dict(t.get("line") or {})
             if line.get("width", 1) != 0:
                 line["color"] = colour
-                line["dash"] = DASHES[named.index(trace) % len(DASHES)] if trace in named else "solid"
+                line["dash"] = DASHES[slot[id(trace)] % len(DASHES)] if id(trace) in slot else "solid"
             t["line"] = line
             if "marker" in t:
                 t["marker"] = {**t["marker"], "color": colour}

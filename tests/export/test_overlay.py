@@ -47,3 +47,18 @@ def test_bad_overlays_are_422_naming_the_parameter(client, url, param):
     r = client.get(url)
     assert r.status_code == 422, r.text
     assert r.json()["detail"][0]["loc"][-1] == param
+
+
+def test_overlay_of_traces_holding_arrays_of_different_lengths():
+    """Two named curves per figure whose x arrays differ in length: finding a trace's
+    place by `trace in named` compared the arrays and raised (a 500)."""
+    import numpy as np
+    from app.figures.overlay import overlay
+
+    def figure(n):
+        return {"data": [{"type": "scatter", "name": "a", "x": np.arange(3), "y": np.arange(3)},
+                         {"type": "scatter", "name": "b", "x": np.arange(n), "y": np.arange(n)}],
+                "layout": {}}
+    merged = overlay([figure(4), figure(5)], ["one", "two"], "title")
+    dashes = [t["line"]["dash"] for t in merged["data"]]
+    assert len(merged["data"]) == 4 and dashes[0] != dashes[1] and dashes[:2] == dashes[2:]
