@@ -14,14 +14,19 @@ from .style import base_layout, model_title
 #: readers who do not tell the tints apart.
 FILL_HOLDS, FILL_FAILS, FILL_NA = "#d6e8f5", "#f9dccc", "#eeeeee"
 #: Column widths (relative) and header labels; the identity column needs the room.
-COLUMNS = (("identity", 3.3), ("value", 1.25), ("expected", 1.25), ("difference", 1.05),
-           ("error", 0.85), ("holds", 0.55))
-#: Characters of a note shown under a row's identity when the row fails or does not apply
-#: (the full note is in the data): enough for its first clause at 800 px.
-NOTE_CHARS = 72
+COLUMNS = (("identity", 3.0), ("value", 1.2), ("expected", 1.3), ("difference", 1.05),
+           ("error", 0.9), ("holds", 0.55))
+#: A note shown under a row's identity when the row fails or does not apply (the full
+#: note is in the data): its first clause, in lines of NOTE_LINE characters (Plotly's
+#: table cells do not wrap; 44 fit the identity column at 800 px and in a half-width
+#: panel at 1280), at most NOTE_LINES lines.
+NOTE_LINE, NOTE_LINES = 44, 2
+#: Significant digits of value and expected (the data carry all 17; the difference and
+#: error columns show the disagreement): 7 fit their column in a half-width panel.
+DIGITS = 7
 
 
-def _number(x, digits: int = 10) -> str:
+def _number(x, digits: int = DIGITS) -> str:
     if x is None or (isinstance(x, float) and not math.isfinite(x)):
         return "—"
     return f"{x:.{digits}g}"
@@ -35,9 +40,25 @@ def _small(x) -> str:
 
 def _short(note: str) -> str:
     """The note's first clause (app/checks.py puts the reason a row fails or does not
-    apply there), cut to NOTE_CHARS."""
-    first = note.split(";")[0]
-    return first if len(first) <= NOTE_CHARS else first[:NOTE_CHARS - 1] + "…"
+    apply there), wrapped at word boundaries into NOTE_LINES lines at most."""
+    lines, line = [], ""
+    for word in note.split(";")[0].split():
+        if line and len(line) + 1 + len(word) > NOTE_LINE:
+            lines.append(line)
+            line = word
+        else:
+            line = f"{line} {word}".strip()
+    lines.append(line)
+    if len(lines) > NOTE_LINES:
+        lines = lines[:NOTE_LINES]
+        lines[-1] = lines[-1][:NOTE_LINE - 1] + "…"
+    return "<br>".join(lines)
+
+
+def _identity(text: str) -> str:
+    """The identity, its parenthesis (the conditions) on a line of its own."""
+    head, sep, tail = text.partition("  (")
+    return f"{head}<br>({tail}" if sep else text
 
 
 def checks_figure(data: dict, spec: dict) -> dict:
@@ -45,7 +66,7 @@ def checks_figure(data: dict, spec: dict) -> dict:
     identity, value, expected, difference, error, holds, fill = [], [], [], [], [], [], []
     for i in rows:
         ok = data["holds"][i]
-        text = f"<b>{data['id'][i]}</b>  {data['identity'][i]}"
+        text = f"<b>{data['id'][i]}</b>  {_identity(data['identity'][i])}"
         if ok is not True:
             text += f"<br><span style='font-size:10px;color:#555'>{_short(data['note'][i])}</span>"
         identity.append(text)
@@ -57,7 +78,9 @@ def checks_figure(data: dict, spec: dict) -> dict:
         holds.append("✓" if ok is True else "✗" if ok is False else "n/a")
         fill.append(FILL_HOLDS if ok is True else FILL_FAILS if ok is False else FILL_NA)
     cells = [identity, value, expected, difference, error, holds]
-    title = (f"Identity checks — {model_title(spec)}, masking={spec['masking']}, g2={spec['g2']}"
+    # option names without "_": the page's panel heading reads it as a subscript
+    title = (f"Identity checks — {model_title(spec)}, {spec['masking'].replace('_', '-')} "
+             f"masking, {spec['g2'].replace('_', '-')} G2"
              f"<br><span style='font-size:12px'>v at θ={data['theta_deg']:g}°, φ={data['phi_deg']:g}° "
              f"(μ={data['mu']:.4g}); holds: |difference| ≤ error + {data['hold_tolerance']:g}; "
              f"{data['total_evaluations']} evaluations, {data['total_seconds']:.3f} s</span>")
@@ -73,7 +96,7 @@ def checks_figure(data: dict, spec: dict) -> dict:
                       "align": ["left"] + ["right"] * 4 + ["center"],
                       "fill": {"color": [["white"] * len(fill)] * 5 + [fill]},
                       "line": {"color": "#dddddd"},
-                      "font": {"size": [12, 12, 12, 12, 12, 15]}, "height": 30},
+                      "font": {"size": [12, 11, 11, 11, 11, 15]}, "height": 28},
         }],
-        "layout": base_layout(title, margin={"l": 20, "r": 20, "t": 70, "b": 20}),
+        "layout": base_layout(title, margin={"l": 20, "r": 20, "t": 64, "b": 20}),
     }
