@@ -57,6 +57,10 @@ from .tradeoff import tradeoff_figure  # noqa: E402
 
 __all__ += ["tradeoff_figure"]
 
+from .advise import advise_figure  # noqa: E402
+
+__all__ += ["advise_figure"]
+
 from .checks import checks_figure  # noqa: E402
 
 __all__ += ["checks_figure"]

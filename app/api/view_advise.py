@@ -1,0 +1,92 @@
+"""The advice view: the cheaper choices of a model over the range a scene uses (roughness,
+angles), their albedo error and measured cost, and the cheapest within a tolerance
+(app/advise.py)."""
+from __future__ import annotations
+
+from functools import lru_cache
+from typing import Annotated
+
+from pydantic import Field
+
+from .. import figures
+from ..advise import RESULT_CACHE_ENTRIES, Scene, advise, is_anisotropic
+from ..config import Settings
+from ..model import make_spec
+from ..physics.ndf import ALPHA
+from . import schemas
+from .errors import ParamError
+from .views import View, register
+
+
+class AdviseQuery(schemas.ModelQuery):
+    tol: Annotated[float, Field(ge=1e-4, le=0.5, description=(
+        "largest acceptable error: absolute error of the directional albedo E(μ) (energy "
+        "per direction, in [0, 1]) anywhere in the range"))] = 1e-2
+    alpha_min: Annotated[float, Field(ge=ALPHA.lo, le=ALPHA.hi, description=(
+        "smallest roughness α the scene uses (replaces the model's α)"))] = 0.05
+    alpha_max: Annotated[float, Field(ge=ALPHA.lo, le=ALPHA.hi, description=(
+        "largest roughness α the scene uses; ≥ alpha_min"))] = 1.0
+    theta_max_deg: Annotated[float, Field(ge=0.0, le=90.0, description=(
+        "largest polar angle of view and light in the scene, degrees, [0, 90]"))] = 90.0
+    albedo_methods: Annotated[bool, Field(description=(
+        "also rate the albedo methods (table, Monte Carlo) against the quadrature for the "
+        "recommended model; a table's first build takes seconds"))] = False
+
+
+def _check_advise(q: AdviseQuery, s: Settings):
+    if q.alpha_min > q.alpha_max:
+        raise ParamError("alpha_min", f"alpha_min={q.alpha_min:g} is above alpha_max="
+                                      f"{q.alpha_max:g}: the range needs alpha_min ≤ alpha_max")
+    given = schemas.model_values(q)
+    if is_anisotropic(make_spec(**given).values):
+        name = "anisotropy" if "anisotropy" in given else "alpha_y"
+        raise ParamError(name, f"{name}: advise is for isotropic models (alpha_y = alpha): the "
+                               "scene's range replaces one α, and the albedo metric, the tables "
+                               "and Kulla-Conty are isotropic")
+
+
+class _Incomplete(Exception):
+    """A result cut short by the time budget: returned, never cached."""
+
+    def __init__(self, data: dict):
+        self.data = data
+
+
+class _Given:
+    """The request's model parameters as a cache key, carrying the spec built from them
+    (not part of the key: equal parameters give equal specs)."""
+
+    def __init__(self, given: dict, spec):
+        self.given, self.spec, self.key = given, spec, tuple(sorted(given.items()))
+
+    def __hash__(self):
+        return hash(self.key)
+
+    def __eq__(self, other):
+        return isinstance(other, _Given) and self.key == other.key
+
+
+@lru_cache(maxsize=RESULT_CACHE_ENTRIES)
+def _cached(given: _Given, tol: float, scene: Scene, albedo_methods: bool) -> dict:
+    data = advise(given.given, tol, scene, albedo_methods, given.spec)
+    if not data["complete"]:
+        raise _Incomplete(data)
+    return data
+
+
+def _compute(spec, q: AdviseQuery) -> dict:
+    """The advice, from a bounded cache of complete results: the page asks for the figure
+    and an export for the data of the same request, and the timing is worth keeping."""
+    given = _Given(schemas.model_values(q), spec)
+    scene = Scene(q.alpha_min, q.alpha_max, q.theta_max_deg)
+    try:
+        return dict(_cached(given, q.tol, scene, q.albedo_methods))
+    except _Incomplete as cut:
+        return cut.data
+
+
+register(View(
+    "advise", "Cheaper choices of the model over the scene's range of α and θ: the largest "
+              "albedo error and measured relative cost of each, and the cheapest within tol",
+    AdviseQuery, AdviseQuery, _check_advise, _compute,
+    lambda data, spec, q: figures.advise_figure(data, spec.values)))

@@ -1,0 +1,82 @@
+"""The advice as a table: one row per choice (the current model first) with its largest
+albedo error over the scene's range, its measured relative cost and whether it is within
+tol; the recommended row highlighted (and the recommended albedo method, when rated)."""
+from __future__ import annotations
+
+from .style import base_layout
+
+#: Row fills: the recommended model, the recommended albedo method, every other row.
+RECOMMENDED_FILL = "#CDEBDD"      # light tint of PALETTE[2] (bluish green)
+METHOD_FILL = "#D6E9F5"           # light tint of PALETTE[5] (sky blue)
+PLAIN_FILL = "white"
+HEADER_FILL = "#EEEEEE"
+#: Pixels per row and for the header: 16 rows fit a 560-pixel export under the title.
+ROW_HEIGHT = 24
+
+
+def _number(x, fmt: str) -> str:
+    return "—" if x is None else format(x, fmt)
+
+
+def _recommended(row: dict, data: dict) -> bool:
+    return row.get("kind") in ("single", "combination") and row["changes"] == data["changes"]
+
+
+def _method_chosen(row: dict, data: dict) -> bool:
+    m = data.get("albedo_method")
+    return (row.get("kind") == "albedo_method" and m is not None
+            and row["changes"]["albedo_method"] == m["method"]
+            and row["changes"].get("samples") == m.get("samples"))
+
+
+def advise_figure(data: dict, spec: dict) -> dict:
+    current = {"label": "current model", "max_error": 0.0, "relative_cost": 1.0,
+               "within_tol": True, "kind": "current", "changes": {}}
+    rows = [current] + list(data["alternatives"])
+    fills = []
+    for row in rows:
+        chosen = (row is current and not data["changes"]) or _recommended(row, data)
+        fills.append(RECOMMENDED_FILL if chosen else METHOD_FILL if _method_chosen(row, data)
+                     else PLAIN_FILL)
+    where = [("—" if r.get("worst_alpha") is None else
+              f"α={r['worst_alpha']:.3g}, θ={r['worst_theta_deg']:.0f}°") for r in rows]
+    kinds = {"current": "reference", "single": "model", "combination": "model (combined)",
+             "albedo_method": "albedo method"}
+    columns = [
+        [r["label"] for r in rows],
+        [kinds.get(r.get("kind"), "") for r in rows],
+        [_number(r["max_error"], ".2g") for r in rows],
+        [_number(r["relative_cost"], ".3g") + ("" if r["relative_cost"] is None else "×") for r in rows],
+        ["—" if r["max_error"] is None else "✓" if r["within_tol"] else "✗" for r in rows],
+        where,
+    ]
+    rng = data["range"]
+    rec = data["changes"]
+    said = (", ".join(f"{k}={v}" for k, v in rec.items()) if rec else "keep the current model")
+    method = data.get("albedo_method")
+    if method is not None:
+        said += f"; albedo by {method['method']}" + (f" ({method['samples']} samples)"
+                                                      if method.get("samples") else "")
+    model = ", ".join([spec["ndf"], spec["masking"], spec["g2"], spec["fresnel"]]
+                      + (["Kulla-Conty"] if spec.get("multiscatter") == "kulla_conty" else []))
+    title = (f"Cheaper choices — {model}"
+             f"<br>over α ∈ [{rng['alpha_min']:g}, {rng['alpha_max']:g}], θ ≤ {rng['theta_max_deg']:g}°, "
+             f"tol {data['tol']:g}" + ("" if data.get("complete", True) else " — incomplete (time budget)")
+             + f"<br>Recommended: {said} (error ≤ {data['max_error']:.2g}, "
+             f"cost {data['relative_cost']:.3g}×)")
+    table = {
+        "type": "table",
+        "columnwidth": [3.2, 1.6, 1.2, 1.1, 0.9, 1.7],
+        "header": {"values": ["choice", "kind", "max |ΔE|", "relative cost", "≤ tol", "largest at"],
+                   "fill": {"color": HEADER_FILL}, "align": "left", "height": ROW_HEIGHT,
+                   "font": {"size": 12}},
+        "cells": {"values": columns, "fill": {"color": [fills] * len(columns)}, "align": "left",
+                  "height": ROW_HEIGHT, "font": {"size": 12}},
+    }
+    layout = base_layout(title, margin={"l": 20, "r": 20, "t": 100, "b": 20})
+    layout["annotations"] = [{
+        "text": "max |ΔE|: largest error of the directional albedo E(μ) over the range, an upper "
+                "bound; cost: CPU time of f (models) or of E (albedo methods) over the current",
+        "xref": "paper", "yref": "paper", "x": 0, "y": 0, "yanchor": "top", "showarrow": False,
+        "font": {"size": 10, "color": "#555"}}]
+    return {"data": [table], "layout": layout}
