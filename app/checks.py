@@ -14,28 +14,31 @@ Rows (``ROW_IDS``; a request may ask for a subset):
 
 Quadrature for rows 1–4 (the integrals over m)
 ----------------------------------------------
-Variables (β, ψ): m ∝ (X, Y, 1) with slopes (X, Y) = (α_x cosψ, α_y sinψ) tanβ, so
-that tanβ is the α-stretched slope radius of m and ψ its stretched azimuth (Heitz 2014
-sec. 5); β ∈ [0, π/2) covers the hemisphere. However peaked D is (α = 1e-4) and however
-anisotropic (α_x/α_y = 1e4), its mass is spread over the whole (β, ψ) square: for GGX
-D(m)(n·m) dm is sinβ cosβ dβ dψ/π exactly. dm = (n·m)³ dX dY (Heitz 2014 eq. 15) with
-dX dY = α_x α_y tanβ dβ dψ / cos²β. ψ is cut at the axes; for the integrands with
-(v·m)⁺ also where b(ψ) = α_x v_x cosψ + α_y v_y sinψ changes sign, and there β runs
-only up to the curve v·m = 0, tanβ* = μ_v/(−b(ψ)) where b < 0: on every piece the
-integrand is smooth, and Gauss-Legendre (N × N nodes a piece) converges fast.
-This rule is written from the definitions and uses neither the NDF's radial CDF nor its
-Λ: the identities test D and Λ, not the code that samples or tabulates them.
+Variables (r̃, ψ): m ∝ (X, Y, 1) with slopes (X, Y) = (α_x cosψ, α_y sinψ) r̃, so that
+r̃ is the α-stretched slope radius of m and ψ its stretched azimuth (Heitz 2014 sec. 5).
+However peaked D is (α = 1e-4) and however anisotropic (α_x/α_y = 1e4), its mass then
+sits at r̃ ~ 1 for every ψ. dm = (n·m)³ dX dY (Heitz 2014 eq. 15), dX dY = α_x α_y r̃ dr̃ dψ.
+r̃ = tanβ with β in two halves of N Gauss nodes: [0, β*/2] (the peak) and [β*/2, β*]
+(the tail; where it is unbounded, β* = π/2, r̃ = cot ε with ε = π/2 − β = (π/4) u^k,
+k > 1 only for tails heavier than GGX's: tail_k). ψ is cut at the axes and, for the
+integrands with (v·m)⁺, where b(ψ) = α_x v_x cosψ + α_y v_y sinψ changes sign; there
+the ray ends at the curve v·m = 0, r̃* = μ_v/(−b(ψ)) where b < 0, and ψ is graded
+towards the cut (_psi_rule). On every piece the integrand is smooth and Gauss-Legendre
+(N ψ × 2N r̃ nodes a piece) converges fast. This rule is written from the definitions
+and uses neither the NDF's radial CDF nor its Λ: the identities test D and Λ, not the
+code that samples or tabulates them.
 
 Row 4 integrates over l with l's own area element. Its nodes are the images
 l = 2(v·m)m − v of the nodes of row 3 (so they sit on the peak of D(h)), but the area
-element of l is |∂l/∂β × ∂l/∂ψ| dβ dψ, from the derivatives of the map (β, ψ) → l by
+element of l is |∂l/∂r̃ × ∂l/∂ψ| dr̃ dψ, from the derivatives of the map (r̃, ψ) → l by
 the chain rule (checked against mpmath in the tests), and D is evaluated at
 h = (l+v)/‖l+v‖ recomputed from l. The Jacobian dl/dh = 4(v·h) (Walter et al. 2007,
 eq. 14), on which the identity rests, is thus not assumed. l whose h is below the horizon
 or faces away from v have D(h) = 0 and contribute nothing: the sphere of l is covered.
 
-Error: the rule of order N is compared with 2N; ERROR_SAFETY × |I_2N − I_N| +
-ROUNDING_FLOOR × Σ|terms| is reported as the error of I_2N; N doubles from ORDER_START while that
+Error: the rule of order N is compared with 2N (_refine): ERROR_SAFETY × |I_2N − I_N|,
+or a geometric-series estimate where successive differences shrink slowly, plus a
+rounding floor, is reported as the error of I_2N; N doubles from ORDER_START while that
 is above TARGET_ERROR (up to ORDER_MAX, and while the request's time budget affords it).
 
 Rows 7: the deterministic albedo quadrature (integrate/albedo.py, via methods.albedo_by)
@@ -65,12 +68,25 @@ from .physics.vectors import direction_deg, half_vector
 
 ROW_IDS = ("1", "2", "3", "4", "7", "7-loss", "7-furnace")
 
-#: Gauss nodes per piece and axis of the first level; each level doubles them. At 16,
-#: the error of rows 1–4 was ≤ 3e-5 (anisotropic GGX, Beckmann), at 32 ≤ 2e-8, at 64
-#: ≤ 1e-14 over every NDF, α ∈ {1e-4, 0.05, 1} and α = (0.05, 0.5) (bench run, θ = 60°).
+#: Gauss nodes per ψ piece (and per half of the r̃ range) of the first level; each level
+#: doubles them. With the default shapes the error of rows 1–4 at N = 32 was ≤ 2e-8 and
+#: at 64 ≤ 1e-14 for every NDF, α ∈ {1e-4, 0.05, 1} and α = (0.05, 0.5), θ = 60°.
 ORDER_START = 16
-#: Highest order: 6 pieces × 128² = 98 304 nodes, ~30 ms a row.
+#: Highest order: 6 ψ pieces × N ψ nodes × 2N β nodes, 196 608 at N = 128, ~60 ms a row.
 ORDER_MAX = 128
+#: Above this ratio of successive differences Δ_2N/Δ_N the convergence is algebraic,
+#: not geometric, and the error left is estimated as a geometric series (_refine). Gauss-
+#: Legendre on a smooth integrand gives ratios ≤ 0.1; an end-point singularity ε^a
+#: gives 2^{−(2a+2)}, 0.5 at a = −½.
+RATE_SLOW = 0.25
+#: Tail map (tail_k): the end-point power it aims at, and its largest k (beyond, the
+#: map's last nodes would sit at ε ~ (1/N²)^k, below what tan resolves). Student-t at
+#: γ → 1.5, where the mean slope and Λ diverge, is then resolved only slowly; the error
+#: estimate above says so.
+TAIL_POWER = 2.0
+TAIL_K_MAX = 12.0
+#: Differences below this many rounding floors are noise: their ratio says nothing.
+RATE_NOISE = 100.0
 #: Stop refining when the reported error is below this (far below any tolerance here:
 #: the rule converges geometrically, the next level costs 4× the last).
 TARGET_ERROR = 1e-11
@@ -78,8 +94,8 @@ TARGET_ERROR = 1e-11
 #: is about the error of I_N, which Gauss-Legendre's geometric convergence makes far
 #: larger than that of I_2N; the factor covers pre-asymptotic levels. Measured with the
 #: order capped at 32, 64, 128 (every NDF, α from 1e-4 to 1 and three anisotropic pairs,
-#: θ up to 89.9°, against MATH.md's closed forms): true error ≤ 0.2 × reported, but for
-#: Blinn-Phong at α = 1e-4 (see ROUNDING_FLOOR).
+#: θ from 0 to 89.9°, against MATH.md's closed forms): true error ≤ 0.32 × reported, but
+#: for Blinn-Phong at α = 1e-4 (see ROUNDING_FLOOR).
 ERROR_SAFETY = 2.0
 #: Added to every error, relative to Σ|terms| of the sum: ~10⁵ terms, each with relative
 #: rounding ~1e-16, and D evaluated at directions rounded to 1e-16 on a peak of width
@@ -93,6 +109,14 @@ ROUNDING_FLOOR = 1e-13
 #: is up to ~2 r̃ ε/α (r̃ ≲ 5 where the mass is): this many ε/α_min is added to its floor
 #: (seen: 1.5e-12 for Beckmann α = 1e-4 at θ = 89.9°, against a floor of 7e-13).
 H_ROUNDING_EPS = 10.0
+#: Row 4 leaves out nodes with (v·m) m_z below this: there h = (l+v)/‖l+v‖ has lost
+#: more than 1e-7 of its relative accuracy in h_z (l + v cancels to ~4e-16 absolute).
+H_MIN = 1e-8
+#: The part row 4 leaves out is bounded by this many times its weight at the rule's own
+#: nodes there: beyond the last node (r̃ ~ 1e58) a tail falling like r̃^{−0.04} (Student-t,
+#: γ = 1.52) still holds as much again (seen: 2 % above 1×). Below γ ~ 1.7 row 4 is
+#: then inconclusive: its error is of the order of its value.
+DROPPED_SAFETY = 2.0
 #: A row holds when |value − expected| ≤ error + HOLD_TOLERANCE (one-sided for ≤ / ≥).
 #: Above every exact computation here: the tabulated Smith Λ (GTR, exponential power) is
 #: within 1e-8 in G1 (physics/smith_table.py; measured 4e-9 in row 3 at α = 1); far below
@@ -105,6 +129,12 @@ HOLD_TOLERANCE = 1e-7
 #: height-correlated) or within the Kulla-Conty table's error (~2e-5). The reported error
 #: is the quadrature's, whatever it reached (1.3e-6 at its highest order for α = 1e-4:1).
 ALBEDO_TOL = 1e-6
+#: Seconds each albedo of the rows 7 may refine for (a time budget of its own, inside the
+#: request's): the quadrature stops before a level that would not fit, with its honest,
+#: larger error and a note. Most models need a few ms; an anisotropic model with
+#: masking=smith_numeric (a 192-node integral per μΛ) took 7–11 s per albedo to reach
+#: tol. With at most three albedos (rows 7, 7-loss), a call stays under ~0.5 s.
+ALBEDO_SECONDS = 0.15
 
 
 @dataclass
@@ -133,7 +163,11 @@ IDENTITIES = {
 }
 
 
-def holds(relation: str, difference: float, error: float) -> bool:
+def holds(relation: str, difference: float, error: float) -> bool | None:
+    """Whether the row holds; None where the quadrature did not converge (error inf):
+    the check is then inconclusive, not passed."""
+    if not np.isfinite(error):
+        return None
     slack = error + HOLD_TOLERANCE
     if relation == "≤":
         return bool(difference <= slack)
@@ -144,10 +178,9 @@ def holds(relation: str, difference: float, error: float) -> bool:
 
 # ----------------------------------------------------------------- the rule over m
 
-def _m_of(ax, ay, beta, psi):
-    """m ∝ (X, Y, 1) at stretched slope radius tanβ and stretched azimuth ψ:
-    (X, Y) = (α_x cosψ, α_y sinψ) tanβ."""
-    r = np.tan(beta)
+def _m_of(ax, ay, r, psi):
+    """m ∝ (X, Y, 1) at stretched slope radius r̃ = r and stretched azimuth ψ:
+    (X, Y) = (α_x cosψ, α_y sinψ) r̃."""
     X, Y = ax * r * np.cos(psi), ay * r * np.sin(psi)
     inv = 1.0 / np.sqrt(1.0 + X * X + Y * Y)
     return np.stack([X * inv, Y * inv, inv], axis=-1)
@@ -155,20 +188,32 @@ def _m_of(ax, ay, beta, psi):
 
 @dataclass
 class _Rule:
-    beta: np.ndarray     # (K,) nodes
-    psi: np.ndarray
-    weight: np.ndarray   # dβ dψ weights
+    r: np.ndarray        # (K,) stretched slope radius r̃ of each node
+    psi: np.ndarray      # stretched azimuth ψ
+    weight: np.ndarray   # dr̃ dψ weights
     m: np.ndarray        # (K, 3)
     dm: np.ndarray       # ∫ g dm ≈ Σ g(m) dm
 
     @property
     def size(self) -> int:
-        return self.beta.size
+        return self.r.size
 
 
-def _rule(ax: float, ay: float, v: np.ndarray, n: int, visible: bool) -> _Rule:
-    """Nodes over the hemisphere of m (``visible``: only v·m ≥ 0), see the module doc."""
-    # v·m ∝ v_z + tanβ b(ψ), b = α_x v_x cosψ + α_y v_y sinψ = B cos(ψ − ψ_v).
+def tail_k(ndf) -> float:
+    """Power k of the tail map for an NDF whose tail mass falls like r̃^{−1/β_t}
+    (``tail_beta``): in ε = π/2 − β the first-moment integrand of rows 2–4 then behaves
+    like ε^{1/β_t − 3} dε, singular for β_t > ½ (Student-t with γ < 2), and with
+    ε ∝ u^k like u^{k(1/β_t − 1) − 1} du: k makes that power TAIL_POWER, at most
+    TAIL_K_MAX. 1 (no map) for tails up to GGX's, where the integrand is smooth."""
+    beta_t = float(getattr(ndf, "tail_beta", 0.0))
+    if beta_t <= 0.5:
+        return 1.0
+    return min(TAIL_K_MAX, (1.0 + TAIL_POWER) / (1.0 / beta_t - 1.0))
+
+
+def _psi_rule(ax: float, ay: float, v: np.ndarray, n: int, visible: bool):
+    """ψ nodes and weights over [0, 2π), and B, b(ψ) of v·m ∝ v_z + r̃ b(ψ)."""
+    # b = α_x v_x cosψ + α_y v_y sinψ = B cos(ψ − ψ_v).
     bx, by = ax * v[0], ay * v[1]
     B = float(np.hypot(bx, by))
     cuts = [0.0, 0.5 * np.pi, np.pi, 1.5 * np.pi]
@@ -192,40 +237,65 @@ def _rule(ax: float, ay: float, v: np.ndarray, n: int, visible: bool) -> _Rule:
     # ln(g + |ψ − ψ_c|), which resolves the feature at every scale; for g ≳ len it is
     # close to the plain rule.
     length = hi - lo
-    g = v[2] / B if B > 0 else np.inf
     at_lo = np.isin(lo, horizon)
-    at_hi = np.isin(hi, np.mod(horizon, 2 * np.pi)) | np.isin(hi - 2 * np.pi, horizon)
-    if np.isfinite(g) and g > 0:
+    at_hi = np.isin(hi, horizon) | np.isin(hi - 2 * np.pi, horizon)
+    psi, w_psi = lo + length * t, length * w
+    if (at_lo.any() or at_hi.any()) and v[2] > 0:       # g = μ_v/B finite and > 0
+        g = v[2] / B
         L = np.log1p(length / g)
         d = g * np.expm1(t[None, :] * L)
         dd = g * L * np.exp(t[None, :] * L) * w[None, :]
-    else:
-        d, dd = np.zeros_like(length) + length * t, length * w
-    plain, plain_w = lo + length * t, length * w
-    psi = np.where(at_lo, lo + d, np.where(at_hi, hi - d, plain)).ravel()
-    w_psi = np.where(at_lo | at_hi, dd, plain_w).ravel()
-    beta_max = np.full_like(psi, 0.5 * np.pi)
-    if visible:
-        b = bx * np.cos(psi) + by * np.sin(psi)
-        behind = b < 0
-        beta_max = np.where(behind, np.arctan2(v[2], np.where(behind, -b, 1.0)), beta_max)
-    beta = beta_max[:, None] * t[None, :]
-    weight = beta_max[:, None] * w[None, :] * w_psi[:, None]
-    psi2 = np.broadcast_to(psi[:, None], beta.shape)
-    m = _m_of(ax, ay, beta, psi2)
+        psi = np.where(at_lo, lo + d, np.where(at_hi, hi - d, psi))
+        w_psi = np.where(at_lo | at_hi, dd, w_psi)
+    psi, w_psi = psi.ravel(), w_psi.ravel()
+    return psi, w_psi, bx * np.cos(psi) + by * np.sin(psi)
+
+
+def _rule(ax: float, ay: float, v: np.ndarray, n: int, visible: bool, k: float = 1.0) -> _Rule:
+    """Nodes over the hemisphere of m (``visible``: only v·m ≥ 0), see the module doc;
+    ``k`` the tail map's power (tail_k)."""
+    psi, w_psi, b = _psi_rule(ax, ay, v, n, visible)
+    t, w = gauss_legendre_01(n)
+    t, w = t[None, :], w[None, :]
+    # β = atan r̃ in two halves of N nodes each: [0, β*/2] holds the peak of D (r̃ ≤ 1
+    # when β* = π/2), [β*/2, β*] the tail; β* = atan(μ_v/(−b)) where v·m = 0 cuts the
+    # ray (visible rows, b < 0), else π/2. An unbounded tail is parametrised by
+    # ε = π/2 − β = (π/4) u^k, u = 1 − t (k = tail_k, 1 for tails up to GGX's), and
+    # r̃ = cot ε computed from ε: through β, r̃ would stop at tan(π/2 rounded) = 1.6e16,
+    # where a tail falling like r̃^{−0.1} (Student-t, γ = 1.55) still holds 2 % of row 3.
+    behind = visible & (b < 0)
+    beta_max = np.where(behind, np.arctan2(v[2], np.where(behind, -b, 1.0)), 0.5 * np.pi)[:, None]
+    half = 0.5 * beta_max
+    beta1 = half * t
+    r1 = np.tan(beta1)
+    dr1 = (1.0 + r1 * r1) * half * w                 # dr̃ = dβ / cos²β
+    beta2 = half + half * t
+    r2 = np.tan(beta2)
+    dr2 = (1.0 + r2 * r2) * half * w
+    u = 1.0 - t
+    eps = 0.25 * np.pi * u ** k
+    r_tail = 1.0 / np.tan(eps)
+    dr_tail = (1.0 + r_tail * r_tail) * 0.25 * np.pi * k * u ** (k - 1.0) * w
+    unbounded = ~behind[:, None]
+    r2 = np.where(unbounded, r_tail, r2)
+    dr2 = np.where(unbounded, dr_tail, dr2)
+    r = np.concatenate([r1, r2], axis=1)
+    weight = np.concatenate([dr1, dr2], axis=1) * w_psi[:, None]
+    psi2 = np.broadcast_to(psi[:, None], r.shape)
+    m = _m_of(ax, ay, r, psi2)
     # dω_m = dX dY (n·m)³ (Heitz 2014 eq. 15: D (n·m) dω_m = P22 dX dY, P22 = D (n·m)⁴),
-    # dX dY = α_x α_y r̃ dr̃ dψ, r̃ = tanβ, dr̃ = dβ/cos²β.
-    jac = ax * ay * np.tan(beta) / np.cos(beta) ** 2 * m[..., 2] ** 3
-    return _Rule(beta.ravel(), psi2.ravel(), weight.ravel(), m.reshape(-1, 3), (weight * jac).ravel())
+    # dX dY = α_x α_y r̃ dr̃ dψ.
+    jac = ax * ay * r * m[..., 2] ** 3
+    return _Rule(r.ravel(), psi2.ravel(), weight.ravel(), m.reshape(-1, 3), (weight * jac).ravel())
 
 
 def _l_area(ax: float, ay: float, v: np.ndarray, rule: _Rule) -> tuple[np.ndarray, np.ndarray]:
-    """l = 2(v·m)m − v at the nodes and its area element |∂l/∂β × ∂l/∂ψ| per dβ dψ, by
+    """l = 2(v·m)m − v at the nodes and its area element |∂l/∂r̃ × ∂l/∂ψ| per dr̃ dψ, by
     the chain rule through m = s/‖s‖, s = (X, Y, 1):
     ∂m = (∂s − m (m·∂s))/‖s‖, ∂l = 2(v·∂m) m + 2(v·m) ∂m, with
-    ∂s/∂β = (α_x cosψ, α_y sinψ, 0)/cos²β and ∂s/∂ψ = (−α_x sinψ, α_y cosψ, 0) tanβ."""
+    ∂s/∂r̃ = (α_x cosψ, α_y sinψ, 0) and ∂s/∂ψ = (−α_x sinψ, α_y cosψ, 0) r̃."""
     mx, my, mz = rule.m[:, 0], rule.m[:, 1], rule.m[:, 2]     # m_z = 1/‖s‖
-    cb, cp, sp, tb = np.cos(rule.beta), np.cos(rule.psi), np.sin(rule.psi), np.tan(rule.beta)
+    cp, sp, r = np.cos(rule.psi), np.sin(rule.psi), rule.r
     vm = v[0] * mx + v[1] * my + v[2] * mz
 
     def dl(sx, sy):
@@ -235,8 +305,8 @@ def _l_area(ax: float, ay: float, v: np.ndarray, rule: _Rule) -> tuple[np.ndarra
         vdm = v[0] * dmx + v[1] * dmy + v[2] * dmz
         return (2.0 * (vdm * mx + vm * dmx), 2.0 * (vdm * my + vm * dmy), 2.0 * (vdm * mz + vm * dmz))
 
-    ax_, ay_, az_ = dl(ax * cp / (cb * cb), ay * sp / (cb * cb))
-    bx_, by_, bz_ = dl(-ax * sp * tb, ay * cp * tb)
+    ax_, ay_, az_ = dl(ax * cp, ay * sp)
+    bx_, by_, bz_ = dl(-ax * sp * r, ay * cp * r)
     area = np.sqrt((ay_ * bz_ - az_ * by_) ** 2 + (az_ * bx_ - ax_ * bz_) ** 2
                    + (ax_ * by_ - ay_ * bx_) ** 2)
     l = 2.0 * vm[:, None] * rule.m - v
@@ -255,18 +325,33 @@ class _Integral:
 
 
 def _refine(level, floor: float = ROUNDING_FLOOR) -> _Integral:
-    """``level(n) -> (value, Σ|terms|, evaluations)``: compare n with 2n, doubling n
+    """``level(n) -> (value, Σ|terms|, evaluations, bound of a part left out)``:
+    compare n with 2n, doubling n
     while the error is above TARGET_ERROR, ORDER_MAX allows it, and the time budget
-    affords the next level (predicted at 4× the last: N² nodes a piece). ``floor``
-    × Σ|terms| is added to the error (rounding)."""
+    affords the next level (predicted at 4× the last: N² nodes a piece).
+
+    Error of I_2N: ERROR_SAFETY × Δ, Δ = |I_2N − I_N|, or — where the last two
+    differences say the convergence is slow (ρ = Δ/Δ_previous > RATE_SLOW: an integrable
+    singularity at the end of the β range that the map did not remove) — the rest of a
+    geometric series, Δ ρ/(1 − ρ); inf (not converged) for ρ ≥ 1. Plus ``floor`` ×
+    Σ|terms| (rounding)."""
     n = ORDER_START
-    coarse, _, evaluations = level(n)
+    coarse, _, evaluations, _ = level(n)
+    previous = None
     while True:
         t0 = time.perf_counter()
-        fine, magnitude, ev = level(2 * n)
+        fine, magnitude, ev, dropped = level(2 * n)
         last_seconds = time.perf_counter() - t0
         evaluations += ev
-        error = ERROR_SAFETY * abs(fine - coarse) + floor * magnitude
+        delta, rounding = abs(fine - coarse), floor * magnitude
+        error = ERROR_SAFETY * delta
+        if previous is not None and previous > RATE_NOISE * rounding and delta > rounding:
+            rate = delta / previous
+            if rate >= 1.0:
+                error = np.inf
+            elif rate > RATE_SLOW:
+                error = max(error, delta * rate / (1.0 - rate))
+        error += rounding + dropped
         if error <= TARGET_ERROR or 2 * n >= ORDER_MAX:
             return _Integral(fine, error, evaluations, 2 * n)
         b = budget.current()
@@ -274,7 +359,7 @@ def _refine(level, floor: float = ROUNDING_FLOOR) -> _Integral:
             note = f"stopped at order {2 * n} to end within the time budget"
             b.cut(f"checks: {note}")
             return _Integral(fine, error, evaluations, 2 * n, note)
-        coarse, n = fine, 2 * n
+        coarse, previous, n = fine, delta, 2 * n
 
 
 # --------------------------------------------------------------------- the rows
@@ -319,8 +404,11 @@ def _quadrature_row(rid: str, brdf: BRDF, v: np.ndarray, expected: float, note: 
     if rid in ("3", "4"):
         g1 = float(G1(v[2], brdf.masking.mu_Lambda(ndf, v)))
 
+    k = tail_k(ndf)
+
     def level(n):
-        rule = _rule(ax, ay, v, n, visible=rid in ("3", "4"))
+        rule = _rule(ax, ay, v, n, visible=rid in ("3", "4"), k=k)
+        dropped = 0.0
         if rid == "1":
             terms = ndf.D(rule.m) * rule.m[:, 2] * rule.dm
         elif rid == "2":
@@ -330,9 +418,17 @@ def _quadrature_row(rid: str, brdf: BRDF, v: np.ndarray, expected: float, note: 
         else:
             l, area = _l_area(ax, ay, v, rule)
             h, exists = half_vector(l, v)
-            D = np.where(exists, ndf.D(np.where(exists[:, None], h, np.array([0.0, 0.0, 1.0]))), 0.0)
+            # l + v = 2(v·m) m is formed by cancellation: h_z keeps ~4e-16/(2(v·m) m_z)
+            # relative accuracy, none where (v·m) m_z ≲ 1e-16 (the far tail, reached by
+            # the tail map: m_z down to 1e-70). Nodes below H_MIN are left out and their
+            # share bounded by what they weigh in row 3's sum (×4: dl = 4(v·m) dm there).
+            vm = np.maximum(rule.m @ v, 0.0)
+            keep = exists & (vm * rule.m[:, 2] > H_MIN)
+            D = np.zeros(rule.size)
+            D[keep] = ndf.D(h[keep])
             terms = D * area * rule.weight
-        return float(np.sum(terms)), float(np.sum(np.abs(terms))), rule.size
+            dropped = DROPPED_SAFETY * 4.0 * float(np.sum(np.where(keep, 0.0, ndf.D(rule.m) * vm * rule.dm)))
+        return float(np.sum(terms)), float(np.sum(np.abs(terms))), rule.size, dropped
 
     floor = ROUNDING_FLOOR
     if rid == "4":
@@ -387,8 +483,19 @@ class _Albedos:
         if key in self.done:
             return self.done[key], 0
         spec = make_spec(**model_values(self.spec, fresnel="none", kd=0.0, **overrides))
-        res = albedo_by(spec.brdf(), [self.mu], self.phi, method="quadrature",
-                        tol=ALBEDO_TOL, average=False)
+        outer = budget.current()
+        seconds = ALBEDO_SECONDS
+        if outer is not None:
+            seconds = max(0.0, min(seconds, outer.seconds - outer.elapsed()))
+        with budget.limit(seconds) as own:
+            res = albedo_by(spec.brdf(), [self.mu], self.phi, method="quadrature",
+                            tol=ALBEDO_TOL, average=False)
+        if own.notes:
+            res = dict(res, cut=(f"albedo stopped before reaching tol {ALBEDO_TOL:g}: this view "
+                                 f"gives each albedo {seconds:.2g} s (ALBEDO_SECONDS in "
+                                 "app/checks.py, or what the request's budget had left)"))
+            if outer is not None and seconds < ALBEDO_SECONDS:
+                outer.cut(f"checks: {res['cut']}")
         self.done[key] = res
         return res, int(res["evaluations"])
 
@@ -404,6 +511,8 @@ def _albedo_row(rid: str, brdf: BRDF, spec: ModelSpec, albedos: _Albedos) -> Row
                 f"the single-scattering albedo loses {1.0 - value:.3g} of the energy")
         if value > 1.0 + error + HOLD_TOLERANCE:
             note = f"E > 1: this model creates energy; {_masking_note(brdf)}; " + note
+        if "cut" in r:
+            note += f"; {r['cut']}"
     elif rid == "7-loss":
         sep, ev_sep = albedos.get(multiscatter="none", g2="separable")
         hc, ev_hc = albedos.get(multiscatter="none", g2="height_correlated")
@@ -415,6 +524,8 @@ def _albedo_row(rid: str, brdf: BRDF, spec: ModelSpec, albedos: _Albedos) -> Row
                 "(identity 6): the separable form shadows more")
         if ev_hc == 0 or ev_sep == 0:
             note += "; one of the two albedos is row 7's, computed once (its cost counted there)"
+        for cut in {x["cut"] for x in (sep, hc) if "cut" in x}:
+            note += f"; {cut}"
     else:
         return _furnace_row(brdf, spec, albedos, t0)
     diff = value - expected
@@ -455,6 +566,8 @@ def _furnace_row(brdf: BRDF, spec: ModelSpec, albedos: _Albedos, t0: float) -> R
     note = (f"E = E_single {float(r['E_single'][0]):.6f} + E_ms {value - float(r['E_single'][0]):.6f}; "
             f"error = quadrature + the E(μ, α) table's measured error "
             f"{float(r['compensation_error']):.1e}")
+    if "cut" in r:
+        note += f"; {r['cut']}"
     return Row("7-furnace", identity, relation, value, 1.0, error, diff, holds(relation, diff, error),
                note, evaluations, time.perf_counter() - t0)
 
