@@ -37,6 +37,7 @@
   //   shown: visible by default; primary: drawn first (the one a slider is watched on);
   //   slice: its phi_deg follows the plane of incidence when anisotropic;
   //   keys: the URL names of its own toggles where they predate generic panels;
+  //   fields: its own fields to show although SKIP_FIELDS hides them elsewhere (advise's tol);
   //   pin: its figure is made of curves, so POST /figures/{name} can overlay pinned
   //        models (image and surface figures answer 422 there); tails: "compare tails".
   const PANEL_HINTS = {
@@ -52,9 +53,10 @@
     sphere: { title: "Lit sphere", sub: "f·cos θ_l under one light (θ_i, φ_i)" },
     slice: { title: "θ_h / θ_d slice", sub: "the Disney explorer's image", labels: { cosine: "× cos θ_l" } },
     samples: { title: "Importance sampling", sub: "directions drawn for v" },
-    checks: { title: "Checks", sub: "identities computed next to the values they must have" },
+    checks: { title: "Checks", sub: "identities computed next to the values they must have", wide: true },
     tradeoff: { title: "Speed vs accuracy", sub: "albedo error against cost, per method", wide: true },
-    advise: { title: "Model only what the scene needs", sub: "cheaper choices, their error and cost", wide: true },
+    advise: { title: "Model only what the scene needs", sub: "cheaper choices, their error and cost", wide: true,
+              fields: ["tol"] },
   };
   const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
   const FIELD_LABELS = { log: "log scale", cosine: "× cos θ", display: "display",
@@ -888,7 +890,8 @@
   function panelFields(view) {
     const geometry = new Set(models.geometry.map((p) => p.name));
     const hint = PANEL_HINTS[view.name] || {};
-    return view.fields.filter((f) => !SKIP_FIELDS.has(f.name) && !geometry.has(f.name)
+    const own = new Set(hint.fields || []);     // fields this panel shows although SKIP_FIELDS has them
+    return view.fields.filter((f) => (own.has(f.name) || !SKIP_FIELDS.has(f.name)) && !geometry.has(f.name)
       && !(hint.slice && f.name === "phi_deg")
       && (f.type === "boolean" || f.enum || ((f.type === "number" || f.type === "integer")
                                              && Number.isFinite(f.minimum) && Number.isFinite(f.maximum))));
