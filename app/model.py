@@ -166,8 +166,9 @@ def make_spec(**given) -> ModelSpec:
     spec = ModelSpec(values)
     try:
         brdf = spec.brdf()
-    except ValueError as exc:  # a model that cannot be built, e.g. an anisotropic GTR
-        raise ModelError("alpha_y", str(exc)) from exc
+    except ValueError as exc:  # a model that cannot be built, e.g. an anisotropic GTR,
+        # or whose compensation table would not build within the request's time budget
+        raise ModelError(getattr(exc, "param", "alpha_y"), str(exc)) from exc
     # Derived quantities for display (Blinn-Phong's α_p); not parameters.
     values.update(getattr(brdf.ndf, "derived", dict)())
     return spec

@@ -193,6 +193,26 @@ def _lobe_at(key: tuple, alpha: float) -> BRDF:
                 lambda_phi=lambda_phi)
 
 
+class TableTooSlow(ValueError):
+    """A table whose build, predicted from its first row, would not end within the
+    request's time budget: refused (HTTP 422 naming ``param``) rather than left to
+    run — a cut build still computes every row once, which took 108 s for GGX with
+    masking=smith_numeric (the numeric Smith integral at every integrand point)."""
+    param = "multiscatter"
+
+
+def _refuse_if_too_slow(key: tuple, predicted: float) -> None:
+    b = budget.current()
+    if b is not None and not b.affords(predicted):
+        ndf_class, _, masking, g2, _, _ = key
+        raise TableTooSlow(
+            f"the E(μ, α) table of ndf={ndf_class.name}, masking={masking.name}, g2={g2.name} "
+            f"would take ~{predicted:.0f} s to build, beyond this request's time budget "
+            f"(setting BRDF_MAX_SECONDS={b.seconds:g}); tables are fast for the compiled "
+            "integrand (ggx, beckmann with masking=smith); outside the server (Python, the "
+            "CLI) there is no budget")
+
+
 def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | None):
     """Values at the nodes (E, or E/E₁ of the ratio table), evaluations, node error.
     The ratio's error is that of E_S/E₁ to first order: (e_S + ρ e₁)/E₁; where E₁ = 0
@@ -200,7 +220,10 @@ def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | 
     the row, the value at the next node (the spline needs a number; Ê₁ = 0 there)."""
     values = np.empty((r.size, y.size))
     evaluations, node_error = 0, 0.0
+    t0 = time.perf_counter()
     for i, ri in enumerate(r):
+        if i == 1:
+            _refuse_if_too_slow(key, (time.perf_counter() - t0) * (r.size + CHECK_R + 1))
         alpha = ri * ri
         if base is None:
             res = albedo(_lobe_at(key, alpha), mu_from_y(y, alpha), tol=tol)

@@ -131,3 +131,20 @@ def test_monte_carlo_work_limit_is_named():
     body = get(small, "/api/v1/albedo?mu=0.1,0.5&method=mc_cosine&samples=600", status=422)
     msg = body["detail"][0]["msg"]
     assert "BRDF_MAX_MC_EVALUATIONS" in msg and "1000" in msg
+
+
+def test_a_table_too_slow_for_the_time_budget_is_refused_not_run():
+    """Kulla-Conty needs an E(μ, α) table; one that would not build within
+    BRDF_MAX_SECONDS (predicted from its first row) is a 422 naming multiscatter and the
+    setting, within about one row's time — not a worker busy for minutes (GGX with
+    smith_numeric took 108 s before). A shape no other test uses, so no cached table."""
+    import time
+    tight = TestClient(create_app(Settings(max_seconds=0.3)))
+    t0 = time.perf_counter()
+    body = get(tight, "/api/v1/lobe?n=5&ndf=gtr&gamma=1.37&alpha=0.4&g2=direction_correlated"
+                      "&multiscatter=kulla_conty", status=422)
+    seconds = time.perf_counter() - t0
+    msg = body["detail"][0]["msg"]
+    assert body["detail"][0]["loc"][-1] == "multiscatter"
+    assert "BRDF_MAX_SECONDS" in msg and "table" in msg
+    assert seconds < 8, seconds      # one row (the whole build is ~40× that)
