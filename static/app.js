@@ -902,7 +902,7 @@
     if (hint.labels && hint.labels[f.name]) return hint.labels[f.name];
     if (FIELD_LABELS[f.name]) return FIELD_LABELS[f.name];
     // phi_d_deg -> φ_d (°)
-    return f.name.replace(/_deg$/, " (°)").replace(/^phi/, "φ").replace(/^theta/, "θ");
+    return f.name.replace(/_deg$/, " (°)").replace(/^phi/, "φ").replace(/^theta/, "θ").replace(/^alpha/, "α");
   }
 
   function localControl(view, f) {
