@@ -5,6 +5,7 @@ import os
 from pathlib import Path
 
 import plotly
+import fastapi_offline
 from fastapi import FastAPI
 from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
@@ -17,6 +18,8 @@ from .config import Settings
 
 STATIC_DIR = Path(os.environ.get("BRDF_STATIC_DIR", Path(__file__).resolve().parent.parent / "static"))
 PLOTLY_JS = Path(plotly.__file__).resolve().parent / "package_data" / "plotly.min.js"
+#: Swagger UI 5 (reads OpenAPI 3.1, which FastAPI writes), vendored by fastapi-offline
+SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -25,6 +28,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         version=__version__,
         description="Microfacet BRDFs — NDFs, Smith masking, G2, Fresnel, albedo — as numbers "
                     "and Plotly figures. Angles in degrees; α is the microfacet roughness.",
+        # FastAPI's own /docs and /redoc load their scripts from a CDN: /docs is served
+        # below from installed files instead, and ReDoc (no installable bundle) is off.
+        docs_url=None, redoc_url=None,
     )
     app.state.settings = settings or Settings.from_env()
     errors.install(app)
@@ -37,6 +43,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         # plotly.js from the installed plotly package: the page works offline and the
         # figure JSON always matches the plotly.js that draws it.
         return FileResponse(PLOTLY_JS, media_type="application/javascript")
+
+    @app.get("/docs", include_in_schema=False)
+    def docs():
+        return FileResponse(STATIC_DIR / "docs.html", media_type="text/html")
+
+    # Swagger UI's script and stylesheet from the fastapi-offline package: /docs offline
+    app.mount("/static/vendor/swagger-ui", StaticFiles(directory=SWAGGER_UI_DIR), name="swagger-ui")
 
     @app.get("/", include_in_schema=False)
     def index():

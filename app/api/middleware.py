@@ -43,9 +43,6 @@ GZIP_MINIMUM_SIZE = 1000
 #: zlib level 6: within a few percent of level 9's size at a fraction of the CPU (the
 #: 4.6 MB plotly.min.js: measured in docs/robustness.md)
 GZIP_LEVEL = 6
-#: paths of FastAPI's interactive docs, which load Swagger UI / ReDoc from a CDN with an
-#: inline boot script; the rest of the site allows neither.
-DOCS_PATHS = ("/docs", "/docs/oauth2-redirect", "/redoc")
 
 
 def _json_error(status: int, loc: list, msg: str, kind: str) -> tuple[dict, bytes]:
@@ -99,11 +96,6 @@ def content_security_policy(script_hashes: list[str]) -> str:
     ])
 
 
-#: what FastAPI's /docs and /redoc need: their CDN, their inline boot script, their logo
-DOCS_CSP = ("default-src 'self'; script-src 'self' 'unsafe-inline' https://cdn.jsdelivr.net; "
-            "style-src 'self' 'unsafe-inline' https://cdn.jsdelivr.net https://fonts.googleapis.com; "
-            "font-src 'self' https://fonts.gstatic.com; img-src 'self' data: https:; "
-            "worker-src 'self' blob:; object-src 'none'; base-uri 'none'; frame-ancestors *")
 
 
 class SecurityHeaders:
@@ -117,13 +109,12 @@ class SecurityHeaders:
             (b"cross-origin-resource-policy", b"cross-origin"),
         ]
         self.csp = csp.encode()
-        self.docs_csp = DOCS_CSP.encode()
 
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http":
             await self.app(scope, receive, send)
             return
-        csp = self.docs_csp if scope["path"] in DOCS_PATHS else self.csp
+        csp = self.csp
         started = False
 
         async def send_with_headers(message):

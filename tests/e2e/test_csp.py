@@ -28,6 +28,17 @@ def test_pages_render_without_csp_violations(page, page_log, live_server, path):
     assert not [m for m in page_log.console_errors if "Content Security Policy" in m]
 
 
+def test_docs_render_offline_without_csp_violations(page, page_log, live_server):
+    """Swagger UI at /docs draws every operation from same-origin files only (page_log
+    fails the test on any request to another origin)."""
+    page.add_init_script(CATCH)
+    page.goto(live_server + "/docs")
+    page.wait_for_load_state("networkidle")
+    page.wait_for_function("document.querySelectorAll('.opblock').length > 10", timeout=20_000)
+    assert page.evaluate("window.__csp") == []
+    assert page_log.problems() == []
+
+
 def test_policy_is_enforced(page, live_server):
     """Without this the test above would pass with no policy at all."""
     page.add_init_script(CATCH)

@@ -76,11 +76,18 @@ def test_csp_allows_exactly_the_inline_scripts_of_the_pages(client):
     assert set(s for s in script_src if s.startswith("'sha256-")) == expected
 
 
-def test_docs_page_gets_the_policy_it_needs(client):
-    """/docs loads Swagger UI from its CDN with an inline boot script; only there."""
-    csp = client.get("/docs").headers["content-security-policy"]
-    assert "https://cdn.jsdelivr.net" in csp
-    assert "cdn.jsdelivr.net" not in client.get("/").headers["content-security-policy"]
+def test_docs_page_is_served_offline_under_the_site_policy(client):
+    """/docs loads Swagger UI from this server (the fastapi-offline package's files), with
+    no inline script, under the same policy as the page; ReDoc (CDN only) is off."""
+    r = client.get("/docs")
+    assert r.status_code == 200
+    assert r.headers["content-security-policy"] == client.get("/").headers["content-security-policy"]
+    sources = re.findall(r'(?:src|href)="([^"]+)"', r.text)
+    assert sources and all(s.startswith("/") and not s.startswith("//") for s in sources), sources
+    assert "<script>" not in r.text
+    for s in sources:
+        assert client.get(s).status_code == 200, s
+    assert client.get("/redoc").status_code == 404
 
 
 # ------------------------------------------------------------------------------- CORS
