@@ -70,6 +70,7 @@ from functools import lru_cache
 import numpy as np
 
 from .integrate import budget
+from .integrate.cache import Keyed, complete_only, freeze
 from .integrate.albedo import DEFAULT_TOL
 from .integrate.methods import MethodError, albedo_by
 from .integrate.tables import mu_from_y, y_from_mu
@@ -108,6 +109,10 @@ COST_SEED = 0
 COST_ALPHA = 0.3
 #: Models timed and kept per process (a few floats each).
 COST_CACHE_ENTRIES = 512
+#: Smallest CPU time a timing reports: time.thread_time ticks in 1 µs or coarser, so a
+#: run below a tick can read 0 and a relative cost would divide by it; 1 ns is far below
+#: any real run (the fastest measured, GGX compiled: 0.44 ms).
+COST_SECONDS_FLOOR = 1e-9
 #: A choice counts as cheaper when it costs below this fraction of the current model.
 #: The cost of one model re-measured 12 times on this 2-core machine spread by −9 % .. +1 %
 #: (GGX on the compiled path, 0.31 ms, load 4.4) and −3 % .. +7 % (Karis, 2.6 ms, load
@@ -237,41 +242,14 @@ def albedo_grid(model: dict, scene: Scene, method: str = "quadrature", name: str
     if not cache:
         return _compute_grid(model, scene, method, name, kw)
     key = tuple(sorted(make_spec(**at_alpha(model, 1.0)).values.items()))
-    try:
-        return _grid_cached(_Model(key, model, name), scene, method, tuple(sorted(kw.items())))
-    except _CutGrid as cut:
-        return cut.grid
+    return _grid_cached(Keyed((model, name), key), scene, method, tuple(sorted(kw.items())))
 
 
-class _Model:
-    """A model dict as a cache key: equal when the model values (``key``) are (``name``:
-    what a note calls it)."""
-
-    def __init__(self, key: tuple, model: dict, name: str):
-        self.key, self.model, self.name = key, model, name
-
-    def __hash__(self):
-        return hash(self.key)
-
-    def __eq__(self, other):
-        return isinstance(other, _Model) and self.key == other.key
-
-
-class _CutGrid(Exception):
-    """Carries a grid the time budget shortened (or cut inside) out of the cache."""
-
-    def __init__(self, grid: Grid):
-        self.grid = grid
-
-
-@lru_cache(maxsize=GRID_CACHE_ENTRIES)
-def _grid_cached(model: _Model, scene: Scene, method: str, kw: tuple) -> Grid:
-    b = budget.current()
-    notes = len(b.notes) if b else 0
-    grid = _compute_grid(model.model, scene, method, model.name, dict(kw))
-    if not grid.complete or (b and len(b.notes) > notes):
-        raise _CutGrid(grid)
-    return grid
+@complete_only(GRID_CACHE_ENTRIES, complete=lambda grid: grid.complete)
+def _grid_cached(model: Keyed, scene: Scene, method: str, kw: tuple) -> Grid:
+    """``model.value``: (the model dict, what a note calls it); keyed by its values."""
+    values, name = model.value
+    return _compute_grid(values, scene, method, name, dict(kw))
 
 
 def _compute_grid(model: dict, scene: Scene, method: str, name: str, kw: dict) -> Grid:
@@ -286,8 +264,7 @@ def _compute_grid(model: dict, scene: Scene, method: str, name: str, kw: dict) -
         E.append(np.asarray(res["E"], dtype=float))
         err.append(np.asarray(res["E_error"], dtype=float))
         evals += int(res["evaluations"])
-    for a in E + err:
-        a.setflags(write=False)                   # shared by every cache hit
+    freeze(E + err)
     return Grid(E, err, evals, time.perf_counter() - t0, len(E) == len(alphas))
 
 
@@ -332,17 +309,16 @@ def _pairs() -> tuple[np.ndarray, np.ndarray]:
     mu, phi = u[..., 0], 2.0 * np.pi * u[..., 1]
     s = np.sqrt(1.0 - mu * mu)
     w = np.stack([s * np.cos(phi), s * np.sin(phi), mu], axis=-1)
-    for a in w:
-        a.setflags(write=False)
+    freeze(w)
     return w[0], w[1]
 
 
 @lru_cache(maxsize=COST_CACHE_ENTRIES)
-def _seconds(kind: _Model) -> float:
+def _seconds(kind: Keyed) -> float:
     """Least CPU seconds of f at the fixed pairs over the runs, for one kind of model
-    (``kind.key``); the first model of that kind seen is the one timed (continuous values
-    do not matter)."""
-    brdf = make_spec(**at_alpha(kind.model, COST_ALPHA)).brdf()
+    (``kind.key``); the first model of that kind seen (``kind.value``) is the one timed
+    (continuous values do not matter)."""
+    brdf = make_spec(**at_alpha(kind.value, COST_ALPHA)).brdf()
     l, v = _pairs()
     brdf.evaluate(l, v)                          # warm-up: numba compiles on first use
     runs, spent = [], 0.0
@@ -352,11 +328,11 @@ def _seconds(kind: _Model) -> float:
         brdf.evaluate(l, v)
         runs.append(time.thread_time() - t0)
         spent += runs[-1]
-    return max(float(np.min(runs)), 1e-9)
+    return max(float(np.min(runs)), COST_SECONDS_FLOOR)
 
 
 def seconds_per_batch(model: dict) -> float:
-    return _seconds(_Model(cost_key(model), model, ""))
+    return _seconds(Keyed(model, cost_key(model)))
 
 
 # ----------------------------------------------------------------------- the advice ---

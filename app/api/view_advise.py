@@ -3,7 +3,6 @@ angles), their albedo error and measured cost, and the cheapest within a toleran
 (app/advise.py)."""
 from __future__ import annotations
 
-from functools import lru_cache
 from typing import Annotated
 
 from pydantic import Field
@@ -11,6 +10,7 @@ from pydantic import Field
 from .. import figures
 from ..advise import RESULT_CACHE_ENTRIES, Scene, advise, is_anisotropic
 from ..config import Settings
+from ..integrate.cache import Keyed, complete_only
 from ..model import make_spec
 from ..physics.ndf import ALPHA
 from . import schemas
@@ -45,44 +45,20 @@ def _check_advise(q: AdviseQuery, s: Settings):
                                "and Kulla-Conty are isotropic")
 
 
-class _Incomplete(Exception):
-    """A result cut short by the time budget: returned, never cached."""
-
-    def __init__(self, data: dict):
-        self.data = data
-
-
-class _Given:
-    """The request's model parameters as a cache key, carrying the spec built from them
-    (not part of the key: equal parameters give equal specs)."""
-
-    def __init__(self, given: dict, spec):
-        self.given, self.spec, self.key = given, spec, tuple(sorted(given.items()))
-
-    def __hash__(self):
-        return hash(self.key)
-
-    def __eq__(self, other):
-        return isinstance(other, _Given) and self.key == other.key
-
-
-@lru_cache(maxsize=RESULT_CACHE_ENTRIES)
-def _cached(given: _Given, tol: float, scene: Scene, albedo_methods: bool) -> dict:
-    data = advise(given.given, tol, scene, albedo_methods, given.spec)
-    if not data["complete"]:
-        raise _Incomplete(data)
-    return data
+@complete_only(RESULT_CACHE_ENTRIES, complete=lambda data: data["complete"])
+def _cached(given: Keyed, tol: float, scene: Scene, albedo_methods: bool) -> dict:
+    """``given.value``: (the request's model parameters, the spec built from them)."""
+    model, spec = given.value
+    return advise(model, tol, scene, albedo_methods, spec)
 
 
 def _compute(spec, q: AdviseQuery) -> dict:
     """The advice, from a bounded cache of complete results: the page asks for the figure
     and an export for the data of the same request, and the timing is worth keeping."""
-    given = _Given(schemas.model_values(q), spec)
+    given = schemas.model_values(q)
     scene = Scene(q.alpha_min, q.alpha_max, q.theta_max_deg)
-    try:
-        return dict(_cached(given, q.tol, scene, q.albedo_methods))
-    except _Incomplete as cut:
-        return cut.data
+    return dict(_cached(Keyed((given, spec), tuple(sorted(given.items()))), q.tol, scene,
+                        q.albedo_methods))
 
 
 register(View(

@@ -8,7 +8,6 @@ from __future__ import annotations
 import importlib
 import pkgutil
 from dataclasses import dataclass
-from functools import lru_cache
 from pathlib import Path
 from typing import Callable
 
@@ -18,6 +17,7 @@ from .. import figures, quantities
 from ..config import Settings
 from ..integrate import budget
 from ..integrate.albedo import max_evaluations
+from ..integrate.cache import Keyed, complete_only, freeze
 from ..integrate.methods import MethodError
 from ..model import ModelSpec, make_spec
 from . import schemas
@@ -58,46 +58,17 @@ def _check_square_grid(q, s: Settings):
                               f"{s.max_grid_points} (setting BRDF_MAX_GRID_POINTS)")
 
 
-def _albedo_mu(q) -> np.ndarray:
-    return np.asarray(q.mu, dtype=float) if q.mu is not None else np.linspace(0.0, 1.0, q.n)
-
-
-class _Incomplete(Exception):
-    """Carries a result cut short by the time budget out of the cache (lru_cache does
-    not store a call that raises): only complete results are reused."""
-
-    def __init__(self, data: dict):
-        self.data = data
-
-
-class _SpecKey:
-    """A ModelSpec as a cache key: equal when the model values are."""
-
-    def __init__(self, spec: ModelSpec):
-        self.spec, self.key = spec, tuple(sorted(spec.values.items()))
-
-    def __hash__(self):
-        return hash(self.key)
-
-    def __eq__(self, other):
-        return isinstance(other, _SpecKey) and self.key == other.key
-
-
-@lru_cache(maxsize=ALBEDO_CACHE_ENTRIES)
-def _albedo_cached(model: _SpecKey, mu: tuple | int, phi_deg: float, method: tuple) -> dict:
+@complete_only(ALBEDO_CACHE_ENTRIES, complete=lambda data: data["complete"])
+def _albedo_cached(model: Keyed, mu: tuple | int, phi_deg: float, method: tuple) -> dict:
     mu_values = np.asarray(mu, dtype=float) if isinstance(mu, tuple) else np.linspace(0.0, 1.0, mu)
     try:
-        data = quantities.albedo_curve(model.spec.brdf(), mu_values, phi_deg, **dict(method))
+        data = freeze(quantities.albedo_curve(model.value.brdf(), mu_values, phi_deg, **dict(method)))
     except MethodError as exc:
         raise ParamError(exc.param, str(exc)) from None
-    for value in data.values():
-        if isinstance(value, np.ndarray):
-            value.setflags(write=False)          # shared by every hit
     b = budget.current()
     data["complete"] = not (b and b.notes)
     if not data["complete"]:
         data["note"] = "; ".join(b.notes) + " (setting BRDF_MAX_SECONDS)"
-        raise _Incomplete(data)
     return data
 
 
@@ -107,11 +78,8 @@ def _albedo(spec: ModelSpec, q) -> dict:
     (tenths of a second against the milliseconds of a lookup), and a browser that
     revalidates with If-None-Match makes the server rebuild the body to compare tags."""
     mu = tuple(q.mu) if q.mu is not None else q.n
-    try:
-        data = _albedo_cached(_SpecKey(spec), mu, q.phi_deg, _method_key(q))
-    except _Incomplete as cut:
-        data = cut.data
-    return dict(data)
+    key = tuple(sorted(spec.values.items()))
+    return dict(_albedo_cached(Keyed(spec, key), mu, q.phi_deg, _method_key(q)))
 
 
 def _method_key(q) -> tuple:

@@ -50,6 +50,7 @@ from ..physics.fresnel import FRESNELS
 from ..physics.gauss import gauss_legendre_01
 from ..physics.numeric import where_valid
 from . import albedo_kernel, budget
+from .cache import complete_only
 from .albedo import albedo
 
 #: Smallest tabulated perceptual roughness: √(1e-4), the smallest α the API takes.
@@ -278,38 +279,15 @@ def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = B
                    build_seconds=time.perf_counter() - t0, build_evaluations=evaluations)
 
 
-class _CutShort(Exception):
-    """Carries a table whose build the request's time budget cut short out of the
-    cache (lru_cache does not keep a call that raises): its bound is honest but large,
-    and the next request, with a fresh budget, builds it whole."""
-
-    def __init__(self, table: ETable):
-        self.table = table
-
-
-@lru_cache(maxsize=TABLE_CACHE_ENTRIES)
-def _table_cached(key: tuple) -> ETable:
-    b = budget.current()
-    notes = len(b.notes) if b else 0
+@complete_only(TABLE_CACHE_ENTRIES)
+def table_for_key(key: tuple) -> ETable:
+    """The default-size table for ``key``, from a bounded cache of whole builds (one the
+    request's time budget cut short is answered, with its larger bound, but not kept)."""
     basis_p = key[-1]
     base = None if basis_p is None else table_for_key(key[:-1] + (None,))
-    n = TABLE_N_Y if albedo_kernel.spec_args(_lobe_at(key, 0.25)) is not None else SLOW_TABLE_N
-    table = build(key, n, n if n == SLOW_TABLE_N else TABLE_N_R, base=base)
-    if b and len(b.notes) > notes:
-        raise _CutShort(table)
-    return table
-
-
-def table_for_key(key: tuple) -> ETable:
-    """The default-size table for ``key``, from a bounded cache of whole builds."""
-    try:
-        return _table_cached(key)
-    except _CutShort as cut:
-        return cut.table
-
-
-table_for_key.cache_clear = _table_cached.cache_clear    # what the tests reset
-table_for_key.cache_info = _table_cached.cache_info      # what the trade-off reads
+    compiled = albedo_kernel.spec_args(_lobe_at(key, 0.25)) is not None
+    n_y, n_r = (TABLE_N_Y, TABLE_N_R) if compiled else (SLOW_TABLE_N, SLOW_TABLE_N)
+    return build(key, n_y, n_r, base=base)
 
 
 def table_for(lobe: BRDF, basis_p: float | None = None) -> ETable:

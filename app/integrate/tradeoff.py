@@ -31,12 +31,12 @@ from __future__ import annotations
 
 import time
 from contextvars import ContextVar
-from functools import lru_cache
 
 import numpy as np
 
 from ..physics.brdf import BRDF, CompensatedBRDF
 from . import budget, tables
+from .cache import Keyed, complete_only, freeze
 from .methods import MC_METHODS, MethodError, albedo_by
 from .sampling import SAMPLERS
 
@@ -71,26 +71,6 @@ TABLE_RESERVE_SECONDS = 2.0
 TIMING = "single-run wall clock on a shared server: compare orders of magnitude, not percents"
 
 
-class _Model:
-    """A BRDF as a cache key: equal when the model values (``key``) are."""
-
-    def __init__(self, brdf: BRDF, key):
-        self.brdf, self.key = brdf, key
-
-    def __hash__(self):
-        return hash(self.key)
-
-    def __eq__(self, other):
-        return isinstance(other, _Model) and self.key == other.key
-
-
-class _Incomplete(Exception):
-    """A reference cut short by the time budget: returned, never cached."""
-
-    def __init__(self, data: dict):
-        self.data = data
-
-
 #: Set by a cached function's body when it runs: tells its caller, in this thread, that
 #: the result was computed now rather than found (cache_info counts every thread's hits).
 _COMPUTED: ContextVar[list | None] = ContextVar("tradeoff_computed", default=None)
@@ -103,24 +83,14 @@ def _mark_computed() -> None:
 
 
 def _from_cache(function, *args) -> tuple[dict, bool]:
-    """(a copy of ``function(*args)``, whether it came from its cache); a result cut
-    by the time budget (:class:`_Incomplete`) is returned, never cached."""
+    """(a copy of ``function(*args)``, whether it came from its cache)."""
     marks: list = []
     token = _COMPUTED.set(marks)
     try:
         data = function(*args)
-    except _Incomplete as cut:
-        data = cut.data
     finally:
         _COMPUTED.reset(token)
     return dict(data), not marks
-
-
-def _freeze(data: dict) -> dict:
-    for value in data.values():
-        if isinstance(value, np.ndarray):
-            value.setflags(write=False)           # shared by every hit
-    return data
 
 
 def _single(brdf: BRDF) -> BRDF:
@@ -164,28 +134,23 @@ def _cost_growth(method: str, previous: int, following: int) -> float:
     return ratio * ratio if method == "quadrature" else ratio
 
 
-@lru_cache(maxsize=REFERENCE_CACHE_ENTRIES)
-def _reference_cached(model: _Model, mu: tuple, phi: float) -> dict:
+@complete_only(REFERENCE_CACHE_ENTRIES)
+def _reference_cached(model: Keyed, mu: tuple, phi: float) -> dict:
     _mark_computed()
-    b = budget.current()
-    before = len(b.notes) if b else 0
-    res = albedo_by(model.brdf, np.asarray(mu, dtype=float), phi, "quadrature",
+    res = albedo_by(model.value, np.asarray(mu, dtype=float), phi, "quadrature",
                     tol=REFERENCE_TOL, average=False)
     err = np.asarray(res["E_error"], dtype=float)
-    out = _freeze({"method": "quadrature", "tol": REFERENCE_TOL, "mu": np.asarray(mu),
+    return freeze({"method": "quadrature", "tol": REFERENCE_TOL, "mu": np.asarray(mu),
                    "E": np.asarray(res["E"], dtype=float), "E_error": err,
                    "error": float(np.max(err)), "evaluations": int(res["evaluations"]),
                    "seconds": float(res["seconds"])})
-    if b is not None and len(b.notes) > before:
-        raise _Incomplete(out)
-    return out
 
 
 def reference(brdf: BRDF, key, mu, phi: float = 0.0) -> tuple[dict, bool]:
     """(reference E(μ) with its bound and cost, whether it came from the cache).
     ``key``: hashable model values (equal keys, equal BRDFs)."""
     mu_key = tuple(float(m) for m in np.atleast_1d(mu))
-    return _from_cache(_reference_cached, _Model(brdf, key), mu_key, float(phi))
+    return _from_cache(_reference_cached, Keyed(brdf, key), mu_key, float(phi))
 
 
 def _run(brdf: BRDF, mu, phi: float, method: str, n: int, seed: int) -> dict:
@@ -235,20 +200,17 @@ def tradeoff(brdf: BRDF, key, mu=DEFAULT_MU, phi: float = 0.0, methods=None,
     """
     asked = tuple(dict.fromkeys(methods)) if methods else METHODS
     mu_key = tuple(float(m) for m in np.atleast_1d(mu))
-    data, cached = _from_cache(_tradeoff_cached, _Model(brdf, key), mu_key, float(phi), asked,
+    data, cached = _from_cache(_tradeoff_cached, Keyed(brdf, key), mu_key, float(phi), asked,
                                int(max_budget), int(seed))
     data["cached"] = cached
     return data
 
 
-@lru_cache(maxsize=RESULT_CACHE_ENTRIES)
-def _tradeoff_cached(model: _Model, mu: tuple, phi: float, methods: tuple, max_budget: int,
+@complete_only(RESULT_CACHE_ENTRIES, complete=lambda data: data["complete"])
+def _tradeoff_cached(model: Keyed, mu: tuple, phi: float, methods: tuple, max_budget: int,
                      seed: int) -> dict:
     _mark_computed()
-    data = _freeze(_measure(model.brdf, model.key, np.asarray(mu), phi, methods, max_budget, seed))
-    if not data["complete"]:
-        raise _Incomplete(data)
-    return data
+    return freeze(_measure(model.value, model.key, np.asarray(mu), phi, methods, max_budget, seed))
 
 
 def _measure(brdf: BRDF, key, mu: np.ndarray, phi: float, asked: tuple, max_budget: int,
