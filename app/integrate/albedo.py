@@ -118,10 +118,7 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
     w2 = (ax * cp) ** 2 + (ay * sp) ** 2
     R2 = np.square(_disk_exit(b, w2, vz))
     U = ndf.radial_cdf(R2)                                  # (n, 2N, 1)
-    # 1 − U, exact near U = 1. A CCDF is ≤ 1, but GTR's closed form gives 1 + 1 ulp at
-    # R = 0 (v_z = 0, b ≥ 0), and ln V0 > 0 made the log rule's u = −expm1(h ln V0) a
-    # negative 1e-21 and ρ̃ = √u NaN (found by the RuntimeWarning in the furnace test).
-    V0 = np.minimum(ndf.radial_ccdf(R2), 1.0)
+    V0 = ndf.radial_ccdf(R2)                                # 1 − U, exact near U = 1
     # u = U (1 − (1 − s)^k), k = 2/(1 − β): at v_z = 0 the integrand grows like
     # r̃ ~ (1 − u)^{−β} (``tail_beta``; ½ for GGX), and this makes integrand·du vanish
     # linearly at s = 1 for every tail (as in physics/smith_integral.py).

@@ -306,3 +306,14 @@ def test_smith_numeric_is_finite_at_the_extremes():
             with np.errstate(divide="raise", over="raise", invalid="raise"):
                 ml = mu_Lambda_numeric(ndf, direction_deg(THETAS, 0.0))
             assert np.all(np.isfinite(ml)) and np.all(ml >= 0), (name, alpha)
+
+
+@pytest.mark.parametrize("ndf", sorted(NDFS))
+def test_radial_masses_stay_in_unit_interval_at_the_centre(ndf):
+    """C(0) = 0 and 1 − C(0) = 1 exactly enough that ln(1 − C) ≤ 0: GTR's closed form gave
+    1 + 1 ulp at r̃ = 0 (γ = 2, α = 0.076²) and the albedo's log rule a NaN."""
+    for alpha in (0.076 ** 2, 0.01, 0.3, 1.0):
+        d = NDFS[ndf](alpha, None)
+        r2 = np.array([0.0, 1e-300, 1e-30, 1e-12])
+        ccdf, cdf = d.radial_ccdf(r2), d.radial_cdf(r2)
+        assert np.all(ccdf <= 1.0) and np.all(cdf >= 0.0), (alpha, ccdf, cdf)

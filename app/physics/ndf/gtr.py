@@ -73,7 +73,10 @@ class GTR(SlopeSpaceNDF):
         y = mu2 * (A - 1.0)                  # B − 1, no cancellation
         small = np.abs(y) < SERIES_CUTOFF    # ln B/(B − 1) → 1 − y/2 as A → 1
         ratio = np.where(small, 1.0 - 0.5 * y, where_valid(~small, [log_B, y], lambda lb, yy: lb / yy, 1.0))
-        v = self.k * mu2 * expm1_ratio((1.0 - g) * log_B) * ratio
+        # ≤ 1 as a tail mass; at r̃ = 0 the product of three rounded factors came out
+        # 1 + 1 ulp, and ln(1 − u) > 0 then made the albedo's log rule take √ of −1e-21
+        # (a NaN, found by a RuntimeWarning in the furnace test): the bound is kept here.
+        v = np.minimum(self.k * mu2 * expm1_ratio((1.0 - g) * log_B) * ratio, 1.0)
         return np.where(finite, v, 0.0)
 
     def radial_cdf(self, r2):
