@@ -110,7 +110,8 @@ COST_ALPHA = 0.3
 #: Models timed and kept per process (a few floats each).
 COST_CACHE_ENTRIES = 512
 #: Smallest CPU time a timing reports: time.thread_time ticks in 1 µs or coarser, so a
-#: run below a tick can read 0 and a relative cost would divide by it; 1 ns is far below
+#: run below a tick can read 0 and a relative cost would divide by it (here and for the
+#: albedo methods' wall times); 1 ns is far below
 #: any real run (the fastest measured, GGX compiled: 0.44 ms).
 COST_SECONDS_FLOOR = 1e-9
 #: A choice counts as cheaper when it costs below this fraction of the current model.
@@ -556,7 +557,7 @@ def _albedo_methods(model: dict, quad: Grid, scene: Scene, tol_left: float) -> d
         changes = {"albedo_method": method, **({"samples": kw["samples"]} if kw else {})}
         entries.append({"kind": "albedo_method", "label": label(changes), "changes": changes,
                         "model": model, "max_error": err, "node_max": dev,
-                        "relative_cost": grid.seconds / max(timed.seconds, 1e-9),
+                        "relative_cost": grid.seconds / max(timed.seconds, COST_SECONDS_FLOOR),
                         "within_tol": err <= tol_left,
                         "cheaper": grid.seconds < CHEAPER_BELOW * timed.seconds,
                         "evaluations": grid.evaluations, "seconds": grid.seconds,

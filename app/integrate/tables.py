@@ -218,7 +218,7 @@ def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | 
     """Values at the nodes (E, or E/E₁ of the ratio table), evaluations, node error.
     The ratio's error is that of E_S/E₁ to first order: (e_S + ρ e₁)/E₁; where E₁ = 0
     (μ = 0: no light reaches) E_S = 0 too and the ratio is taken as its limit along
-    the row, the value at the next node (the spline needs a number; Ê₁ = 0 there)."""
+    the row, the value at the first lit node (the spline needs a number; Ê₁ = 0 there)."""
     values = np.empty((r.size, y.size))
     evaluations, node_error = 0, 0.0
     t0 = time.perf_counter()
@@ -236,8 +236,8 @@ def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | 
         res_1 = albedo(_lobe_at(base.key, alpha), mu, tol=tol)
         evaluations += res_s.evaluations + res_1.evaluations
         lit = res_1.E > 0.0
-        ratio = where_valid(lit, [res_s.E, res_1.E], lambda a, b: a / b, np.nan)
-        ratio[~lit] = ratio[lit][0] if lit.any() else 1.0
+        limit = res_s.E[lit][0] / res_1.E[lit][0] if lit.any() else 1.0
+        ratio = where_valid(lit, [res_s.E, res_1.E], lambda a, b: a / b, limit)
         values[i] = ratio
         # the product ρ̂ Ê₁ is what is used: its node error is e_S + ρ (error of Ê₁)
         node_error = max(node_error, float(np.max(res_s.E_error + ratio * res_1.E_error)))
