@@ -235,3 +235,26 @@ def test_bad_pins_are_left_out_with_a_notice(page, page_log):
     assert json.loads(page.evaluate("() => JSON.stringify(window.__brdf.state.pins)")) == [
         {"ndf": "beckmann", "alpha": 0.2}]
     assert not page_log.problems(), page_log.problems()
+
+
+def test_albedo_method_and_advice_tolerance_reach_the_api(page, page_log):
+    """The albedo panel's method menu and samples box, and the advice panel's tol, are
+    sent with their panel's request only, kept in the URL, and drawn (legend, table)."""
+    page.goto("/?show=albedo,advise")
+    wait_quiet(page, ("plot-albedo", "plot-advise"))
+    page.select_option("#albedo-method", "mc_vndf")
+    page.fill("#albedo-samples", "256")
+    page.locator("#albedo-samples").dispatch_event("input")
+    wait_quiet(page, ("plot-albedo",))
+    sent = last_get(page_log, "albedo")
+    assert sent["method"] == "mc_vndf" and sent["samples"] == "256"
+    names = page.evaluate("() => document.getElementById('plot-albedo').data.map((t) => t.name)")
+    assert any("mc_vndf, 256 samples" in (n or "") for n in names), names
+    assert "method" not in last_get(page_log, "advise")
+    page.fill("#advise-tol", "0.05")
+    page.locator("#advise-tol").dispatch_event("input")
+    wait_quiet(page, ("plot-advise",))
+    assert last_get(page_log, "advise")["tol"] == "0.05"
+    query = url_query(page)
+    assert query["albedo.method"] == ["mc_vndf"] and query["advise.tol"] == ["0.05"]
+    assert panel_errors(page) == [] and page_log.problems() == []
