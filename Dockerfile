@@ -28,10 +28,13 @@ COPY static ./static
 RUN pip install -e '.[fast]' \
  && useradd --create-home --uid 10001 --shell /usr/sbin/nologin explorer
 USER explorer
+# Compile the fast path into the image's numba cache (owned by the user that reads it):
+# a container then starts in ~1 s instead of compiling for ~12 s (app/warmup.py).
+RUN python -c "from app.warmup import warm_up; print(f'fast path compiled in {warm_up():.1f} s')"
 
 EXPOSE 8000
 # Healthy when /api/v1/health answers 200 within 2 s (urlopen raises on any other
-# status or a timeout, which exits non-zero). start-period: imports and the first JIT.
+# status or a timeout, which exits non-zero). start-period: imports and loading the compiled fast path.
 HEALTHCHECK --interval=30s --timeout=5s --start-period=30s --retries=3 \
   CMD ["python", "-c", "import urllib.request as u; u.urlopen('http://127.0.0.1:8000/api/v1/health', timeout=2)"]
 CMD ["brdf-explorer", "serve", "--host", "0.0.0.0", "--port", "8000"]

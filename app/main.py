@@ -1,7 +1,9 @@
 """The application: routers, static files, error handlers. Nothing else."""
 from __future__ import annotations
 
+import logging
 import os
+from contextlib import asynccontextmanager
 from pathlib import Path
 
 import plotly
@@ -9,8 +11,9 @@ import fastapi_offline
 from fastapi import FastAPI
 from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
+from starlette.concurrency import run_in_threadpool
 
-from . import __version__
+from . import __version__, warmup
 from .api import errors, middleware
 from .api.routes import router
 from .api.routes_export import router as export_router
@@ -22,8 +25,22 @@ PLOTLY_JS = Path(plotly.__file__).resolve().parent / "package_data" / "plotly.mi
 SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 
 
+@asynccontextmanager
+async def lifespan(app: FastAPI):
+    # Before the first connection: compile the fast path (app/warmup.py says why), and
+    # build the OpenAPI document, which the middleware reads on every API request to
+    # know each operation's parameters (~1 s: it was the first request's latency).
+    seconds = await run_in_threadpool(warmup.warm_up)
+    await run_in_threadpool(app.openapi)
+    # uvicorn configures its own loggers only: this line shows beside its start-up lines
+    logging.getLogger("uvicorn.error").info(
+        "fast path ready in %.1f s (compiled, or loaded from numba's cache)", seconds)
+    yield
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(
+        lifespan=lifespan,
         title="BRDF Lobe Explorer",
         version=__version__,
         description="Microfacet BRDFs — NDFs, Smith masking, G2, Fresnel, albedo — as numbers "

@@ -30,9 +30,11 @@ from urllib.parse import parse_qsl
 
 from fastapi import FastAPI
 from fastapi.middleware.cors import CORSMiddleware
+from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import Headers, MutableHeaders
 from starlette.middleware.gzip import GZipMiddleware
 
+from .. import warmup
 from ..config import Settings
 from ..integrate import budget
 
@@ -370,6 +372,9 @@ class RequestGuard:
                     MutableHeaders(scope=message)["allow"] = ", ".join(methods)
             await send(message)
 
+        if not warmup.done():
+            # an app served without its lifespan: compile before the budget's clock starts
+            await run_in_threadpool(warmup.warm_up)
         with budget.limit(s.max_seconds) as request_budget:
             await self.app(scope, receive, send_fixed)
 

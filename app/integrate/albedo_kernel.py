@@ -114,6 +114,18 @@ if fast.numba is not None:
 ROW_LOOPS = (_rows_parallel, _rows_serial)
 
 
+def compile_loops() -> None:
+    """Compile (or load from numba's disk cache) both forms of the row loop, on one
+    node with the argument types :func:`integrate` passes (see fast.compile_loops)."""
+    if fast.numba is None:
+        return
+    v, node, rule = fast.inputs([[0.0, 0.0, 1.0]], [[0.5]], [0.5])
+    for parallel, loop in zip((True, False), ROW_LOOPS):
+        fast.kernel(loop, parallel)(v, node, node, node, node, rule, rule, rule, rule, rule,
+                                    False, np.empty((1, 1)), fast.NDF_GGX, 0.5, 0.5,
+                                    fast.G2_HEIGHT_CORRELATED, 0.04, 1.0, 5.0)
+
+
 def integrate(args: tuple, v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log: bool,
               w_psi) -> np.ndarray:
     """(1/2π) Σ_ψ w_ψ Σ_u g du for each view direction: E_spec at v (n, 3).
@@ -123,11 +135,9 @@ def integrate(args: tuple, v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log: bo
     du = U w_u; ``h``, ``dh``: (N,) the log rule, used where ``use_log`` and V0 > 0;
     ``w_psi``: (P,) ψ weights.
     """
-    v = np.ascontiguousarray(v, dtype=float)
-    cp, sp, U, V0 = (np.ascontiguousarray(np.broadcast_to(a, cp.shape), dtype=float)
-                     for a in (cp, sp, U, V0))
-    head, tail, w_u, h, dh = (np.ascontiguousarray(np.ravel(a), dtype=float)
-                              for a in (head, tail, w_u, h, dh))
+    (v,) = fast.inputs(v)
+    cp, sp, U, V0 = fast.inputs(cp, sp, U, V0, shape=np.shape(cp))
+    head, tail, w_u, h, dh = fast.inputs(*(np.ravel(a) for a in (head, tail, w_u, h, dh)))
     rows = np.empty(cp.shape)
     fast.run(ROW_LOOPS, rows.size * tail.size, v, cp, sp, U, V0, head, tail, w_u, h, dh,
              bool(use_log), rows, *args)

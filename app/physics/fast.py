@@ -141,7 +141,7 @@ def spec_args(brdf) -> tuple | None:
         f0, f90, p = fresnel.f0, fresnel.f90, getattr(fresnel, "fresnel_p", 5.0)
     else:
         return None
-    return (ndf_kind, brdf.ndf.alpha_x, brdf.ndf.alpha_y, g2_kind,
+    return (ndf_kind, float(brdf.ndf.alpha_x), float(brdf.ndf.alpha_y), g2_kind,
             float(f0), float(f90), float(p), float(brdf.kd))
 
 
@@ -363,6 +363,26 @@ def kernel(func, parallel: bool):
     return k
 
 
+def inputs(*arrays, shape: tuple | None = None) -> tuple[np.ndarray, ...]:
+    """The loops' input arrays as C-contiguous float64 views that are read-only.
+
+    numba compiles one version of a loop per argument type, and an array's type includes
+    whether it is writable: callers pass both kinds (cached node arrays are frozen, fresh
+    ones are not), and each new mix compiled the loop again, ~1 s, in whichever request
+    met it first (app/warmup.py). Read-only views of every input (no copy where the
+    data already is contiguous float64) leave one type per loop. ``shape``: broadcast
+    each array to it first."""
+    out = []
+    for a in arrays:
+        a = np.asarray(a, dtype=float)
+        if shape is not None:
+            a = np.broadcast_to(a, shape)
+        a = np.ascontiguousarray(a).view()
+        a.flags.writeable = False
+        out.append(a)
+    return tuple(out)
+
+
 def run(loops: tuple, n_items: int, *args) -> None:
     """Run ``loops = (parallel_loop, serial_loop)`` on ``args``: the parallel one when
     ``n_items`` makes it pay and the thread pool is free, else the serial one."""
@@ -380,12 +400,27 @@ F_LOOPS = (_f_loop_parallel, _f_loop_serial)
 F_GGX_LOOPS = (_f_ggx_loop_parallel, _f_ggx_loop_serial)
 
 
+def compile_loops() -> None:
+    """Compile (or load from numba's disk cache) both forms of both f loops, on one
+    direction pair with the argument types :func:`spec_args` gives (Python int kinds,
+    float parameters), so later calls find that signature compiled. app/warmup.py calls
+    it before any request is timed."""
+    if numba is None:
+        return
+    (l,) = inputs([[0.0, 0.0, 1.0]])
+    out = np.empty(1)
+    for parallel, loop in zip((True, False), F_GGX_LOOPS):
+        kernel(loop, parallel)(l, l, out, 0.5, 0.5, G2_HEIGHT_CORRELATED, 0.04, 1.0, 0.0)
+    for parallel, loop in zip((True, False), F_LOOPS):
+        kernel(loop, parallel)(l, l, out, NDF_BECKMANN, 0.5, 0.5, G2_HEIGHT_CORRELATED,
+                               0.04, 1.0, 5.0, 0.0)
+
+
 def evaluate_f(args: tuple, l: np.ndarray, v: np.ndarray) -> np.ndarray:
     """f(l, v) for l, v broadcastable (..., 3), with ``args`` from :func:`spec_args`."""
     l, v = np.broadcast_arrays(np.asarray(l, dtype=float), np.asarray(v, dtype=float))
     shape = l.shape[:-1]
-    l2 = np.ascontiguousarray(l.reshape(-1, 3))
-    v2 = np.ascontiguousarray(v.reshape(-1, 3))
+    l2, v2 = inputs(l.reshape(-1, 3), v.reshape(-1, 3))
     out = np.empty(l2.shape[0])
     ndf_kind, ax, ay, g2_kind, f0, f90, p, kd = args
     if ndf_kind == NDF_GGX and p == 5.0:
