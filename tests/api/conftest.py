@@ -7,12 +7,13 @@ with warnings.catch_warnings():
     from fastapi.testclient import TestClient
 
 from app.config import Settings
+from tests.budget import settings_for_tests
 from app.main import create_app
 
 
 @pytest.fixture(scope="session")
 def client():
-    return TestClient(create_app(Settings()))
+    return TestClient(create_app(settings_for_tests()))
 
 
 @pytest.fixture

@@ -18,6 +18,8 @@ from pathlib import Path
 
 import pytest
 
+from tests.budget import TEST_MAX_SECONDS
+
 CHROMIUM = os.environ.get("BRDF_CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = [
     "--no-sandbox",
@@ -80,7 +82,8 @@ def live_server(tmp_path_factory):
         proc = subprocess.Popen(
             [sys.executable, "-m", "uvicorn", "--factory", "app.main:create_app",
              "--host", "127.0.0.1", "--port", str(port), "--log-level", "warning"],
-            cwd=ROOT, stdout=log, stderr=subprocess.STDOUT)
+            cwd=ROOT, stdout=log, stderr=subprocess.STDOUT,
+            env={**os.environ, "BRDF_MAX_SECONDS": str(TEST_MAX_SECONDS)})
         deadline = time.monotonic() + 60   # a clean clone compiles the fast path first (~12 s)
         while proc.poll() is None and time.monotonic() < deadline and not _healthy(url):
             time.sleep(0.1)

@@ -13,14 +13,14 @@ with warnings.catch_warnings():
     warnings.simplefilter("ignore", DeprecationWarning)
     from fastapi.testclient import TestClient
 
-from app.config import Settings
+from tests.budget import settings_for_tests
 from app.export.image import ImageRenderer, get_renderer
 from app.main import create_app
 
 
 @pytest.fixture(scope="session")
 def client():
-    return TestClient(create_app(Settings()))
+    return TestClient(create_app(settings_for_tests()))
 
 
 @pytest.fixture(scope="session")
@@ -33,7 +33,7 @@ def renderer():
 @pytest.fixture(scope="session")
 def image_client(renderer):
     """An app whose image exports use the session's one browser."""
-    app = create_app(Settings())
+    app = create_app(settings_for_tests())
     app.dependency_overrides[get_renderer] = lambda: renderer
     return TestClient(app)
 

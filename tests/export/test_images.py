@@ -10,7 +10,7 @@ from concurrent.futures import ThreadPoolExecutor
 import pytest
 
 from app.api.views import VIEWS
-from app.config import Settings
+from tests.budget import settings_for_tests
 from app.export.image import ImageRenderer, get_renderer
 from app.main import create_app
 
@@ -89,7 +89,7 @@ def test_overlay_exports_as_svg(image_client):
 
 def test_no_chromium_is_503_saying_what_to_install():
     missing = ImageRenderer(browser_path="/nonexistent/chromium")
-    app = create_app(Settings())
+    app = create_app(settings_for_tests())
     app.dependency_overrides[get_renderer] = lambda: missing
     client = TestClient(app)
     for ext in ("svg", "png"):

@@ -16,6 +16,7 @@ with warnings.catch_warnings():
 
 from app.api.views import VIEWS
 from app.config import Settings
+from tests.budget import settings_for_tests
 from app.integrate.albedo import albedo, albedo_average, max_evaluations
 from app.main import create_app
 from app.model import make_spec
@@ -27,7 +28,7 @@ ROUTES = [f"/api/v1/{name}" for name in VIEWS] + [f"/api/v1/figures/{name}" for 
 
 @pytest.fixture(scope="module")
 def client():
-    return TestClient(create_app(Settings()))
+    return TestClient(create_app(settings_for_tests()))
 
 
 def _detail(r):

@@ -18,6 +18,7 @@ with warnings.catch_warnings():
 
 from app import quantities
 from app.config import Settings
+from tests.budget import settings_for_tests
 from app.main import STATIC_DIR, create_app
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -25,7 +26,7 @@ ROOT = Path(__file__).resolve().parents[2]
 
 @pytest.fixture(scope="module")
 def client():
-    return TestClient(create_app(Settings()))
+    return TestClient(create_app(settings_for_tests()))
 
 
 # ---------------------------------------------------------------------------- headers
@@ -232,7 +233,7 @@ async def _raw_get(app, path: str):
 def test_static_files_only_from_static(path):
     import asyncio
     from concurrent.futures import ThreadPoolExecutor
-    app = create_app(Settings())
+    app = create_app(settings_for_tests())
     # In a thread of its own: the browser tests (pytest-playwright's sync API) leave an
     # event loop running in the main thread, where asyncio.run() refuses to start.
     with ThreadPoolExecutor(max_workers=1) as pool:
