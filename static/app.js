@@ -835,6 +835,7 @@
       if (loc.field.type === "boolean") loc.input.checked = !!state[key];
       else loc.input.value = String(state[key]);
     }
+    syncLocalVisibility();
     for (const v of views) document.getElementById(`show-${v.name}`).checked = state.show.includes(v.name);
     const compare = $("#compare");
     compare.hidden = !state.vary;
@@ -847,6 +848,10 @@
   function fmtNum(x) {
     return Math.abs(x) >= 1e4 ? x.toExponential(2).replace("e+", "e") : String(Number(x.toPrecision(4)));
   }
+  function syncLocalVisibility() {
+    for (const loc of locals.values()) loc.input.parentElement.hidden = !fieldApplies(loc.view, loc.field, state);
+  }
+
   function syncDerived() {
     let out = $("#derived");
     if (!out) out = el("p", { class: "derived", id: "derived", "aria-live": "polite" });
@@ -895,6 +900,18 @@
       && !(hint.slice && f.name === "phi_deg")
       && (f.type === "boolean" || f.enum || ((f.type === "number" || f.type === "integer")
                                              && Number.isFinite(f.minimum) && Number.isFinite(f.maximum))));
+  }
+
+  // A panel field that matters only for some values of another (the schema's
+  // x-applies-to: samples and seed for the Monte Carlo methods) is hidden, and not sent,
+  // elsewhere: the API refuses it there rather than ignore it.
+  function fieldApplies(viewName, f, s) {
+    return Object.entries(f.applies_to || {}).every(([other, allowed]) => {
+      const key = localKey(viewName, other);
+      const view = views.find((v) => v.name === viewName);
+      const value = key in s ? s[key] : view?.fields.find((x) => x.name === other)?.default;
+      return allowed.includes(value);
+    });
   }
 
   function fieldLabel(view, f) {
@@ -1015,7 +1032,9 @@
     }
     if (panel.hint.slice) Object.assign(q, sliceAzimuth(s));
     for (const [key, loc] of locals) {
-      if (loc.view === panel.name && s[key] !== loc.field.default) q[loc.field.name] = s[key];
+      if (loc.view === panel.name && s[key] !== loc.field.default && fieldApplies(panel.name, loc.field, s)) {
+        q[loc.field.name] = s[key];
+      }
     }
     if (overlaid(panel, s)) {
       q.vary = s.vary;
@@ -1255,6 +1274,7 @@
     if (notes.length) showNotices(notes);
     syncChoices();
     syncDerived();
+    syncLocalVisibility();
     syncPinList();
     scheduleUrlWrite();
     syncActiveRows();

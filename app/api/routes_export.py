@@ -147,6 +147,8 @@ def _field_info(name: str, schema: dict) -> dict:
             out[key] = prop[key]
     if "const" in prop:
         out["enum"] = [prop["const"]]
+    if "x-applies-to" in prop:        # shown and sent only where it applies (schemas.applies_to)
+        out["applies_to"] = prop["x-applies-to"]
     return out
 
 

@@ -10,10 +10,33 @@ from typing import Annotated, Literal, Optional
 from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
 from ..integrate.albedo import ORDER_MAX
-from ..integrate.methods import DEFAULT_SAMPLES, MC_SAMPLES_MAX, METHODS
+from ..integrate.methods import DEFAULT_SAMPLES, MC_METHODS, MC_SAMPLES_MAX, METHODS
+from .errors import ParamError
 from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_param_names
 
 STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
+
+
+def applies_to(**when: list) -> dict:
+    """OpenAPI extension ``x-applies-to`` of a parameter that matters only when another
+    one takes certain values (``samples`` only with a Monte Carlo ``method``). Given
+    otherwise, the request is refused (applies_where_given); the page hides the field
+    and does not send it."""
+    return {"x-applies-to": when}
+
+
+def applies_where_given(q: BaseModel) -> None:
+    """Raise ValueError (→ 422 naming the parameter) for a parameter given explicitly
+    where its ``x-applies-to`` condition does not hold: silently ignoring it would let a
+    script believe it had set the samples of a quadrature."""
+    for name in q.model_fields_set:
+        extra = type(q).model_fields[name].json_schema_extra
+        when = extra.get("x-applies-to") if isinstance(extra, dict) else None
+        for other, allowed in (when or {}).items():
+            value = getattr(q, other)
+            if value not in allowed:
+                raise ParamError(name, f"{name} applies to {other}={'|'.join(allowed)} only, "
+                                       f"not {other}={value}")
 
 
 def _split_commas(value):
@@ -152,11 +175,14 @@ class AlbedoQuery(ModelQuery):
                                 "(and of E_avg); auto's tolerance")] = 1e-5
     order: Annotated[Optional[int], Field(
         ge=2, le=ORDER_MAX // 2, description=f"quadrature only: fixed Gauss order N (one "
-        f"comparison N vs 2N, E_error from it) instead of refining to tol; [2, {ORDER_MAX // 2}]")] = None
+        f"comparison N vs 2N, E_error from it) instead of refining to tol; [2, {ORDER_MAX // 2}]",
+        json_schema_extra=applies_to(method=["quadrature"]))] = None
     samples: Annotated[int, Field(ge=2, le=MC_SAMPLES_MAX, description=f"Monte Carlo only: "
-                                  f"directions per μ, [2, {MC_SAMPLES_MAX}]")] = DEFAULT_SAMPLES
+                                  f"directions per μ, [2, {MC_SAMPLES_MAX}]",
+                                  json_schema_extra=applies_to(method=list(MC_METHODS)))] = DEFAULT_SAMPLES
     seed: Annotated[int, Field(ge=0, le=2 ** 63 - 1, description="Monte Carlo only: seed of the "
-                               "random generator (same seed, same numbers)")] = 0
+                               "random generator (same seed, same numbers)",
+                               json_schema_extra=applies_to(method=list(MC_METHODS)))] = 0
 
 
 class G2Query(ModelQuery):

@@ -39,9 +39,15 @@ class View:
     summary: str
     query: type
     figure_query: type
-    check: Callable[[object, Settings], None]
+    check_limits: Callable[[object, Settings], None]
     compute: Callable[[ModelSpec, object], dict]
     figure: Callable[[dict, ModelSpec, object], dict]
+
+    def check(self, q, settings: Settings) -> None:
+        """Refuse the query before any work: a parameter given where it does not apply
+        (schemas.applies_to), then the view's own limits."""
+        schemas.applies_where_given(q)
+        self.check_limits(q, settings)
 
 
 def _check_curve(q, s: Settings):
@@ -99,8 +105,6 @@ def _check_albedo(q, s: Settings):
     count = len(q.mu) if q.mu is not None else q.n
     where = "mu" if q.mu is not None else "n"
     _limit(where, count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
-    if q.order is not None and q.method != "quadrature":
-        raise ParamError("order", f"order applies to method=quadrature only, not method={q.method}")
     if q.method.startswith("mc_"):
         if count * q.samples > s.max_mc_evaluations:
             raise ParamError("samples", f"{count} μ values × samples={q.samples} = "

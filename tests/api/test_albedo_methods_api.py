@@ -115,6 +115,10 @@ def test_albedo_figure_shows_both_curves_with_compensation(client):
     ("method=table&fresnel=dielectric", "method"),             # tabulated for F = 1 / Schlick
     ("method=mc_vndf&ndf=student_t", "method"),                # no visible-normal sampler
     ("method=mc_ndf&order=8", "order"),                        # order is the quadrature's
+    ("method=quadrature&samples=64", "samples"),               # samples, seed: Monte Carlo's
+    ("samples=64", "samples"),                                 # (the default method too)
+    ("method=table&seed=1", "seed"),
+    ("method=auto&samples=64", "samples"),
     ("order=1", "order"),
     ("order=100000", "order"),
     ("method=mc_ndf&samples=1", "samples"),

@@ -242,7 +242,10 @@ def test_albedo_method_and_advice_tolerance_reach_the_api(page, page_log):
     sent with their panel's request only, kept in the URL, and drawn (legend, table)."""
     page.goto("/?show=albedo,advise")
     wait_quiet(page, ("plot-albedo", "plot-advise"))
+    # samples and seed are the Monte Carlo methods' only: hidden with the quadrature
+    assert not page.is_visible("#albedo-samples") and not page.is_visible("#albedo-seed")
     page.select_option("#albedo-method", "mc_vndf")
+    assert page.is_visible("#albedo-samples") and page.is_visible("#albedo-seed")
     page.fill("#albedo-samples", "256")
     page.locator("#albedo-samples").dispatch_event("input")
     wait_quiet(page, ("plot-albedo",))
@@ -257,4 +260,11 @@ def test_albedo_method_and_advice_tolerance_reach_the_api(page, page_log):
     assert last_get(page_log, "advise")["tol"] == "0.05"
     query = url_query(page)
     assert query["albedo.method"] == ["mc_vndf"] and query["advise.tol"] == ["0.05"]
+    # back to the quadrature: the samples chosen are kept for later but not sent (the
+    # API refuses samples where they do not apply)
+    page.select_option("#albedo-method", "quadrature")
+    wait_quiet(page, ("plot-albedo",))
+    assert not page.is_visible("#albedo-samples")
+    assert "samples" not in last_get(page_log, "albedo")
+    assert url_query(page)["albedo.samples"] == ["256"]
     assert panel_errors(page) == [] and page_log.problems() == []
