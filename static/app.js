@@ -38,6 +38,7 @@
   //   slice: its phi_deg follows the plane of incidence when anisotropic;
   //   keys: the URL names of its own toggles where they predate generic panels;
   //   fields: its own fields to show although SKIP_FIELDS hides them elsewhere (advise's tol);
+  //   short: a wide panel one row high (a table of a few rows: two rows left half of it blank);
   //   pin: its figure is made of curves, so POST /figures/{name} can overlay pinned
   //        models (image and surface figures answer 422 there); tails: "compare tails".
   const PANEL_HINTS = {
@@ -53,10 +54,11 @@
     sphere: { title: "Lit sphere", sub: "f·cos θ_l under one light (θ_i, φ_i)" },
     slice: { title: "θ_h / θ_d slice", sub: "the Disney explorer's image", labels: { cosine: "× cos θ_l" } },
     samples: { title: "Importance sampling", sub: "directions drawn for v" },
-    checks: { title: "Checks", sub: "identities computed next to the values they must have", wide: true },
+    checks: { title: "Checks", sub: "identities computed next to the values they must have", wide: true,
+              short: true },
     tradeoff: { title: "Speed vs accuracy", sub: "albedo error against cost, per method", wide: true },
     advise: { title: "Model only what the scene needs", sub: "cheaper choices, their error and cost", wide: true,
-              fields: ["tol"] },
+              short: true, fields: ["tol"] },
   };
   const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
   const FIELD_LABELS = { log: "log scale", cosine: "× cos θ", display: "display",
@@ -969,7 +971,7 @@
       const tools = el("div", { class: "panel-tools" }, ...panelFields(view).map((f) => localControl(view, f)));
       const status = el("div", { class: "panel-status", role: "status", "aria-live": "polite" });
       const div = el("div", { class: "plot", id: `plot-${view.name}` });
-      const section = el("section", { class: `panel${hint.wide ? " panel-wide" : ""}`,
+      const section = el("section", { class: `panel${hint.wide ? " panel-wide" : ""}${hint.short ? " panel-short" : ""}`,
                                       "data-panel": view.name, "aria-labelledby": hid, hidden: true },
         el("header", { class: "panel-head" }, heading, el("div", { class: "panel-actions" }, tools)),
         el("div", { class: "plot-wrap" }, div, status));

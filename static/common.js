@@ -192,10 +192,16 @@ window.BRDF = (() => {
     layout.margin = { ...(layout.margin || {}) };
     const title = layout.title;
     delete layout.title;
-    const top = keepTitle && title ? 30 : 0;
+    // Plotly places a title of several <br> lines by its first line: at the top of the
+    // container the others push the first out of view. So the first line is the title
+    // and the rest its subtitle, which Plotly stacks below it; the margin fits them.
+    const text = keepTitle && title ? String(typeof title === "string" ? title : title.text || "") : "";
+    const [head, ...rest] = text.split(/<br\s*\/?>/i);
+    const top = text ? 26 + 15 * rest.length : 0;
     if (top) {
-      layout.title = { ...(typeof title === "string" ? { text: title } : title),
+      layout.title = { ...(typeof title === "string" ? {} : title), text: head,
                        yref: "container", y: 0.99, yanchor: "top", font: { size: 13 } };
+      if (rest.length) layout.title.subtitle = { text: rest.join("<br>"), font: { size: 11 } };
     }
     const cartesian = !layout.polar && !layout.scene && Object.keys(layout).some((k) => /^[xy]axis\d*$/.test(k));
     if (layout.polar) {
@@ -207,6 +213,9 @@ window.BRDF = (() => {
       }
     } else if (layout.scene) {
       layout.margin.t = top;
+    } else if (!cartesian) {
+      // a table: its top margin held the title, which a panel shows in its heading
+      layout.margin.t = 8 + top;
     } else if (cartesian) {
       const legendShown = layout.showlegend !== false;
       layout.margin.t = (legendShown ? 30 : 14) + top;

@@ -59,11 +59,12 @@ def advise_figure(data: dict, spec: dict) -> dict:
                                                       if method.get("samples") else "")
     model = ", ".join([spec["ndf"], spec["masking"], spec["g2"], spec["fresnel"]]
                       + (["Kulla-Conty"] if spec.get("multiscatter") == "kulla_conty" else []))
-    title = (f"Cheaper choices — {model}"
-             f"<br>over α ∈ [{rng['alpha_min']:g}, {rng['alpha_max']:g}], θ ≤ {rng['theta_max_deg']:g}°, "
-             f"tol {data['tol']:g}" + ("" if data.get("complete", True) else " — incomplete (time budget)")
-             + f"<br>Recommended: {said} (error ≤ {data['max_error']:.2g}, "
-             f"cost {data['relative_cost']:.3g}×)")
+    # the recommendation first: a page heading shows the title's first lines only
+    title = (f"Recommended: {said} (error ≤ {data['max_error']:.2g}, "
+             f"cost {data['relative_cost']:.3g}×)"
+             + ("" if data.get("complete", True) else " — incomplete (time budget)")
+             + f"<br>Cheaper choices than {model} over α ∈ [{rng['alpha_min']:g}, "
+             f"{rng['alpha_max']:g}], θ ≤ {rng['theta_max_deg']:g}°, tol {data['tol']:g}")
     table = {
         "type": "table",
         "columnwidth": [3.2, 1.6, 1.2, 1.1, 0.9, 1.7],
@@ -73,7 +74,7 @@ def advise_figure(data: dict, spec: dict) -> dict:
         "cells": {"values": columns, "fill": {"color": [fills] * len(columns)}, "align": "left",
                   "height": ROW_HEIGHT, "font": {"size": 12}},
     }
-    layout = base_layout(title, margin={"l": 20, "r": 20, "t": 100, "b": 20})
+    layout = base_layout(title, margin={"l": 20, "r": 20, "t": 80, "b": 20})
     layout["annotations"] = [{
         "text": "max |ΔE|: largest error of the directional albedo E(μ) over the range, an upper "
                 "bound; cost: CPU time of f (models) or of E (albedo methods) over the current",

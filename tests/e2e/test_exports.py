@@ -52,6 +52,11 @@ def test_every_view_embeds_without_errors(page, page_log, base_url):
         assert box["width"] >= 600 and box["height"] >= 250, (v["name"], box)   # fills the frame
         assert page.evaluate("() => document.documentElement.scrollHeight <= innerHeight + 1")
         assert page.is_hidden("#embed-controls")
+        # the title's every line inside the frame and above the plot (a title of several
+        # <br> lines had its first line pushed out of the top)
+        lines = page.evaluate("""() => [...document.querySelectorAll('#plot .gtitle, #plot .gtitle-subtitle')]
+            .map((t) => { const r = t.getBoundingClientRect(); return [r.top, r.bottom, t.textContent]; })""")
+        assert lines and all(top >= box["y"] - 0.5 for top, _, _ in lines), (v["name"], lines, box)
     assert page_log.problems() == []
 
 

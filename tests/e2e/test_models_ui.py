@@ -254,6 +254,8 @@ def test_albedo_method_and_advice_tolerance_reach_the_api(page, page_log):
     names = page.evaluate("() => document.getElementById('plot-albedo').data.map((t) => t.name)")
     assert any("mc_vndf, 256 samples" in (n or "") for n in names), names
     assert "method" not in last_get(page_log, "advise")
+    # the heading shows the title's first lines: the recommendation comes first
+    assert page.inner_text("#h-advise").startswith("Recommended:")
     page.fill("#advise-tol", "0.05")
     page.locator("#advise-tol").dispatch_event("input")
     wait_quiet(page, ("plot-advise",))
