@@ -16,12 +16,29 @@ Axes (chosen by measurement, bench/tables.py):
   uniform in μ misses it below α ~ 1/n (error 2e-2 with 32×32); in y it is a fixed
   feature. y = 0 is μ = 0, y = 1 is μ = 1.
 
-The Schlick-basis table holds the ratio ρ = E_S/E₁ instead, on (r, x = √μ), and gives
-E_S = ρ̂ Ê₁. On the y axis E_S was wrong by up to 6e-2 (GGX, 32×32): for small α, E_S ≈
-E₁ (1 − μ)^p (the mirror has θ_d = θ_v), a polynomial spread over all μ, which y squeezes
-into y ∈ [0.99, 1]. The ratio tends to (1 − μ)^p there, smooth in √μ at every α: measured
-2e-3 at 32×32 (worst at α ≈ 1e-3, μ ≈ 0.005, where the ratio has its own grazing dip;
-tests/physics/test_tables.py checks its bound there).
+The Schlick-basis table holds the deviation from the mirror, scaled,
+
+    D = (E_S − Ê₁ (1 − μ)^p) / w(α),   w(α) = α (1 + ln(1/α)),
+
+on the F = 1 table's (r, y) nodes (with the first r cell and the last three y cells
+split at their midpoints), Ê₁ the F = 1 table's spline, and gives E_S = D̂ w + Ê₁ (1 − μ)^p.
+For small α, E_S ≈ E₁ (1 − μ)^p (the mirror has θ_d = θ_v): E_S itself on y was wrong by
+up to 6e-2 (GGX, 32×32), since y squeezes that polynomial in μ into y ∈ [0.99, 1], while
+the deviation is O(α) and its grazing dip sits at μ ~ α, where y resolves it. At μ = 0
+it is −p α (ln(1/α) − 1.4) for GGX (the slopes' heavy tail; measured at α = 1e-4…1e-2),
+whose r² ln r a cubic in r misses in the first r cell (8e-5); w takes out most of it
+(1.5e-5) and the split first cell the rest; the split last y cells resolve the O(α²)
+deviation at μ ≳ 0.5 for α ~ 5e-3, which y compresses into its last cells (7.7e-6 →
+5.9e-6). Ê₁ is the F = 1 spline itself at every node, so no E₁ is computed again: the
+refined knots contain the F = 1 table's, so its spline is reproduced exactly.
+
+Measured by ``python bench/schlick_table.py`` (p = 5, 56×56, dense check against the
+quadrature at ~6 000 off-node points plus a sweep of μ ≤ 0.05 at α ≤ 3e-2): GGX
+height-correlated 5.9e-6 (reported bound 1.0e-5), separable 5.9e-6; Beckmann 1.4e-5,
+which is the F = 1 Beckmann table's own error (1.5e-5) inherited through Ê₁; p = 3
+alike. The ratio E_S/E₁ on (r, √μ) used before: 8.4e-4 (GGX, bound 1.3e-3) and 2.3e-4
+(Beckmann), worst at α ≈ 3e-4, μ ≈ 2e-3 (its own grazing dip), at the same build cost
+(±5 % CPU).
 
 Interpolation: a bicubic interpolating spline (scipy RectBivariateSpline, s = 0).
 Its error is measured when the table is built, against the quadrature at off-grid points
@@ -90,6 +107,28 @@ def build_points(n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R) -> int:
 TABLE_CACHE_ENTRIES = 16
 #: Gauss nodes per y interval of the E_avg rule (the spline is a cubic there).
 E_AVG_NODES_PER_CELL = 8
+#: The Schlick-basis table's grid is the F = 1 table's with its first SCHLICK_SPLIT_R
+#: r cells and its last SCHLICK_SPLIT_Y y cells split at their midpoints (module
+#: docstring). Measured (GGX h-c, p = 5, 56×56, dense check): no split 1.5e-5 (worst at
+#: α = 3e-4, μ = 0); first r cell 7.7e-6 (α = 5e-3, μ = 0.65); and the last 3 y cells
+#: 5.9e-6 (α = 3e-2, μ = 0.7; splitting 6, 10 or 14 y cells: 5.5e-6 to 6.2e-6; the next
+#: r cell too: 5.9e-6).
+SCHLICK_SPLIT_R = 1
+SCHLICK_SPLIT_Y = 3
+
+
+def split_cells(nodes: np.ndarray, first: int = 0, last: int = 0) -> np.ndarray:
+    """``nodes`` with their ``first`` first and ``last`` last cells split at the midpoint."""
+    mids = 0.5 * (nodes[:-1] + nodes[1:])
+    cell = np.arange(mids.size)
+    return np.sort(np.concatenate([nodes, mids[(cell < first) | (cell >= mids.size - last)]]))
+
+
+def mirror_scale(alpha):
+    """w(α) = α (1 + ln(1/α)), the size of the Schlick basis' deviation from the mirror
+    (module docstring); > 0 on (0, 1]."""
+    alpha = np.asarray(alpha, dtype=float)
+    return alpha * (1.0 - np.log(alpha))
 
 
 def mu_from_y(y, alpha):
@@ -137,8 +176,9 @@ class ETable:
     node_error: float        # largest quadrature error of a node
     build_seconds: float
     build_evaluations: int
-    #: None: ``values`` are E on (r, y). A table: ``values`` are E/base.E on (r, √μ)
-    #: (the Schlick basis, see the module docstring).
+    #: None: ``values`` are E on (r, y). A table (the F = 1 table of the same lobe):
+    #: ``values`` are the Schlick basis' scaled deviation (E − Ê₁ (1 − μ)^p)/w(α) on
+    #: base's (r, y) with split cells (see the module docstring).
     base: "ETable | None" = None
 
     @property
@@ -149,12 +189,11 @@ class ETable:
         """Interpolated E(μ, α), clipped to [0, 1] (MATH.md identity 7)."""
         alpha = np.asarray(alpha, dtype=float)
         r = np.clip(np.sqrt(alpha), self.r[0], self.r[-1])
-        if self.base is not None:
-            x = np.sqrt(np.clip(np.asarray(mu, dtype=float), 0.0, 1.0))
-            r, x = np.broadcast_arrays(r, x)
-            return np.clip(self.spline.ev(r, x) * self.base.E(mu, alpha), 0.0, 1.0)
+        mu = np.clip(np.asarray(mu, dtype=float), 0.0, 1.0)
         y = y_from_mu(mu, np.clip(alpha, self.r[0] ** 2, 1.0))
-        r, y = np.broadcast_arrays(r, y)
+        r, y, mu = np.broadcast_arrays(r, y, mu)
+        if self.base is not None:
+            return np.clip(_schlick_from_table(self, r, y, mu, self.spline.ev(r, y)), 0.0, 1.0)
         return np.clip(self.spline.ev(r, y), 0.0, 1.0)
 
     def E_avg(self, alpha: float) -> float:
@@ -167,10 +206,9 @@ class ETable:
 @lru_cache(maxsize=1024)
 def _E_avg_cached(table: ETable, alpha: float) -> float:
     t, w = gauss_legendre_01(E_AVG_NODES_PER_CELL)
-    # on the y cells of the F = 1 table, whose features (the grazing dip) the ratio
-    # table's product inherits; the ratio's spline is C² across its own knots.
-    grid = table.y if table.base is None else table.base.y
-    lo, hi = grid[:-1, None], grid[1:, None]
+    # on the table's y cells (the Schlick table's contain the F = 1 table's, whose
+    # spline is part of its E)
+    lo, hi = table.y[:-1, None], table.y[1:, None]
     y = (lo + (hi - lo) * t).ravel()
     wy = ((hi - lo) * w).ravel()
     al = max(alpha, table.r[0] ** 2)
@@ -214,11 +252,17 @@ def _refuse_if_too_slow(key: tuple, predicted: float) -> None:
             "CLI) there is no budget")
 
 
+def _schlick_from_table(table: ETable, r, y, mu, deviation):
+    """E_S = D w(α) + Ê₁ (1 − μ)^p from the scaled deviation D at (r, y) (module
+    docstring); Ê₁ is the F = 1 table's spline, unclipped, as at the nodes."""
+    p = table.key[-1]
+    return deviation * mirror_scale(r * r) + table.base.spline.ev(r, y) * (1.0 - mu) ** p
+
+
 def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | None):
-    """Values at the nodes (E, or E/E₁ of the ratio table), evaluations, node error.
-    The ratio's error is that of E_S/E₁ to first order: (e_S + ρ e₁)/E₁; where E₁ = 0
-    (μ = 0: no light reaches) E_S = 0 too and the ratio is taken as its limit along
-    the row, the value at the first lit node (the spline needs a number; Ê₁ = 0 there)."""
+    """Values at the nodes (E, or the Schlick basis' scaled deviation D), evaluations,
+    node error. D's nodes use the F = 1 spline Ê₁, so that the table gives E_S at its
+    nodes whatever Ê₁'s own error: its node error is E_S's."""
     values = np.empty((r.size, y.size))
     evaluations, node_error = 0, 0.0
     t0 = time.perf_counter()
@@ -226,37 +270,36 @@ def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | 
         if i == 1:
             _refuse_if_too_slow(key, (time.perf_counter() - t0) * (r.size + CHECK_R + 1))
         alpha = ri * ri
+        mu = mu_from_y(y, alpha)
+        res = albedo(_lobe_at(key, alpha), mu, tol=tol)
+        evaluations += res.evaluations
+        node_error = max(node_error, float(np.max(res.E_error)))
         if base is None:
-            res = albedo(_lobe_at(key, alpha), mu_from_y(y, alpha), tol=tol)
-            values[i], evaluations = res.E, evaluations + res.evaluations
-            node_error = max(node_error, float(np.max(res.E_error)))
+            values[i] = res.E
             continue
-        mu = y * y
-        res_s = albedo(_lobe_at(key, alpha), mu, tol=tol)
-        res_1 = albedo(_lobe_at(base.key, alpha), mu, tol=tol)
-        evaluations += res_s.evaluations + res_1.evaluations
-        lit = res_1.E > 0.0
-        limit = res_s.E[lit][0] / res_1.E[lit][0] if lit.any() else 1.0
-        ratio = where_valid(lit, [res_s.E, res_1.E], lambda a, b: a / b, limit)
-        values[i] = ratio
-        # the product ρ̂ Ê₁ is what is used: its node error is e_S + ρ (error of Ê₁)
-        node_error = max(node_error, float(np.max(res_s.E_error + ratio * res_1.E_error)))
+        e1 = base.spline.ev(np.full(y.size, ri), y)
+        values[i] = (res.E - e1 * (1.0 - mu) ** key[-1]) / mirror_scale(alpha)
     return values, evaluations, node_error
 
 
 def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = BUILD_TOL,
           seed: int = 0, base: ETable | None = None) -> ETable:
     """Compute the nodes, fit the spline, measure its error (see the module docstring).
-    With ``base`` (the F = 1 table of the same lobe) the table is the ratio E/E₁ on
-    (r, √μ). A node's quadrature error is part of the reported error, so a build that a
-    request's time budget cut short reports the larger error it has."""
+    With ``base`` (the F = 1 table of the same lobe) the table is the Schlick basis'
+    scaled deviation on base's grid with split cells (n_y and n_r are not used). A
+    node's quadrature error is part of the reported error, so a build that a request's
+    time budget cut short reports the larger error it has."""
     t0 = time.perf_counter()
-    r = np.linspace(ROUGHNESS_MIN, 1.0, n_r)
-    y = np.linspace(0.0, 1.0, n_y) ** (Y_GRADING if base is None else 1.0)
+    if base is None:
+        r = np.linspace(ROUGHNESS_MIN, 1.0, n_r)
+        y = np.linspace(0.0, 1.0, n_y) ** Y_GRADING
+    else:
+        r = split_cells(base.r, first=SCHLICK_SPLIT_R)
+        y = split_cells(base.y, last=SCHLICK_SPLIT_Y)
+        n_y, n_r = y.size, r.size
     values, evaluations, node_error = _nodes(key, r, y, tol, base)
     spline = RectBivariateSpline(r, y, values, kx=3, ky=3, s=0)
     table = ETable(key, r, y, values, spline, 0.0, 0.0, node_error, 0.0, 0, base)
-    axis_to_mu = mu_from_y if base is None else (lambda x, alpha: np.asarray(x) ** 2)
     # Check points: every y cell, in CHECK_R roughness cells (the first and the last
     # always: the grazing corner at r = 1 is where a 32×32 table was worst), each at
     # the cell's centre moved by a seeded jitter of up to ±40 % of the cell (never on a
@@ -269,7 +312,7 @@ def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = B
     measured = 0.0
     for rc in r_check:
         y_check = y[:-1] + (0.5 + rng.uniform(-0.4, 0.4, n_y - 1)) * np.diff(y)
-        mu = axis_to_mu(y_check, rc * rc)
+        mu = mu_from_y(y_check, rc * rc)
         res = albedo(_lobe_at(key, rc * rc), mu, tol=tol)
         evaluations += res.evaluations
         node_error = max(node_error, float(np.max(res.E_error)))
