@@ -269,4 +269,13 @@ def test_albedo_method_and_advice_tolerance_reach_the_api(page, page_log):
     assert not page.is_visible("#albedo-samples")
     assert "samples" not in last_get(page_log, "albedo")
     assert url_query(page)["albedo.samples"] == ["256"]
+    # auto with a tol: the panel's tol box goes to the request, the legend names the choice
+    page.select_option("#albedo-method", "auto")
+    page.fill("#albedo-tol", "0.0001")
+    page.locator("#albedo-tol").dispatch_event("input")
+    wait_quiet(page, ("plot-albedo",))
+    sent = last_get(page_log, "albedo")
+    assert sent["method"] == "auto" and sent["tol"] == "0.0001" and "samples" not in sent
+    names = page.evaluate("() => document.getElementById('plot-albedo').data.map((t) => t.name)")
+    assert any("(auto)" in (n or "") for n in names), names
     assert panel_errors(page) == [] and page_log.problems() == []
