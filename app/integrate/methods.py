@@ -26,7 +26,7 @@ import numpy as np
 from ..physics.brdf import BRDF, CompensatedBRDF
 from .albedo import DEFAULT_TOL, albedo, albedo_average
 from .montecarlo import SAMPLERS, albedo_mc
-from .tables import table_for, tabulated_albedo
+from .tables import TableTooSlow, table_for, tabulated_albedo
 
 MC_METHODS = {f"mc_{name}": name for name in SAMPLERS}
 METHODS = ("quadrature", *MC_METHODS, "table", "auto")
@@ -57,14 +57,6 @@ def _table(brdf: BRDF, mu) -> dict:
                       "build_evaluations": sum(t.build_evaluations for t in tables)}}
 
 
-def _table_bound(brdf: BRDF) -> float | None:
-    """The table's error bound for this model, or None where tables do not apply."""
-    try:
-        return tabulated_albedo(brdf, [0.5])[1]
-    except ValueError:
-        return None
-
-
 def single_albedo(brdf: BRDF, mu, phi: float, method: str, tol: float = DEFAULT_TOL,
                   order: int | None = None, samples: int = DEFAULT_SAMPLES, seed: int = 0) -> dict:
     """E(μ) of a single-scattering BRDF by ``method`` (not ``auto``)."""
@@ -88,10 +80,21 @@ def single_albedo(brdf: BRDF, mu, phi: float, method: str, tol: float = DEFAULT_
     raise MethodError("method", f"method must be one of {', '.join(METHODS)}; got {method!r}")
 
 
-def choose(brdf: BRDF, tol: float) -> str:
-    """``auto``: the table when it applies and meets tol, else the quadrature."""
-    bound = _table_bound(brdf) if brdf.ndf.isotropic else None
-    return "table" if bound is not None and bound <= tol else "quadrature"
+def choose(brdf: BRDF, tol: float) -> tuple[str, str]:
+    """``auto``: the table when it applies and meets tol, else the quadrature; and why
+    (the response says it: a model whose table is refused or too loose for tol looks
+    like any other, and a user asks why auto took the slow method)."""
+    if not brdf.ndf.isotropic:
+        return "quadrature", "no table: tables are for isotropic roughness only"
+    try:
+        bound = tabulated_albedo(brdf, [0.5])[1]
+    except TableTooSlow as exc:
+        return "quadrature", f"the table was not built: {exc}"
+    except ValueError as exc:
+        return "quadrature", f"no table: {exc}"
+    if bound <= tol:
+        return "table", f"the table's bound {bound:.2g} ≤ tol {tol:g}"
+    return "quadrature", f"the table's bound {bound:.2g} > tol {tol:g}"
 
 
 def albedo_by(brdf: BRDF, mu, phi: float = 0.0, method: str = "quadrature",
@@ -99,7 +102,8 @@ def albedo_by(brdf: BRDF, mu, phi: float = 0.0, method: str = "quadrature",
               samples: int = DEFAULT_SAMPLES, seed: int = 0, average: bool = True) -> dict:
     """E(μ) of the model as configured, by ``method``; with ``average`` also E_avg.
 
-    Keys: mu, E, E_error, evaluations, seconds, method (the one used), requested_method;
+    Keys: mu, E, E_error, evaluations, seconds, method (the one used), requested_method
+    (and with ``auto`` auto_reason, why it chose that method);
     with compensation E_single, E_single_error, F_avg, E_avg_single (Kulla-Conty's Ē) and
     F_ms; ``E_avg``/``E_avg_error`` when ``average``.
     """
@@ -107,10 +111,13 @@ def albedo_by(brdf: BRDF, mu, phi: float = 0.0, method: str = "quadrature",
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
     requested = method
     single = brdf.single() if isinstance(brdf, CompensatedBRDF) else brdf
+    reason = None
     if method == "auto":
-        method = choose(single, tol)
+        method, reason = choose(single, tol)
     out = single_albedo(single, mu, phi, method, tol, order, samples, seed)
     out.update(mu=mu, method=method, requested_method=requested)
+    if reason is not None:
+        out["auto_reason"] = reason
     if average:
         if method == "table":
             avg = _table_average(single)

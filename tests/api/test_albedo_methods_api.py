@@ -77,6 +77,20 @@ def test_auto_names_the_method_it_chose(client):
     tight = get(client, f"/api/v1/albedo?mu=0.5&alpha=0.4&fresnel=none&method=auto&tol={bound / 10}")
     assert loose["requested_method"] == "auto" and loose["method"] == "table"
     assert tight["method"] == "quadrature" and tight["E_error"][0] <= bound / 10
+    assert "≤ tol" in loose["auto_reason"] and "> tol" in tight["auto_reason"]
+    assert "auto_reason" not in table
+
+
+def test_auto_says_why_it_took_the_quadrature():
+    """A table the time budget refuses to build, or none for the model: auto takes the
+    quadrature and its reason names the cause (a lobe whose table no other test builds: GTR's numpy integrand at an odd γ)."""
+    tight = TestClient(create_app(Settings(max_seconds=0.3)))
+    slow = get(tight, "/api/v1/albedo?mu=0.5&ndf=gtr&gamma=1.2345&g2=separable&fresnel=none"
+                      "&alpha=0.3&method=auto&tol=1e-2")
+    assert slow["method"] == "quadrature"
+    assert slow["auto_reason"].startswith("the table was not built") and "BRDF_MAX_SECONDS" in slow["auto_reason"]
+    none = get(tight, "/api/v1/albedo?mu=0.5&fresnel=dielectric&method=auto&tol=1e-3")
+    assert none["method"] == "quadrature" and none["auto_reason"].startswith("no table")
 
 
 @pytest.mark.parametrize("ndf", ["ggx", "beckmann"])
