@@ -85,6 +85,13 @@ TABLE_N_R = 56
 #: (BRDF_MAX_SECONDS, 10 s), so every request would be cut short and rebuild it. 32²:
 #: ~9 s; its bound (measured at build, ~3e-5 for GGX) is what the response reports.
 SLOW_TABLE_N = 32
+#: ... and when that one would not build within the request's budget (GTR at γ near 1.5:
+#: ~13 s predicted), this coarser grid, reported with its own larger bound, before the
+#: request is refused: a slider on a shape parameter then gets answers with
+#: compensation on. Measured for GTR γ = 1.5, F = 1 (idle): 16² 2.4 s, bound 6.1e-3;
+#: 24² 3.6 s, 3.5e-3. Kept for the process like any whole table (a precise one: the CLI,
+#: which has no budget, or a raised BRDF_MAX_SECONDS in a fresh process).
+COARSE_TABLE_N = 16
 #: Quadrature tolerance of each node: 10× below the interpolation error of 64×64 tables
 #: (the reported error adds the nodes' own estimated errors).
 BUILD_TOL = 1e-6
@@ -325,12 +332,19 @@ def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = B
 @complete_only(TABLE_CACHE_ENTRIES)
 def table_for_key(key: tuple) -> ETable:
     """The default-size table for ``key``, from a bounded cache of whole builds (one the
-    request's time budget cut short is answered, with its larger bound, but not kept)."""
+    request's time budget cut short is answered, with its larger bound, but not kept).
+    A lobe without the compiled integrand whose SLOW_TABLE_N² table the budget refuses
+    gets the COARSE_TABLE_N² one if that fits (TableTooSlow otherwise)."""
     basis_p = key[-1]
     base = None if basis_p is None else table_for_key(key[:-1] + (None,))
-    compiled = albedo_kernel.spec_args(_lobe_at(key, 0.25)) is not None
-    n_y, n_r = (TABLE_N_Y, TABLE_N_R) if compiled else (SLOW_TABLE_N, SLOW_TABLE_N)
-    return build(key, n_y, n_r, base=base)
+    if albedo_kernel.spec_args(_lobe_at(key, 0.25)) is not None:
+        return build(key, TABLE_N_Y, TABLE_N_R, base=base)
+    try:
+        return build(key, SLOW_TABLE_N, SLOW_TABLE_N, base=base)
+    except TableTooSlow:
+        if base is not None:      # the Schlick basis takes its base's grid: no coarser one
+            raise
+        return build(key, COARSE_TABLE_N, COARSE_TABLE_N, base=base)
 
 
 def table_for(lobe: BRDF, basis_p: float | None = None) -> ETable:

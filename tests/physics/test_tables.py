@@ -80,3 +80,30 @@ def test_schlick_basis_table_E_avg_matches_quadrature():
         model = make_spec(ndf="ggx", alpha=alpha, fresnel="schlick", f0=0.0, f90=1.0).brdf()
         ref, ref_err, _ = albedo_average(model, 0.0, 1e-7)
         assert abs(table.E_avg(alpha) - ref) <= table.error + ref_err
+
+
+def test_slow_lobe_falls_back_to_a_coarse_table_with_an_honest_bound(monkeypatch):
+    """A lobe without the compiled integrand whose SLOW_TABLE_N² table the time budget
+    refuses gets the COARSE_TABLE_N² one (refused outright here, so that the test does not
+    depend on the machine's speed); the coarse table's reported bound holds against the
+    quadrature off its nodes. GTR at a γ no other test uses: not cached."""
+    real = tables.build
+    sizes = []
+
+    def refuse_the_fine_grid(key, n_y=tables.TABLE_N_Y, n_r=tables.TABLE_N_R, **kw):
+        sizes.append(n_y)
+        if n_y == tables.SLOW_TABLE_N:
+            raise tables.TableTooSlow("refused by the test")
+        return real(key, n_y, n_r, **kw)
+
+    monkeypatch.setattr(tables, "build", refuse_the_fine_grid)
+    model = dict(ndf="gtr", gamma=1.6789, fresnel="none")
+    table = tables.table_for(make_spec(alpha=0.3, **model).brdf())
+    assert sizes == [tables.SLOW_TABLE_N, tables.COARSE_TABLE_N]
+    assert table.r.size == tables.COARSE_TABLE_N and table.error > 0
+    rng = np.random.default_rng(4321)
+    for alpha in rng.uniform(0.05, 1.0, 3) ** 2:
+        mu = np.sort(rng.uniform(0.0, 1.0, 8))
+        ref = albedo(make_spec(alpha=alpha, **model).brdf(), mu, tol=1e-7)
+        err = np.abs(table.E(mu, alpha) - ref.E)
+        assert np.all(err <= table.error + ref.E_error), (alpha, err.max(), table.error)
