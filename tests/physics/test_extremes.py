@@ -13,15 +13,13 @@ correct value, not an error.
 """
 from __future__ import annotations
 
-import warnings
-from contextlib import contextmanager
-
 import numpy as np
 import pytest
 
 from app.physics.brdf import QUANTITIES
 from app.physics.masking import G1, MASKINGS
 from app.physics.vectors import direction_deg
+from tests.strict import strict
 
 from .conftest import make_ndf, make_brdf
 
@@ -29,14 +27,6 @@ THETAS = [0.0, 1e-7, 45.0, 89.999, 89.9999, 90.0]
 PHIS = [0.0, 37.0, 90.0, 180.0, 270.0]
 ALPHAS = [1e-4, 1e-3, 0.5, 1.0]
 SMITH = MASKINGS["smith"]
-
-
-@contextmanager
-def strict():
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        with np.errstate(divide="raise", over="raise", invalid="raise", under="ignore"):
-            yield
 
 
 def _upper_dirs():

@@ -35,14 +35,13 @@ from __future__ import annotations
 
 import itertools
 import math
-import warnings
-from contextlib import contextmanager
 
 import numpy as np
 import pytest
 
 from app.integrate.albedo import albedo
 from app.model import OPTIONS, ModelError, choice_params, make_spec
+from tests.strict import strict
 
 ALPHAS = [1e-4, 1e-3, 0.01, 0.5, 1.0 - 1e-9, 1.0]
 THETAS = [0.0, 1e-7, 45.0, 89.99, 89.9999, 90.0]
@@ -62,14 +61,6 @@ ALBEDO_ORDER = 24
 SWEPT = ("ndf", "masking", "g2", "fresnel")
 #: filled while the tests run; the summary (conftest.py) prints the size of the sweep
 SIZE = {"combinations": 0, "models": 0, "points": 0}
-
-
-@contextmanager
-def strict():
-    with warnings.catch_warnings():
-        warnings.simplefilter("error")
-        with np.errstate(divide="raise", over="raise", invalid="raise", under="ignore"):
-            yield
 
 
 def direction(theta_deg, phi_deg):
