@@ -3,7 +3,8 @@
 numba compiles a loop on its first call (or loads it from its on-disk cache, which a
 fresh clone or a new version of the source does not have yet). Measured on a fresh clone
 (2 cores): the six loops of app/physics/fast.py and app/integrate/albedo_kernel.py take
-~6 s to compile, ~0.3 s to load from the cache. Left to the first request, that time
+6.7 s to compile one by one on an idle machine, 11-12 s at a server's start with other
+work running, 0.3 s to load from the cache. Left to the first request, that time
 counts against the request's budget (BRDF_MAX_SECONDS), and worse, against every
 prediction made from it: the advice and the tables time their first row and predict the
 rest from it, so a row that included the compile predicted a request ten times too slow

@@ -11,8 +11,8 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
 from ..integrate.albedo import ORDER_MAX
 from ..integrate.methods import DEFAULT_SAMPLES, MC_METHODS, MC_SAMPLES_MAX, METHODS
-from .errors import ParamError
 from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_param_names
+from .errors import ParamError
 
 STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
 
@@ -26,7 +26,7 @@ def applies_to(**when: list) -> dict:
 
 
 def applies_where_given(q: BaseModel) -> None:
-    """Raise ValueError (→ 422 naming the parameter) for a parameter given explicitly
+    """Raise ParamError (→ 422 naming the parameter) for a parameter given explicitly
     where its ``x-applies-to`` condition does not hold: silently ignoring it would let a
     script believe it had set the samples of a quadrature."""
     for name in q.model_fields_set:

@@ -403,8 +403,9 @@ F_GGX_LOOPS = (_f_ggx_loop_parallel, _f_ggx_loop_serial)
 def compile_loops() -> None:
     """Compile (or load from numba's disk cache) both forms of both f loops, on one
     direction pair with the argument types :func:`spec_args` gives (Python int kinds,
-    float parameters), so later calls find that signature compiled. app/warmup.py calls
-    it before any request is timed."""
+    float parameters), so later calls find that signature compiled (the values are any
+    valid ones: only their types select the compiled version). app/warmup.py calls it
+    before any request is timed."""
     if numba is None:
         return
     (l,) = inputs([[0.0, 0.0, 1.0]])
