@@ -259,11 +259,16 @@ def _refuse_if_too_slow(key: tuple, predicted: float) -> None:
             "CLI) there is no budget")
 
 
+def _mirror(base: ETable, p: float, r, y, mu):
+    """Ê₁ (1 − μ)^p, the Schlick basis' mirror part, from the F = 1 table's spline
+    (unclipped): the same at the nodes (where D is formed) and at lookup."""
+    return base.spline.ev(r, y) * (1.0 - mu) ** p
+
+
 def _schlick_from_table(table: ETable, r, y, mu, deviation):
     """E_S = D w(α) + Ê₁ (1 − μ)^p from the scaled deviation D at (r, y) (module
-    docstring); Ê₁ is the F = 1 table's spline, unclipped, as at the nodes."""
-    p = table.key[-1]
-    return deviation * mirror_scale(r * r) + table.base.spline.ev(r, y) * (1.0 - mu) ** p
+    docstring)."""
+    return deviation * mirror_scale(r * r) + _mirror(table.base, table.key[-1], r, y, mu)
 
 
 def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | None):
@@ -284,8 +289,8 @@ def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | 
         if base is None:
             values[i] = res.E
             continue
-        e1 = base.spline.ev(np.full(y.size, ri), y)
-        values[i] = (res.E - e1 * (1.0 - mu) ** key[-1]) / mirror_scale(alpha)
+        mirror = _mirror(base, key[-1], np.full(y.size, ri), y, mu)
+        values[i] = (res.E - mirror) / mirror_scale(alpha)
     return values, evaluations, node_error
 
 
