@@ -197,6 +197,7 @@ window.BRDF = (() => {
     // and the rest its subtitle, which Plotly stacks below it; the margin fits them.
     const text = keepTitle && title ? String(typeof title === "string" ? title : title.text || "") : "";
     const [head, ...rest] = text.split(/<br\s*\/?>/i);
+    // 26 px: the 13 px title line with its padding; 15 px per 11 px subtitle line
     const top = text ? 26 + 15 * rest.length : 0;
     if (top) {
       layout.title = { ...(typeof title === "string" ? {} : title), text: head,
@@ -216,7 +217,7 @@ window.BRDF = (() => {
     } else if (!cartesian) {
       // a table: its top margin held the title, which a panel shows in its heading
       layout.margin.t = 8 + top;
-    } else if (cartesian) {
+    } else {
       const legendShown = layout.showlegend !== false;
       layout.margin.t = (legendShown ? 30 : 14) + top;
       layout.margin.b = Math.min(layout.margin.b ?? 50, 46);
