@@ -14,7 +14,7 @@ import time
 
 import common  # noqa: F401  (puts the checkout on sys.path)
 
-from app.checks import checks
+from app.analysis.checks import checks
 from app.model import ModelError, make_spec
 from app.physics.ndf import NDFS
 

@@ -17,7 +17,7 @@ import time
 
 import common  # first: puts the checkout on sys.path
 
-from app.integrate import tradeoff as to
+from app.analysis import tradeoff as to
 from app.model import make_spec
 
 MODELS = [{"ndf": "ggx", "alpha": 0.1}, {"ndf": "ggx", "alpha": 0.5}]

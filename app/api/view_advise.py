@@ -8,7 +8,7 @@ from typing import Annotated
 from pydantic import Field
 
 from .. import figures
-from ..advise import RESULT_CACHE_ENTRIES, Scene, advise, is_anisotropic
+from ..analysis.advise import RESULT_CACHE_ENTRIES, Scene, advise, is_anisotropic
 from ..config import Settings
 from ..integrate.cache import Keyed, complete_only
 from ..model import make_spec

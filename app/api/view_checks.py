@@ -6,7 +6,8 @@ from typing import Annotated, Literal, Optional
 
 from pydantic import BeforeValidator, Field
 
-from .. import checks, figures
+from .. import figures
+from ..analysis import checks
 from ..config import Settings
 from . import schemas
 from .errors import ParamError

@@ -9,7 +9,7 @@ from pydantic import BeforeValidator, Field
 
 from .. import figures
 from ..config import Settings
-from ..integrate import tradeoff
+from ..analysis import tradeoff
 from ..integrate.albedo import max_evaluations
 from ..model import make_spec
 from . import schemas

@@ -9,7 +9,7 @@ import json
 import numpy as np
 import pytest
 
-from app.advise import Scene, advise, single_changes
+from app.analysis.advise import Scene, advise, single_changes
 from app.integrate import budget
 from app.integrate.albedo import albedo
 from app.integrate.montecarlo import albedo_mc

@@ -14,7 +14,7 @@ import mpmath as mp
 import numpy as np
 import pytest
 
-from app import checks
+from app.analysis import checks
 from app.integrate import budget
 from app.model import make_spec
 from app.physics.ndf import NDFS

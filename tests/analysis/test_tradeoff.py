@@ -9,7 +9,7 @@ import numpy as np
 import pytest
 
 from app.integrate import budget
-from app.integrate import tradeoff as to
+from app.analysis import tradeoff as to
 from app.model import make_spec
 from tests.reference import albedo_brute_force
 

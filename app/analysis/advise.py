@@ -69,16 +69,16 @@ from functools import lru_cache
 
 import numpy as np
 
-from .integrate import budget
-from .integrate.cache import Keyed, complete_only, freeze
-from .integrate.albedo import DEFAULT_TOL
-from .integrate.methods import MethodError, albedo_by
-from .integrate.tables import mu_from_y, y_from_mu
-from .integrate.sampling import SAMPLERS
-from .model import OPTIONS, ModelError, ModelSpec, choice_params, make_spec
-from .physics.fresnel import FRESNELS
-from .physics.g2 import G2_FORMS
-from .physics.masking import MASKINGS
+from ..integrate import budget
+from ..integrate.cache import Keyed, complete_only, freeze
+from ..integrate.albedo import DEFAULT_TOL
+from ..integrate.methods import MethodError, albedo_by
+from ..integrate.tables import mu_from_y, y_from_mu
+from ..integrate.sampling import SAMPLERS
+from ..model import OPTIONS, ModelError, ModelSpec, choice_params, make_spec
+from ..physics.fresnel import FRESNELS
+from ..physics.g2 import G2_FORMS
+from ..physics.masking import MASKINGS
 
 #: α nodes of the range (geometric) and μ nodes per α (uniform in Smith's y).
 N_ALPHA = 6
@@ -297,7 +297,7 @@ def cost_key(model: dict) -> tuple:
 
 @lru_cache(maxsize=1)
 def _model_names() -> frozenset:
-    from .model import COMMON_PARAMS, SUB_OPTIONS, choice_param_names
+    from ..model import COMMON_PARAMS, SUB_OPTIONS, choice_param_names
     return frozenset(OPTIONS) | frozenset(SUB_OPTIONS) | {p.name for p in COMMON_PARAMS} \
         | frozenset(choice_param_names())
 

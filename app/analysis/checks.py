@@ -57,14 +57,14 @@ from dataclasses import asdict, dataclass
 
 import numpy as np
 
-from .integrate import budget
-from .integrate.methods import albedo_by
-from .model import COMMON_PARAMS, OPTIONS, ModelError, ModelSpec, choice_params, make_spec
-from .physics.brdf import BRDF
-from .physics.g2 import G2_FORMS
-from .physics.gauss import gauss_legendre_01
-from .physics.masking import G1
-from .physics.vectors import direction_deg, half_vector
+from ..integrate import budget
+from ..integrate.methods import albedo_by
+from ..model import COMMON_PARAMS, OPTIONS, ModelError, ModelSpec, choice_params, make_spec
+from ..physics.brdf import BRDF
+from ..physics.g2 import G2_FORMS
+from ..physics.gauss import gauss_legendre_01
+from ..physics.masking import G1
+from ..physics.vectors import direction_deg, half_vector
 
 ROW_IDS = ("1", "2", "3", "4", "7", "7-loss", "7-furnace")
 

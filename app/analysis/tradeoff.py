@@ -35,10 +35,10 @@ from contextvars import ContextVar
 import numpy as np
 
 from ..physics.brdf import BRDF, CompensatedBRDF
-from . import budget, tables
-from .cache import Keyed, complete_only, freeze
-from .methods import MC_METHODS, MethodError, albedo_by
-from .sampling import SAMPLERS
+from ..integrate import budget, tables
+from ..integrate.cache import Keyed, complete_only, freeze
+from ..integrate.methods import MC_METHODS, MethodError, albedo_by
+from ..integrate.sampling import SAMPLERS
 
 QUANTITIES = ("albedo",)
 METHODS = ("quadrature", *MC_METHODS, "table")
