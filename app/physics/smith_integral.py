@@ -36,8 +36,16 @@ ORDER = 192
 K_MAX = 12.0
 
 
-def mu_Lambda_numeric(ndf, w, order: int = ORDER) -> np.ndarray:
-    """μΛ(ω) by the general Smith integral; ``ndf`` is a SlopeSpaceNDF."""
+def mu_Lambda_numeric(ndf, w) -> np.ndarray:
+    """μΛ(ω) of the general Smith integral, interpolated from its table (smith_table.py);
+    ``ndf`` is a SlopeSpaceNDF. The cost of a closed form whatever the number of
+    directions, where the direct integral was ORDER evaluations each."""
+    from .smith_table import mu_Lambda_smith_numeric   # the table is built by this module
+    return mu_Lambda_smith_numeric(ndf, w)
+
+
+def mu_Lambda_quadrature(ndf, w, order: int = ORDER) -> np.ndarray:
+    """μΛ(ω) by the general Smith integral, directly; ``ndf`` is a SlopeSpaceNDF."""
     w = np.asarray(w, dtype=float)
     mu = w[..., 2]
     s = ndf.stretched_sin(w)
@@ -45,7 +53,19 @@ def mu_Lambda_numeric(ndf, w, order: int = ORDER) -> np.ndarray:
     return where_valid(v0 > 0, [mu, s, v0], lambda m, ss, v: _integral(ndf, m, ss, v, order), 0.0)
 
 
-def _integral(ndf, mu, s, v0, order):
+def h_and_slope(ndf, a, order: int = ORDER) -> tuple[np.ndarray, np.ndarray]:
+    """h(a) = μΛ/s and its derivative dh/da at a > 0, for the table (smith_table.py).
+
+    Differentiating under the integral (the integrand vanishes at its lower end r̃ = a):
+    d/da [q − a·atan(q/a)] = −atan(q/a) with q = √(r̃² − a²), so
+    dh/da = −(1/π) ∫_{C(a)}^1 atan(q/a) du, at the same nodes as h."""
+    a = np.asarray(a, dtype=float)
+    v0 = ndf.radial_ccdf(a * a)
+    h, slope = _integral(ndf, a, np.ones_like(a), v0, order, with_slope=True)
+    return np.where(v0 > 0, h, 0.0), np.where(v0 > 0, slope, 0.0)
+
+
+def _integral(ndf, mu, s, v0, order, with_slope: bool = False):
     a, v0 = (mu / s)[..., None], v0[..., None]
     sg, wsg = gauss_legendre_01(order)
     # t = sin²(πσ/2): near t = 0 (r̃ → a) the integrand starts like √(r̃² − a²) — at a = 0
@@ -60,5 +80,8 @@ def _integral(ndf, mu, s, v0, order):
     # contributes 0, and r̃ is not needed there.
     r2 = where_valid(v > 0, [v], ndf.radial_ccdf_inv, 0.0)
     q = np.sqrt(np.maximum(r2 - a * a, 0.0))
-    integrand = q - a * np.arctan2(q, a)
-    return s / np.pi * np.sum(integrand * dv, axis=-1)
+    angle = np.arctan2(q, a)
+    value = s / np.pi * np.sum((q - a * angle) * dv, axis=-1)
+    if not with_slope:
+        return value
+    return value, -np.sum(angle * dv, axis=-1) / np.pi

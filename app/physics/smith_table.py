@@ -1,70 +1,127 @@
 """μΛ from the general Smith integral, tabulated once per NDF shape and interpolated.
 
-For an NDF whose Λ has no closed form (GTR, exponential power), h = μΛ/s is a function
-of a = μ/s alone once the shape is fixed (for GTR the shape includes α, since it is not
-shape-invariant). It is tabulated at TABLE_NODES points uniform in x = ln a over
-[A_MIN, A_MAX] with the reference integral (smith_integral.py) and interpolated by a
-monotone cubic (PCHIP) in x. Uniform in ln a because GTR at small α changes character at
-a ~ 1/α (where tanθ ~ 1): nodes uniform in a/(1 + a) were 50% apart there and missed
-by 1e-3 in G1 at α = 1e-3 (found by test_zoo.py); in ln a the spacing is 1.3%.
+For a slope-space NDF, h = μΛ/s is a function of a = μ/s alone once the shape is fixed
+(for a non-shape-invariant NDF — GTR, Blinn-Phong — the shape includes α). It is
+tabulated at TABLE_NODES points uniform in x = ln a over [A_MIN, A_MAX] with the
+reference integral (smith_integral.py), value and exact slope, and interpolated by a
+cubic Hermite in x (monotone PCHIP, Fritsch & Carlson 1980, where the exact slopes
+would leave the monotone region). Uniform in ln a because GTR at small α changes character
+at a ~ 1/α (where tanθ ~ 1): nodes uniform in a/(1 + a) were 50% apart there and missed
+by 1e-3 in G1 at α = 1e-3; in ln a the spacing is 1.3%.
 
 Outside the table: below A_MIN, linear from the exact grazing value h(0) (a horizontal
-direction is tabulated too: E(μ = 0) = 1 for height-correlated G2 depends on it); above A_MAX,
-h(A_MAX)·A_MAX/a, exact for the r̃⁻⁴ tails of GTR (Λ ~ a⁻²) and below 1e-300 for the
-exponential ones. Measured against the direct integral: |ΔG1| ≤ 1e-8
-(tests/physics/test_zoo.py asks 1e-5, the issue's bound).
+direction is tabulated too: E(μ = 0) = 1 for height-correlated G2 depends on it); above
+A_MAX, h(A_MAX)·A_MAX/a, exact for the r̃⁻⁴ tails of GTR (Λ ~ a⁻²) and below 1e-300 for
+the exponential ones.
 
-Tables are cached (bounded): building one costs TABLE_NODES × ORDER integrand
-evaluations, about 30 ms.
+Error and cost: |ΔG1| ≤ TABLE_G1_ERROR (1e-9) against the direct integral, for every NDF at its
+parameter extremes (tests/robustness/test_smith_numeric.py); a build is TABLE_NODES ×
+ORDER integrand evaluations, 20–600 ms (exponential power at p = 4 the slowest), and a
+lookup costs about as much as a closed-form Λ. ``smith`` uses it where Λ has no closed
+form, ``smith_numeric`` for every NDF.
+
+The interpolant is a :class:`LambdaTable`: plain arrays on a uniform grid, so a compiled
+loop evaluates exactly what :meth:`LambdaTable.h` does.
 """
 from __future__ import annotations
 
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
-from scipy.interpolate import PchipInterpolator
+from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
 from .numeric import where_valid
-from .smith_integral import mu_Lambda_numeric
+from .smith_integral import h_and_slope
 
 TABLE_NODES = 2049
 A_MIN, A_MAX = 1e-5, 1e7
+#: tables kept per process; each holds 4 × TABLE_NODES floats (64 kB)
 CACHE_SIZE = 64
+#: below this h changes G1 by less than that; flushed to 0, the table has flat zero runs
+#: instead of denormal slopes (PCHIP divides by its slopes)
 H_FLUSH = 1e-280
+#: the stated interpolation error in G1 (measured ≤ 4e-10 at every NDF's parameter
+#: extremes; the test asks this)
+TABLE_G1_ERROR = 1e-9
+
+
+@dataclass(frozen=True)
+class LambdaTable:
+    """h(a) = μΛ/s of one NDF shape: a cubic per interval of a uniform grid in x = ln a.
+
+    ``coefficients[:, i]`` are (c₀, c₁, c₂, c₃) of h = ((c₀t + c₁)t + c₂)t + c₃ with
+    t = x − x₀ − i·dx on interval i (PCHIP's local power basis). ``h0`` is the exact
+    grazing value h(0), ``h_min`` = h(A_MIN)."""
+    x0: float
+    dx: float
+    coefficients: np.ndarray   # (4, TABLE_NODES − 1), read-only
+    h0: float
+    h_min: float
+    a_min: float = A_MIN
+    a_max: float = A_MAX
+
+    def _cubic(self, x):
+        i = np.clip(np.floor((x - self.x0) / self.dx), 0, self.coefficients.shape[1] - 1).astype(np.intp)
+        t = x - (self.x0 + i * self.dx)
+        c = self.coefficients
+        return ((c[0, i] * t + c[1, i]) * t + c[2, i]) * t + c[3, i]
+
+    def h(self, a) -> np.ndarray:
+        """h(a) for a ≥ 0, with the end laws of the module docstring."""
+        a = np.asarray(a, dtype=float)
+        h = self._cubic(np.log(np.clip(a, self.a_min, self.a_max)))
+        # a < A_MIN: linear between h(0) and h(A_MIN) (h is smooth at 0: error O(A_MIN²));
+        # a > A_MAX: the r̃⁻⁴-tail law.
+        h = np.where(a < self.a_min, self.h0 + (self.h_min - self.h0) * (a / self.a_min), h)
+        return np.where(a > self.a_max, h * (self.a_max / np.maximum(a, self.a_max)), h)
+
+    def mu_Lambda(self, mu, s) -> np.ndarray:
+        """μΛ = s·h(μ/s); s = 0 is normal incidence (no masking), μ = 0 is a = 0."""
+        return where_valid(np.asarray(s) > 0, [mu, s], lambda m, ss: ss * self.h(m / ss), 0.0)
 
 
 @lru_cache(maxsize=CACHE_SIZE)
-def _table(ndf_class, alpha: float, shape: tuple):
-    """(h(0), h at A_MIN, interpolant of h in ln a)."""
+def _table(ndf_class, alpha: float, shape: tuple) -> LambdaTable:
+    # Shape-invariant NDFs are tabulated at α = 1 (a = μ/s carries α); the others at their α.
     ndf = ndf_class(alpha, None, **dict(shape))
-    a = np.exp(np.linspace(np.log(A_MIN), np.log(A_MAX), TABLE_NODES))
-    # Unit directions in the x-z plane with μ/(α sinθ) = a: tanθ = 1/(α a); the last
-    # one is horizontal (a = 0, the grazing limit).
-    sin_t = np.append(1.0 / np.sqrt(1.0 + (alpha * a) ** 2), 1.0)
-    mu = np.append(alpha * a, 0.0) * sin_t
-    w = np.stack([sin_t, np.zeros_like(sin_t), mu], axis=-1)
-    h = mu_Lambda_numeric(ndf, w) / (alpha * sin_t)
-    # Below H_FLUSH, h changes G1 by less than that; flushed to 0, the table has flat
-    # zero runs instead of denormal slopes (PCHIP divides by its slopes).
-    h = np.where(h < H_FLUSH, 0.0, h)
-    # PCHIP, not a cubic spline: h falls monotonically (to 1e-300 and below for the
-    # exponential tails) and a spline overshoots below 0 there (μΛ < 0 at α = 1e-3,
-    # found by test_extremes); PCHIP keeps monotonicity and positivity.
-    return float(h[-1]), float(h[0]), PchipInterpolator(np.log(a), h[:-1])
+    x = np.linspace(np.log(A_MIN), np.log(A_MAX), TABLE_NODES)
+    a = np.exp(x)
+    h, dh_da = h_and_slope(ndf, a)
+    h0 = float(h_and_slope(ndf, np.zeros(1))[0][0])
+    flushed = h < H_FLUSH
+    h, dh_dx = np.where(flushed, 0.0, h), np.where(flushed, 0.0, a * dh_da)
+    # A cubic Hermite with the exact slopes: |ΔG1| ≤ 4e-10 where PCHIP's estimated
+    # slopes gave 6e-8 (exponential power, p = 4). In the steep exponential tails it can
+    # dip below 0; on every interval outside Fritsch & Carlson's monotone region
+    # (α² + β² ≤ 9 for the slope/secant ratios) PCHIP's cubic is taken instead, which
+    # keeps h monotone and positive there (h < 1e-6 on those intervals: Beckmann, p = 4).
+    hermite = CubicHermiteSpline(x, h, dh_dx).c
+    pchip = PchipInterpolator(x, h).c
+    secant = np.diff(h) / np.diff(x)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        ratio2 = (dh_dx[:-1] ** 2 + dh_dx[1:] ** 2) / secant ** 2
+    monotone = (secant != 0) & (ratio2 <= 9.0) | (dh_dx[:-1] == 0) & (dh_dx[1:] == 0)
+    coefficients = np.where(monotone, hermite, pchip)
+    coefficients.flags.writeable = False
+    return LambdaTable(float(x[0]), float(x[1] - x[0]), coefficients, h0, float(h[0]))
+
+
+def lambda_table(ndf) -> LambdaTable:
+    """The (cached) table of ``ndf``'s shape: α enters only when not shape-invariant."""
+    shape = tuple((p.name, getattr(ndf, p.name)) for p in ndf.shape_params)
+    alpha = ndf.alpha_x if not ndf.shape_invariant else 1.0
+    return _table(type(ndf), alpha, shape)
 
 
 def mu_Lambda_tabulated(ndf, mu, s) -> np.ndarray:
     """μΛ for ``ndf`` (an isotropic slope-space NDF or a shape-invariant one) at (μ, s)."""
-    shape = tuple((p.name, getattr(ndf, p.name)) for p in ndf.shape_params)
-    alpha = ndf.alpha_x if not ndf.shape_invariant else 1.0
-    h0, h_min, interpolant = _table(type(ndf), alpha, shape)
+    return lambda_table(ndf).mu_Lambda(mu, s)
 
-    def h_of(m, ss):
-        a = m / ss
-        h = interpolant(np.log(np.clip(a, A_MIN, A_MAX)))
-        # a < A_MIN: linear between the exact grazing value h(0) and h(A_MIN) (h is
-        # smooth at 0, so the error is O(A_MIN²)); a > A_MAX: the r̃⁻⁴-tail law.
-        h = np.where(a < A_MIN, h0 + (h_min - h0) * (a / A_MIN), h)
-        return ss * np.where(a > A_MAX, h * (A_MAX / np.maximum(a, A_MAX)), h)
-    # s = 0 is normal incidence (no masking); μ = 0 is a = 0, the flat end.
-    return where_valid(s > 0, [mu, s], h_of, 0.0)
+
+def mu_Lambda_smith_numeric(ndf, w) -> np.ndarray:
+    """μΛ(ω) of the general Smith integral through the table, for any direction
+    (``masking=smith_numeric``): 0 below the horizon, as the direct integral."""
+    w = np.asarray(w, dtype=float)
+    mu = w[..., 2]
+    return where_valid(mu >= 0, [mu, ndf.stretched_sin(w)], lambda m, s: mu_Lambda_tabulated(ndf, m, s), 0.0)
