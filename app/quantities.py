@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .adaptive import ladder, peak, refine_curve, refine_grid
 from .integrate.methods import albedo_by
 from .physics.brdf import BRDF
 from .physics.masking import G1
@@ -22,26 +23,64 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want) -
     return brdf.evaluate(l, v, want)
 
 
+def _width_deg(brdf: BRDF) -> float:
+    """The narrowest feature of the specular lobe, in degrees of the view direction:
+    the half vector moves half as fast as v, and D falls off over θ_m ≈ α."""
+    alphas = [brdf.ndf.alpha_x, brdf.ndf.alpha_y]
+    if brdf.lobe2 is not None and brdf.lobe_mix > 0:
+        alphas += [brdf.lobe2.alpha_x, brdf.lobe2.alpha_y]
+    return float(np.rad2deg(2.0 * min(alphas)))
+
+
+def _added(n: int) -> int:
+    """Nodes refinement may add to a base of n: max(n, ADAPTIVE_MIN_ADDED)."""
+    return max(n, ADAPTIVE_MIN_ADDED)
+
+
+#: Refinement may always add this many nodes, so a coarse base still resolves a peak.
+ADAPTIVE_MIN_ADDED = 256
+
+
 def ndf_curve(brdf: BRDF, phi_deg: float, n: int, cosine: bool = False) -> dict:
     """D(θ_m) for θ_m = 0..90° (both ends) at azimuth φ; with ``cosine``, D·cos θ_m
-    (the projected-area density: ∫ D cos θ_m dω_m = 1, Walter et al. 2007 eq. 4)."""
-    theta = np.linspace(0.0, 90.0, n)
-    m = direction_deg(theta, phi_deg)
-    D = brdf.ndf.D(m)
-    return {"theta_deg": theta, "D_cos": D * m[..., 2]} if cosine else {"theta_deg": theta, "D": D}
+    (the projected-area density: ∫ D cos θ_m dω_m = 1, Walter et al. 2007 eq. 4).
+
+    ``n`` uniform angles plus nodes at θ_m = 0 on a ladder of α and where the drawn
+    curve was off by more than adaptive.REFINE_TOL (at most max(n, 256) added); the
+    response says how close (``resolution``) and gives the peak against its located
+    maximum (``peak``)."""
+    key = "D_cos" if cosine else "D"
+
+    def value(theta):
+        m = direction_deg(theta, phi_deg)
+        D = brdf.ndf.D(m)
+        return D * m[..., 2] if cosine else D
+
+    seeds = np.concatenate([np.linspace(0.0, 90.0, n), ladder(0.0, _width_deg(brdf) / 2, 0.0, 90.0)])
+    theta, D, report = refine_curve(value, seeds, max_added=_added(n))
+    return {"theta_deg": theta, key: D, "peak": peak(D, report.pop("located"), key, "theta_deg"),
+            "resolution": report}
 
 
 def g1_curve(brdf: BRDF, phi_deg: float, n: int) -> dict:
     """Λ(θ_v) and G1(θ_v) = 1/(1+Λ) for θ_v = 0..90° at azimuth φ (Λ = +inf at 90°).
 
-    When the masking is not ``smith``, also G1_exact (the NDF's own Smith G1) and
-    G1_error = G1 − G1_exact, so an approximation is always shown with its error."""
-    theta = np.linspace(0.0, 90.0, n)
+    ``n`` uniform angles plus nodes toward grazing on a ladder of α, refined where G1
+    drawn was off by more than adaptive.REFINE_TOL (at most max(n, 256) added;
+    ``resolution`` says how close). When the masking is not ``smith``, also G1_exact
+    (the NDF's own Smith G1) and G1_error = G1 − G1_exact."""
+    def value(theta):
+        w = direction_deg(theta, phi_deg)
+        return G1(w[..., 2], brdf.masking.mu_Lambda(brdf.ndf, w))
+
+    seeds = np.concatenate([np.linspace(0.0, 90.0, n), ladder(90.0, _width_deg(brdf) / 2, 0.0, 90.0)])
+    theta, g1, report = refine_curve(value, seeds, max_added=_added(n))
+    report.pop("located")
     w = direction_deg(theta, phi_deg)
     ml = brdf.masking.mu_Lambda(brdf.ndf, w)
     mu = w[..., 2]
     Lambda = np.divide(ml, mu, out=np.full_like(mu, np.inf), where=mu > 0)
-    out = {"theta_deg": theta, "Lambda": Lambda, "G1": G1(mu, ml)}
+    out = {"theta_deg": theta, "Lambda": Lambda, "G1": g1, "resolution": report}
     if brdf.masking.name != "smith":
         out["G1_exact"] = G1(mu, brdf.ndf.mu_Lambda(w))
         out["G1_error"] = out["G1"] - out["G1_exact"]
@@ -50,21 +89,51 @@ def g1_curve(brdf: BRDF, phi_deg: float, n: int) -> dict:
 
 def lobe_curve(brdf: BRDF, theta_i_deg: float, phi_i_deg: float, n: int, cosine: bool) -> dict:
     """f in the plane of incidence, θ_o from −90° to 90°; θ_o > 0 on the mirror side
-    (azimuth φ_i + 180°). ``cosine`` multiplies by cos θ_i."""
-    theta_o = np.linspace(-90.0, 90.0, n)
-    phi_o = np.where(theta_o >= 0, phi_i_deg + 180.0, phi_i_deg)
-    f = evaluate(brdf, theta_i_deg, phi_i_deg, np.abs(theta_o), phi_o, ("f",))["f"]
-    if cosine:
-        return {"theta_o_deg": theta_o, "f_cos": f * np.sin(np.deg2rad(90.0 - theta_i_deg))}
-    return {"theta_o_deg": theta_o, "f": f}
+    (azimuth φ_i + 180°). ``cosine`` gives f·cos θ_o, the cosine of the varying
+    direction: the outgoing density a sampler of v targets (it integrates to E).
+
+    ``n`` uniform angles plus nodes at the mirror direction on a ladder of α, refined
+    where the drawn curve was off by more than adaptive.REFINE_TOL of its peak (at most
+    max(n, 256) added; ``resolution``); ``peak`` gives the largest value drawn against
+    the located maximum and where it is."""
+    def value(theta_o):
+        phi_o = np.where(theta_o >= 0, phi_i_deg + 180.0, phi_i_deg)
+        f = evaluate(brdf, theta_i_deg, phi_i_deg, np.abs(theta_o), phi_o, ("f",))["f"]
+        if not cosine:
+            return f
+        mu_o = direction_deg(np.abs(theta_o), 0.0)[..., 2]
+        # f·cos θ_o is 0 at θ_o = ±90° even where f diverges (both directions grazing)
+        return where_valid(mu_o > 0.0, [f, mu_o], lambda a, b: a * b, 0.0)
+
+    seeds = np.concatenate([np.linspace(-90.0, 90.0, n),
+                            ladder(theta_i_deg, _width_deg(brdf), -90.0, 90.0)])
+    theta_o, f, report = refine_curve(value, seeds, max_added=_added(n))
+    key = "f_cos" if cosine else "f"
+    return {"theta_o_deg": theta_o, key: f, "peak": peak(f, report.pop("located"), key, "theta_o_deg"),
+            "resolution": report}
 
 
 def lobe_grid(brdf: BRDF, theta_i_deg: float, phi_i_deg: float, n_theta: int, n_phi: int) -> dict:
-    """f over the hemisphere of v: θ_v = 0..90° (n_theta), φ_v = 0..360° (n_phi)."""
-    theta = np.linspace(0.0, 90.0, n_theta)
-    phi = np.linspace(0.0, 360.0, n_phi)
-    f = evaluate(brdf, theta_i_deg, phi_i_deg, theta[:, None], phi[None, :], ("f",))["f"]
-    return {"theta_deg": theta, "phi_deg": phi, "f": f}
+    """f over the hemisphere of v: θ_v = 0..90° (n_theta), φ_v = 0..360° (n_phi), plus
+    rows and columns at and around the mirror direction and where a cell was off the
+    bilinear interpolation by more than adaptive.REFINE_TOL of the peak (at most
+    max(n_theta, 64) rows and max(n_phi, 64) columns added; ``resolution``); ``peak``
+    gives the largest value drawn against the located maximum."""
+    def value(theta, phi):
+        return evaluate(brdf, theta_i_deg, phi_i_deg, theta, phi, ("f",))["f"]
+
+    width = _width_deg(brdf)
+    phi_m = (phi_i_deg + 180.0) % 360.0
+    sin_i = np.sin(np.deg2rad(theta_i_deg))
+    phi_width = width / max(sin_i, np.deg2rad(width)) if theta_i_deg > 0 else 360.0
+    theta = np.concatenate([np.linspace(0.0, 90.0, n_theta), ladder(theta_i_deg, width, 0.0, 90.0)])
+    phi = np.concatenate([np.linspace(0.0, 360.0, n_phi)]
+                         + [ladder(c, phi_width, 0.0, 360.0) for c in (phi_m - 360.0, phi_m, phi_m + 360.0)])
+    theta, phi, f, report = refine_grid(value, theta, phi,
+                                        max_added=(max(n_theta, 64), max(n_phi, 64)))
+    return {"theta_deg": theta, "phi_deg": phi, "f": f,
+            "peak": peak(f, report.pop("located"), "f", "theta_deg", "phi_deg"),
+            "resolution": report}
 
 
 def albedo_curve(brdf: BRDF, mu, phi_deg: float, tol: float, method: str = "quadrature",
@@ -158,20 +227,42 @@ def half_difference_slice(brdf: BRDF, phi_h_deg: float, phi_d_deg: float, n: int
                           cosine: bool) -> dict:
     """f (or f·cos θ_l) over θ_h, θ_d = 0..90° at fixed φ_h, φ_d: the "image slice" of
     the Disney BRDF Explorer (Burley 2012, fig. 3). Rows θ_d, columns θ_h; NaN where
-    l or v is below the horizon (no such pair of directions exists)."""
+    l or v is below the horizon (no such pair of directions exists).
+
+    ``n`` uniform angles per axis plus columns at θ_h = 0 on a ladder of α (the
+    highlight) and where the row θ_d = SLICE_PROBE_THETA_D drawn was off by more than
+    adaptive.REFINE_TOL of its peak (at most max(n, 256) added; ``resolution``);
+    ``peak`` gives that row's largest value drawn against its located maximum."""
+    def value(theta_d, theta_h):
+        l, v = rusinkiewicz_directions(theta_h, phi_h_deg, theta_d, phi_d_deg)
+        l, v = np.broadcast_arrays(l, v)
+        above = (l[..., 2] >= 0.0) & (v[..., 2] >= 0.0)
+        f = np.full(above.shape, np.nan)
+        if above.any():
+            out = brdf.evaluate(l[above], v[above], ("f",))["f"]
+            if cosine:
+                # f·cos θ_l is 0 at θ_l = 90° even where f diverges (both directions grazing)
+                mu_l = l[above][:, 2]
+                out = where_valid(mu_l > 0.0, [out, mu_l], lambda a, b: a * b, 0.0)
+            f[above] = out
+        return f
+
     theta = np.linspace(0.0, 90.0, n)
-    l, v = rusinkiewicz_directions(theta[None, :], phi_h_deg, theta[:, None], phi_d_deg)
-    l, v = np.broadcast_arrays(l, v)
-    above = (l[..., 2] >= 0.0) & (v[..., 2] >= 0.0)
-    f = np.full(above.shape, np.nan)
-    if above.any():
-        value = brdf.evaluate(l[above], v[above], ("f",))["f"]
-        if cosine:
-            # f·cos θ_l is 0 at θ_l = 90° even where f diverges (both directions grazing)
-            mu_l = l[above][:, 2]
-            value = where_valid(mu_l > 0.0, [value, mu_l], lambda a, b: a * b, 0.0)
-        f[above] = value
-    return {"theta_d_deg": theta, "theta_h_deg": theta, ("f_cos" if cosine else "f"): f}
+    seeds = np.concatenate([theta, ladder(0.0, _width_deg(brdf) / 2, 0.0, 90.0)])
+    theta_h, probe, report = refine_curve(lambda t: value(SLICE_PROBE_THETA_D, t), seeds,
+                                          max_added=_added(n))
+    f = value(theta[:, None], theta_h[None, :])
+    key = "f_cos" if cosine else "f"
+    return {"theta_d_deg": theta, "theta_h_deg": theta_h, key: f,
+            "peak": {**peak(probe, report.pop("located"), key, "theta_h_deg"),
+                     "theta_d_deg": SLICE_PROBE_THETA_D},
+            "resolution": report}
+
+
+#: The row of the slice on which the highlight's columns are refined: the highlight
+#: (D around θ_h = 0) has the same width in every row; rows toward θ_d = 90° also carry
+#: the divergence of f where both directions graze, which no grid resolves.
+SLICE_PROBE_THETA_D = 30.0
 
 
 def samples(brdf: BRDF, sampler: str, n: int, seed: int, theta_i_deg: float, phi_i_deg: float) -> dict:

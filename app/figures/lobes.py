@@ -32,7 +32,7 @@ def lobe_figure(data: dict, spec: dict, theta_i_deg: float, log: bool = False) -
                   ("mirror", theta_i_deg, DIRECTION_COLORS["mirror"])]
     bottom = 10 ** rng[0] if (log and rng) else 0.0
     traces = [{"type": "scatterpolar", "mode": "lines",
-               "name": "f·cos θ_i (1/sr)" if key == "f_cos" else "f (1/sr)",
+               "name": "f·cos θ_o (1/sr)" if key == "f_cos" else "f (1/sr)",
                "theta": theta_o, "r": r, "line": {"color": PALETTE[0], "width": 2.5},
                "fill": "toself" if not log else None, "fillcolor": "rgba(0,114,178,0.12)",
                "hovertemplate": "θ_o=%{theta:.1f}°<br>%{r:.4g}<extra></extra>"}]
@@ -49,7 +49,7 @@ def lobe_figure(data: dict, spec: dict, theta_i_deg: float, log: bool = False) -
         radial["dtick"] = 1
     if rng:
         radial["range"] = rng
-    label = "f·cos θ_i" if key == "f_cos" else "f(l, v)"
+    label = "f·cos θ_o" if key == "f_cos" else "f(l, v)"
     return {
         "data": traces,
         "layout": base_layout(
