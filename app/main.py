@@ -17,6 +17,7 @@ from . import __version__, warmup
 from .api import errors, middleware
 from .api.routes import router
 from .api.routes_export import router as export_router
+from .api.routes_shader import router as shader_router
 from .config import Settings
 
 STATIC_DIR = Path(os.environ.get("BRDF_STATIC_DIR", Path(__file__).resolve().parent.parent / "static"))
@@ -54,6 +55,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     middleware.install(app, app.state.settings, STATIC_DIR)
     app.include_router(router)
     app.include_router(export_router)
+    app.include_router(shader_router)
 
     @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
     def plotly_js():

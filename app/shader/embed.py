@@ -1,11 +1,10 @@
 """The project's tables, embedded in generated code as arrays.
 
-* Smith μΛ without a closed form in a shading language — GTR and exponential power (the
-  project's own table of the Smith integral, app/physics/smith_table.py), Student-t (its
-  closed form needs the incomplete beta function: tabulated from that closed form) and
-  every ``smith_numeric`` model but GGX and Beckmann — as h(a) = μΛ/s on the project's
-  nodes uniform in ln a, with the PCHIP slopes: the cubic Hermite pieces are the
-  interpolant itself, so no error is added to the table's own (|ΔG1| ≤ 1e-8).
+* Smith μΛ without a closed form in a shading language — GTR and exponential power, and
+  Student-t (its closed form needs the incomplete beta function) and every
+  ``smith_numeric`` model but GGX and Beckmann — as the project's own table of the Smith
+  integral (app/physics/smith_table.py): h(a) = μΛ/s, one cubic per interval uniform in
+  ln a, its coefficients embedded as they are, so nothing is added to the table's error.
 * Kulla-Conty's E(μ) at the lobe's α: the bicubic spline of the E(μ, α) table
   (app/integrate/tables.py) restricted to that α is a cubic spline in y; its pieces
   are embedded as power-series coefficients on its breakpoints, again exact.
@@ -13,7 +12,7 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import BSpline, PchipInterpolator, PPoly
+from scipy.interpolate import BSpline, PPoly
 
 from ..integrate import tables as etables
 from ..physics import smith_table
@@ -38,51 +37,37 @@ def lambda_form(ndf, masking: str) -> str:
     raise ValueError(f"no code for masking={masking}")
 
 
-def _closed_form_table(ndf):
-    """h(a) = μΛ(μ = a, s = 1) from the NDF's closed form, on smith_table's nodes."""
-    a = np.exp(np.linspace(np.log(smith_table.A_MIN), np.log(smith_table.A_MAX), smith_table.TABLE_NODES))
-    unit = type(ndf)(1.0, None, **{p.name: getattr(ndf, p.name) for p in ndf.shape_params})
-    h = unit._mu_Lambda(a, np.ones_like(a))
-    h = np.where(h < smith_table.H_FLUSH, 0.0, h)
-    h0 = float(unit._mu_Lambda(np.zeros(1), np.ones(1))[0])
-    return h0, float(h[0]), PchipInterpolator(np.log(a), h)
-
-
-def _project_table(ndf):
-    shape = tuple((p.name, getattr(ndf, p.name)) for p in ndf.shape_params)
-    alpha = 1.0 if ndf.shape_invariant else ndf.alpha_x
-    return smith_table._table(type(ndf), alpha, shape)
-
-
-def lambda_table(k: int, ndf, form: str, lobe_brdf):
-    """(constants, tables, doc, body, result) of μΛ = s h(μ/s) from a table of h in ln a."""
-    h0, h_min, interp = _closed_form_table(ndf) if form == "table_closed" else _project_table(ndf)
-    x = interp.x
-    n = x.size
-    dx = float(x[1] - x[0])
-    values = interp(x)
-    slopes = interp(x, 1) * dx           # dh/du with u = (ln a − ln a₀)/Δ
-    source = {"table_closed": f"the closed form of {ndf.name} (Ribardière et al. 2017)",
-              "table_project": "the general Smith integral (Heitz 2014, eq. 43), the project's table",
-              "table_numeric": "the general Smith integral by quadrature (Heitz 2014, eq. 43)"}[form]
+def lambda_table(k: int, ndf, form: str):
+    """(constants, tables, doc, body, result) of μΛ = s h(μ/s) from the project's table
+    of h in ln a (app/physics/smith_table.py): one cubic per interval, coefficients as
+    the table holds them."""
+    table = smith_table.lambda_table(ndf)
+    c = table.coefficients
+    n = c.shape[1]
+    source = {"table_closed": f"the general Smith integral (Heitz 2014, eq. 43; {ndf.name}'s closed form "
+                              "needs the incomplete beta function)",
+              "table_project": "the general Smith integral (Heitz 2014, eq. 43)",
+              "table_numeric": "the general Smith integral (Heitz 2014, eq. 43)"}[form]
     scale = "" if ndf.shape_invariant else f" at α = {ndf.alpha_x:g} (not shape-invariant)"
-    consts = [Const(f"LAM_LNA0_{k}", float(x[0]), f"ln a of the first node (a = {smith_table.A_MIN:g})"),
-              Const(f"LAM_DLNA_{k}", dx, f"node spacing in ln a ({n} nodes)"),
-              Const(f"LAM_A_MIN_{k}", smith_table.A_MIN, "below: linear to the exact grazing value h(0)"),
-              Const(f"LAM_A_MAX_{k}", smith_table.A_MAX, "above: h(A_MAX) A_MAX/a (the r̃⁻⁴ tail law)"),
-              Const(f"LAM_H0_{k}", h0, "h(0), the grazing limit of μΛ/s"),
-              Const(f"LAM_HMIN_{k}", h_min, "h(A_MIN)")]
-    tables = [Table(f"LAM_H_{k}", values.tolist(), f"h(a) = μΛ/s of {ndf.name}{scale} from {source}, "
-                    f"at a = exp(LAM_LNA0_{k} + i LAM_DLNA_{k}); monotone cubic (PCHIP) between."),
-              Table(f"LAM_M_{k}", slopes.tolist(), f"PCHIP slopes of LAM_H_{k} per node interval (dh/di).")]
-    doc = (f"μΛ = s h(a), a = μ/s, h tabulated (below) from {source}; cubic Hermite in ln a,\n"
-           f"the table's own interpolant: |ΔG1| ≤ 1e-8 against the integral.")
+    consts = [Const(f"LAM_X0_{k}", table.x0, f"ln a of the first node (a = {table.a_min:g})"),
+              Const(f"LAM_DX_{k}", table.dx, f"interval in ln a ({n} intervals)"),
+              Const(f"LAM_A_MIN_{k}", table.a_min, "below: linear to the exact grazing value h(0)"),
+              Const(f"LAM_A_MAX_{k}", table.a_max, "above: h(A_MAX) A_MAX/a (the r̃⁻⁴ tail law)"),
+              Const(f"LAM_H0_{k}", table.h0, "h(0), the grazing limit of μΛ/s"),
+              Const(f"LAM_HMIN_{k}", table.h_min, "h(A_MIN)")]
+    tables = [Table(f"LAM_C{j}_{k}", c[j].tolist(),
+                    (f"h(a) = μΛ/s of {ndf.name}{scale} from {source}: on interval i of x = ln a, "
+                     f"h = ((C0 t + C1) t + C2) t + C3, t = x − LAM_X0_{k} − i LAM_DX_{k}. " if j == 0 else "")
+                    + f"C{j} of each interval.") for j in range(4)]
+    doc = (f"μΛ = s h(a), a = μ/s, h from {source}, tabulated in ln a\n"
+           f"(value and exact slope at {n + 1} nodes, cubic Hermite): |ΔG1| ≤ {smith_table.TABLE_G1_ERROR:g} "
+           "against the integral.")
+    cf = [f"LAM_C{j}_{k}[i]" for j in range(4)]
     body = [("float", "a", "mu / s"),
-            ("float", "u", f"(log(clamp(a, LAM_A_MIN_{k}, LAM_A_MAX_{k})) - LAM_LNA0_{k}) / LAM_DLNA_{k}"),
-            ("int", "i", f"clamp(toint(floor(u)), 0, {n - 2})"),
-            ("float", "t", "u - tofloat(i)"),
-            ("float", "h_in", f"(2.0 * t - 3.0) * t * t * (LAM_H_{k}[i] - LAM_H_{k}[i + 1]) + LAM_H_{k}[i]"
-                              f" + t * (t - 1.0) * ((t - 1.0) * LAM_M_{k}[i] + t * LAM_M_{k}[i + 1])"),
+            ("float", "u", f"(log(clamp(a, LAM_A_MIN_{k}, LAM_A_MAX_{k})) - LAM_X0_{k}) / LAM_DX_{k}"),
+            ("int", "i", f"clamp(toint(floor(u)), 0, {n - 1})"),
+            ("float", "t", f"(u - tofloat(i)) * LAM_DX_{k}"),
+            ("float", "h_in", f"(({cf[0]} * t + {cf[1]}) * t + {cf[2]}) * t + {cf[3]}"),
             ("float", "h", f"sel(a < LAM_A_MIN_{k}, LAM_H0_{k} + (LAM_HMIN_{k} - LAM_H0_{k}) * (a / LAM_A_MIN_{k}),"
                            f" sel(a > LAM_A_MAX_{k}, h_in * (LAM_A_MAX_{k} / a), h_in))")]
     return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)"

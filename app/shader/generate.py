@@ -65,7 +65,7 @@ def program(spec: ModelSpec) -> Program:
     for k, (weight, lobe) in enumerate(lobes, start=1):
         consts.append(Const(f"W{k}", weight, f"weight of specular lobe {k}"))
         add(terms.ndf_D(k, lobe.ndf))
-        add(terms.mu_Lambda(k, lobe.ndf, lobe.masking.name, lobe))
+        add(terms.mu_Lambda(k, lobe.ndf, lobe.masking.name))
         add(terms.visibility(k, g2, lobe.ndf))
     if ms is not None:
         for k, term in enumerate(ms.lobes, start=1):

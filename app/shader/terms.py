@@ -89,7 +89,7 @@ _ERFCX = ("t * exp(-1.26551223 + t * (1.00002368 + t * (0.37409196 + t * (0.0967
           " + t * (0.27886807 + t * (-1.13520398 + t * (1.48851587 + t * (-0.82215223 + t * 0.17087277)))))))))")
 
 
-def mu_Lambda(k: int, ndf, masking: str, lobe_brdf) -> tuple[list, list, list]:
+def mu_Lambda(k: int, ndf, masking: str) -> tuple[list, list, list]:
     """muLambda_k(w) = μΛ(ω), finite everywhere (Heitz 2014, eq. 43); s = α(φ) sinθ."""
     consts, tables = [], []
     body = [("float", "mu", "max(Z(w), 0.0)"),
@@ -124,7 +124,7 @@ def mu_Lambda(k: int, ndf, masking: str, lobe_brdf) -> tuple[list, list, list]:
                  ("float", "alpha_phi", "sel(sin_t > 0.0, s / sin_t, 0.0)")]
         result = f"{k_expr} * (1.0 - mu)"
     else:   # a table of h(a) = μΛ/s in ln a, cubic Hermite (embed.py)
-        c, t, doc, fn_body, result = embed.lambda_table(k, ndf, form, lobe_brdf)
+        c, t, doc, fn_body, result = embed.lambda_table(k, ndf, form)
         consts += c
         tables += t
         body += fn_body

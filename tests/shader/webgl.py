@@ -1,0 +1,77 @@
+"""Evaluate generated GLSL in a WebGL2 context: direction pairs in, f (RGB) out, float32.
+
+The fragment shader reads l and v of pixel (x, y) from two RGBA32F textures and writes
+brdf(n, l, v) into an RGBA32F colour buffer (EXT_color_buffer_float), read back with
+readPixels. Shared by the browser tests; runs in any page (no server code needed)."""
+from __future__ import annotations
+
+VERTEX = """#version 300 es
+void main() {
+    vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
+    gl_Position = vec4(p * 2.0 - 1.0, 0.0, 1.0);
+}"""
+
+FRAGMENT_HEAD = """#version 300 es
+precision highp float;
+precision highp int;
+"""
+
+FRAGMENT_MAIN = """
+uniform highp sampler2D u_l;
+uniform highp sampler2D u_v;
+uniform vec3 u_n;
+out vec4 color;
+void main() {
+    ivec2 p = ivec2(gl_FragCoord.xy);
+    vec3 l = texelFetch(u_l, p, 0).xyz;
+    vec3 v = texelFetch(u_v, p, 0).xyz;
+    color = vec4(brdf(u_n, l, v), 1.0);
+}"""
+
+#: (vertex, fragment, width, height, l as flat RGBA, v as flat RGBA, n) → {f: flat RGBA} or {error}
+RUN_JS = """async ([vs, fs, w, h, L, V, n]) => {
+  const canvas = document.createElement('canvas');
+  canvas.width = w; canvas.height = h;
+  const gl = canvas.getContext('webgl2');
+  if (!gl) return {error: 'no WebGL2'};
+  if (!gl.getExtension('EXT_color_buffer_float')) return {error: 'no EXT_color_buffer_float'};
+  const compile = (type, src) => {
+    const s = gl.createShader(type); gl.shaderSource(s, src); gl.compileShader(s);
+    if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
+    return s;
+  };
+  let prog;
+  const t0 = performance.now();
+  try {
+    prog = gl.createProgram();
+    gl.attachShader(prog, compile(gl.VERTEX_SHADER, vs));
+    gl.attachShader(prog, compile(gl.FRAGMENT_SHADER, fs));
+    gl.linkProgram(prog);
+    if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) return {error: gl.getProgramInfoLog(prog)};
+  } catch (e) { return {error: String(e)}; }
+  const texture = (unit, data) => {
+    const t = gl.createTexture();
+    gl.activeTexture(gl.TEXTURE0 + unit); gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, new Float32Array(data));
+    return t;
+  };
+  gl.useProgram(prog);
+  texture(0, L); texture(1, V);
+  gl.uniform1i(gl.getUniformLocation(prog, 'u_l'), 0);
+  gl.uniform1i(gl.getUniformLocation(prog, 'u_v'), 1);
+  gl.uniform3f(gl.getUniformLocation(prog, 'u_n'), n[0], n[1], n[2]);
+  const target = gl.createTexture();
+  gl.activeTexture(gl.TEXTURE2); gl.bindTexture(gl.TEXTURE_2D, target);
+  gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, null);
+  const fb = gl.createFramebuffer();
+  gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+  gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, target, 0);
+  if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE) return {error: 'framebuffer incomplete'};
+  gl.viewport(0, 0, w, h);
+  gl.drawArrays(gl.TRIANGLES, 0, 3);
+  const out = new Float32Array(w * h * 4);
+  gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, out);
+  return {f: Array.from(out), ms: performance.now() - t0};
+}"""
