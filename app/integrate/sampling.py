@@ -9,7 +9,7 @@ directions below the horizon; an estimator counts them as 0). Samplers:
 * ``cosine``: Malley's method, a uniform point on the unit disk lifted to the
   hemisphere, pdf = μ_l/π (PBR 4th ed., sec. A.5.3).
 * ``ndf``: a microfacet normal m with density D(m)(n·m) by inverting the NDF's radial
-  CDF in α-stretched slope space (seed 001; Walter et al. 2007, eq. 35-36), then
+  CDF in α-stretched slope space (Walter et al. 2007, eq. 35-36), then
   l = 2(v·m)m − v; the Jacobian dl = 4|v·m| dm (Walter et al. 2007, eq. 14) gives
   pdf(l) = D(m)(n·m) / (4|v·m|), m = ±h the upper one of the two normals mirroring v to l.
 * ``vndf``: visible normals D_v(m) = G1(v) (v·m)⁺ D(m) / (n·v) (Heitz 2014, eq. 38),
@@ -28,34 +28,21 @@ from dataclasses import dataclass
 from typing import Callable
 
 import numpy as np
-from scipy.special import erfc, ndtri
 
 from ..physics.brdf import BRDF
-from ..physics.ndf import NDF, SlopeSpaceNDF
+from ..physics.ndf import NDF, NDFS, SlopeSpaceNDF
 from ..physics.numeric import where_valid
-from ..physics.vectors import dot, half_vector, reflect
+from ..physics.vectors import dot, half_vector, reflect, slopes_to_normal
 
 # Primary samples in the OPEN interval (0, 1): u = (k + ½)/2^52 for an integer k drawn
 # uniformly from [0, 2^52). Every value is exact in float64 and the largest is
 # 1 − 2^-53 < 1, so inverse CDFs never see 0 or 1 (where they return ±inf).
 OPEN_UNIFORM_BITS = 52
 
-# Beckmann visible slopes: the 1-D marginal is bracketed in [−SLOPE_BRACKET, min(cot θ,
-# SLOPE_BRACKET)]; its mass outside is erfc(8)/2 ≈ 6e-30, far below any test's reach.
-SLOPE_BRACKET = 8.0
-# Bisection halves the bracket (width ≤ 16) BISECTION_STEPS times: 16/2^60 ≈ 1.4e-17,
-# below the spacing of doubles near the slopes that matter.
-BISECTION_STEPS = 60
-
-
 def open_uniform(rng: np.random.Generator, shape) -> np.ndarray:
     """Uniform numbers in the open interval (0, 1) (see OPEN_UNIFORM_BITS)."""
     k = rng.integers(0, 2 ** OPEN_UNIFORM_BITS, size=shape, dtype=np.int64)
     return (k + 0.5) / 2.0 ** OPEN_UNIFORM_BITS
-
-
-def _unit(x: np.ndarray) -> np.ndarray:
-    return x / np.sqrt(dot(x, x))[..., None]
 
 
 # ---- hemisphere samplers (independent of v) -------------------------------------------
@@ -91,17 +78,12 @@ def _cosine_pdf(brdf, l, v):
 
 # ---- D(m)(n·m) ------------------------------------------------------------------------
 
-def _slopes_to_normal(X, Y):
-    """m ∝ (−X, −Y, 1) for unstretched slopes (X, Y) (Heitz 2014, eq. 2)."""
-    return _unit(np.stack([-X, -Y, np.ones_like(X)], axis=-1))
-
-
 def sample_ndf_normals(ndf: SlopeSpaceNDF, u1, u2) -> np.ndarray:
     """m with density D(m)(n·m): stretched radius from the tail mass 1 − u1 (the
     ccdf form keeps precision in the tail), ψ = 2π u2, then unstretch."""
     r = np.sqrt(ndf.radial_ccdf_inv(1.0 - u1))
     psi = 2.0 * np.pi * u2
-    return _slopes_to_normal(ndf.alpha_x * r * np.cos(psi), ndf.alpha_y * r * np.sin(psi))
+    return slopes_to_normal(ndf.alpha_x * r * np.cos(psi), ndf.alpha_y * r * np.sin(psi))
 
 
 def _ndf_pdf_one(ndf: NDF, l, v):
@@ -120,83 +102,10 @@ def _ndf_sample_one(ndf, v, u):
     return reflect(v[..., None, :], m)
 
 
-# ---- visible normals --------------------------------------------------------------------
-
-def _stretched_view(ndf, v):
-    """v in the α-stretched configuration, where the NDF is the α = 1 one."""
-    return _unit(np.stack([ndf.alpha_x * v[..., 0], ndf.alpha_y * v[..., 1], v[..., 2]], axis=-1))
-
-
-def _ggx_visible_normals(ndf, v, u):
-    """Heitz 2018, JCGT 7(4), listing 1: stretch v; a uniform point on the disk,
-    warped onto the projection of the visible hemisphere (half disk squeezed by
-    s = (1 + V_z)/2); lift to the hemisphere about V; unstretch."""
-    V = _stretched_view(ndf, v)[..., None, :]                 # (k, 1, 3)
-    len2 = V[..., 0] ** 2 + V[..., 1] ** 2
-    # Orthonormal basis (T1, T2, V); T1 = (1, 0, 0) at normal incidence.
-    inv_len = where_valid(len2 > 0, [len2], lambda x: 1.0 / np.sqrt(x), 0.0)
-    T1 = np.where((len2 > 0)[..., None],
-                  np.stack([-V[..., 1] * inv_len, V[..., 0] * inv_len, np.zeros_like(len2)], axis=-1),
-                  np.array([1.0, 0.0, 0.0]))
-    T2 = np.cross(V, T1)
-    r = np.sqrt(u[..., 0])
-    phi = 2.0 * np.pi * u[..., 1]
-    t1 = r * np.cos(phi)
-    t2 = r * np.sin(phi)
-    s = 0.5 * (1.0 + V[..., 2])
-    t2 = (1.0 - s) * np.sqrt(np.maximum(0.0, 1.0 - t1 * t1)) + s * t2
-    tz = np.sqrt(np.maximum(0.0, 1.0 - t1 * t1 - t2 * t2))
-    Nh = t1[..., None] * T1 + t2[..., None] * T2 + tz[..., None] * V
-    return _unit(np.stack([ndf.alpha_x * Nh[..., 0], ndf.alpha_y * Nh[..., 1],
-                           np.maximum(0.0, Nh[..., 2])], axis=-1))
-
-
-def _beckmann_slope_marginal_inv(cos_t, sin_t, u):
-    """x̃ with density ∝ (cosθ − x̃ sinθ)⁺ e^{−x̃²}/√π (the visible slope along v's
-    azimuth, α = 1; Heitz & d'Eon 2014, sec. 4). Its unnormalised CDF is
-    A(x) = cosθ erfc(−x)/2 + sinθ e^{−x²}/(2√π) for x ≤ cot θ; A(x) = u·A(cot θ) is
-    solved by bisection (A is increasing there)."""
-    def A(x):
-        return 0.5 * cos_t * erfc(-x) + sin_t * np.exp(-x * x) / (2.0 * np.sqrt(np.pi))
-
-    cot = where_valid(sin_t > 0, [cos_t, sin_t], lambda c, s: c / s, np.inf)
-    hi = np.minimum(cot, SLOPE_BRACKET)
-    target = u * A(hi)
-    lo = np.full_like(target, -SLOPE_BRACKET)
-    hi = np.broadcast_to(hi, target.shape).copy()
-    for _ in range(BISECTION_STEPS):
-        mid = 0.5 * (lo + hi)
-        below = A(mid) < target
-        lo = np.where(below, mid, lo)
-        hi = np.where(below, hi, mid)
-    return 0.5 * (lo + hi)
-
-
-def _beckmann_visible_normals(ndf, v, u):
-    """Slope-space visible normals for Beckmann (Heitz & d'Eon 2014): stretch v, sample
-    the slope along its azimuth from the visible marginal and the other slope from the
-    Gaussian e^{−ỹ²}/√π (the α = 1 slopes are independent), rotate, unstretch."""
-    V = _stretched_view(ndf, v)[..., None, :]
-    sin_t = np.sqrt(V[..., 0] ** 2 + V[..., 1] ** 2)
-    cos_t = V[..., 2]
-    inv = where_valid(sin_t > 0, [sin_t], lambda s: 1.0 / s, 0.0)
-    cos_p = np.where(sin_t > 0, V[..., 0] * inv, 1.0)
-    sin_p = np.where(sin_t > 0, V[..., 1] * inv, 0.0)
-    x = _beckmann_slope_marginal_inv(cos_t, sin_t, u[..., 0])
-    y = ndtri(u[..., 1]) / np.sqrt(2.0)                       # N(0, ½): e^{−y²}/√π
-    xr = cos_p * x - sin_p * y
-    yr = sin_p * x + cos_p * y
-    return _slopes_to_normal(ndf.alpha_x * xr, ndf.alpha_y * yr)
-
-
-VISIBLE_NORMALS: dict[str, Callable] = {
-    "ggx": _ggx_visible_normals,
-    "beckmann": _beckmann_visible_normals,
-}
-
+# ---- visible normals (each NDF's own sample_visible) ------------------------------------
 
 def _vndf_sample_one(ndf, v, u):
-    m = VISIBLE_NORMALS[ndf.name](ndf, v, u)
+    m = ndf.sample_visible(v, u)
     return reflect(v[..., None, :], m)
 
 
@@ -239,7 +148,7 @@ def _has_radial_inverse(brdf: BRDF) -> bool:
 
 
 def _has_vndf(brdf: BRDF) -> bool:
-    return all(ndf.name in VISIBLE_NORMALS for _, ndf in _lobe_ndfs(brdf))
+    return all(ndf.sample_visible is not None for _, ndf in _lobe_ndfs(brdf))
 
 
 @dataclass(frozen=True)
@@ -256,7 +165,7 @@ class Sampler:
         if not self.supports(brdf):
             names = sorted({ndf.name for _, ndf in _lobe_ndfs(brdf)})
             raise ValueError(f"no {self.name} sampler for ndf={', '.join(names)} "
-                             f"(sampler={self.name} supports: {SUPPORTED_NDFS.get(self.name, 'every NDF')})")
+                             f"(sampler={self.name} supports: {_supported(self.name)})")
 
     def sample(self, brdf: BRDF, v, n: int, rng: np.random.Generator | int):
         """l of shape v.shape[:-1] + (n, 3) and pdf(l) of shape v.shape[:-1] + (n,).
@@ -276,7 +185,11 @@ class Sampler:
         return self._pdf(brdf, np.asarray(l, dtype=float), np.asarray(v, dtype=float))
 
 
-SUPPORTED_NDFS = {"vndf": ", ".join(VISIBLE_NORMALS)}
+def _supported(sampler_name: str) -> str:
+    """The NDFs a sampler supports, for its error message."""
+    if sampler_name != "vndf":
+        return "every NDF"
+    return ", ".join(n for n, cls in NDFS.items() if cls.sample_visible is not None)
 
 _ndf_sample, _ndf_pdf = _mixture(_ndf_sample_one, _ndf_pdf_one)
 _vndf_sample, _vndf_pdf = _mixture(_vndf_sample_one, _vndf_pdf_one)

@@ -363,14 +363,10 @@ def tabulated_albedo(brdf: BRDF, mu) -> tuple[np.ndarray, float, list[ETable]]:
     """E(μ) of a BRDF from tables: Σ_lobes w (F₀ E₁ + (F₉₀ − F₀) E_S) + kd, for F = 1 or
     generalised Schlick (E is linear in f and in F). Returns (E, error bound, tables).
     Raises ValueError for other Fresnel forms and anisotropic roughness."""
-    fresnel = brdf.fresnel
-    if fresnel.name == "none":
-        parts = [(1.0, None)]
-    elif fresnel.name == "schlick":
-        parts = [(fresnel.f0, None), (fresnel.f90 - fresnel.f0, fresnel.fresnel_p)]
-    else:
-        raise ValueError(f"method=table needs fresnel=none or schlick (E is tabulated with F = 1 "
-                         f"and the Schlick basis); got fresnel={fresnel.name}")
+    parts = brdf.fresnel.schlick_basis()
+    if parts is None:
+        raise ValueError(f"method=table needs a Fresnel on the Schlick basis (none or schlick: E "
+                         f"is tabulated per basis function); got fresnel={brdf.fresnel.name}")
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
     E, error, tables = np.full(mu.shape, float(brdf.kd)), 0.0, []
     for w, lobe in brdf.lobes():

@@ -1,7 +1,7 @@
 """The single-bounce microfacet BRDF plus a Lambertian term.
 
-f(l, v) = kd/π + D(h) F(v·h) G2(l, v) / (4 |n·l| |n·v|)        (3-1)..(3-3), corrected
-in MATH.md: h = (l+v)/‖l+v‖, F of the angle between v and h, no cosine in f.
+f(l, v) = kd/π + D(h) F(v·h) G2(l, v) / (4 |n·l| |n·v|), h = (l+v)/‖l+v‖, F of the
+angle between v and h, no cosine in f (Walter et al. 2007, eq. 20).
 
 Reflection only: f = 0 unless both l and v are in the closed upper hemisphere.
 Where l = −v the specular term is 0. Where both graze, the height-correlated specular
@@ -18,7 +18,6 @@ from typing import Callable
 
 import numpy as np
 
-from . import fast
 from .fresnel import Fresnel
 from .g2 import G2Form, azimuth_difference
 from .masking import G1, Masking
@@ -50,11 +49,6 @@ class BRDF:
         v = np.asarray(v, dtype=float)
         if self.lobe2 is not None and self.lobe_mix > 0:
             return self._evaluate_two_lobes(l, v, want)
-        if set(want) == {"f"}:
-            # The common models have a fused, compiled f (fast.py; same formulas).
-            args = fast.spec_args(self)
-            if args is not None:
-                return {"f": fast.evaluate_f(args, l, v)}
         h, h_exists = half_vector(l, v)
         mu_l, mu_v = l[..., 2], v[..., 2]
         upper = (mu_l >= 0) & (mu_v >= 0)
@@ -122,12 +116,9 @@ class BRDF:
 @dataclass(frozen=True)
 class CompensatedBRDF(BRDF):
     """f = f_single + f_ms: the single-scattering BRDF plus a multiple-scattering lobe
-    ``multiscatter(μ_l, μ_v)`` (Kulla & Conty 2017, (3-53)..(3-57), Fresnel factor
-    included), built in app/integrate/compensation.py: physics does not import integrate.
-
-    A subclass, not a field of :class:`BRDF`: the compiled fast path (fast.py) accepts
-    only BRDF's own fields, and keeps serving the uncompensated models and the single
-    part here (:meth:`single`)."""
+    ``multiscatter(μ_l, μ_v)`` (Kulla & Conty 2017, Fresnel factor included), built in
+    app/integrate/compensation.py: physics does not import integrate. A subclass, so
+    that :meth:`single` gives the plain single-scattering BRDF back."""
     multiscatter: Callable | None = None   # (mu_l, mu_v) -> f_ms, reciprocal
 
     def single(self) -> BRDF:

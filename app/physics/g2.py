@@ -2,37 +2,35 @@
 
 With a = μ(1 + Λ) = μ + μΛ and G1 = μ/a:
 
-* separable                    G2 = G1(l) G1(v)                                  (3-10)
-* direction-correlated         G2 = λ(φ) G1(l)G1(v) + (1 − λ(φ)) min(G1(l), G1(v)) (3-11)
-* height-correlated            G2 = 1 / (1 + Λ(l) + Λ(v))                        (3-17)
-* height-direction-correlated  G2 = 1 / (1 + max(Λl, Λv) + λ(φ) min(Λl, Λv))     (3-18)
-* Hammon (GGX, approximation)  G2/(4 μl μv) ≈ 0.5 / lerp(2 μl μv, μl + μv, α)    (3-40)
+* separable                    G2 = G1(l) G1(v)
+* direction-correlated         G2 = λ(φ) G1(l)G1(v) + (1 − λ(φ)) min(G1(l), G1(v))
+* height-correlated            G2 = 1 / (1 + Λ(l) + Λ(v))
+* height-direction-correlated  G2 = 1 / (1 + max(Λl, Λv) + λ(φ) min(Λl, Λv))
+* Hammon (GGX, approximation)  G2/(4 μl μv) ≈ 0.5 / lerp(2 μl μv, μl + μv, α)
 
 Each form returns G2 and the visibility V = G2 / (4 μ_l μ_v), written with μ and μΛ only
-(never Λ = μΛ/μ), so that V stays finite when one direction grazes (it tends to a
-constant there). Where both graze V is +inf (a true divergence) for every form but the
-separable one, whose V = 1/(4 a_l a_v) stays finite; for the direction-correlated forms
-because λ(φ) < 1 for every φ ∈ [0, π].
-
-A form's ``G2_and_V(mu_l, mu_v, ml_l, ml_v, *, phi, ndf, lambda_phi)`` receives μ ≥ 0,
-μΛ, the NDF, and — only if it declares ``needs_phi`` — the azimuth difference φ ∈ [0, π]
-of l and v and the chosen λ(φ) (a function of φ; None means Ashikhmin's (3-12)).
+(never Λ = μΛ/μ), so that V stays finite when one direction grazes; where both graze V
+is +inf (a true divergence) for every form but the separable one. ``scalar_V`` is V for
+one point (physics/scalar.py), with λ = λ(φ) given (0 for forms without ``needs_phi``).
 
 References
 ----------
 Heitz 2014, JCGT 3(2), eq. 98 (separable), 99 (height-correlated) and sec. 6
-(direction- and height-direction-correlated forms); Ashikhmin et al. 2000 (3-12);
-van Ginneken et al. 1998 (3-13); Hammon 2017, GDC, "PBR Diffuse Lighting for GGX+Smith
-Microsurfaces" (3-40).
+(direction- and height-direction-correlated forms); Ashikhmin, Premože, Shirley 2000
+(λ(φ)); van Ginneken, Stavridi, Koenderink 1998 (λ(φ)); Hammon 2017, GDC, "PBR Diffuse
+Lighting for GGX+Smith Microsurfaces".
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
 from .numeric import where_valid
+from .registry import Registry
+from .scalar import scalar
 
 
 def _ratio(num, den):
@@ -49,7 +47,7 @@ def _visibility(den4):
 
 @dataclass(frozen=True)
 class LambdaPhi:
-    """A weight λ(φ) ∈ [0, 1) of the azimuth difference φ ∈ [0, π] (radians, MATH.md):
+    """A weight λ(φ) ∈ [0, 1) of the azimuth difference φ ∈ [0, π] (radians):
     0 at φ = 0 (l and v in the same azimuth: masking and shadowing fully correlated),
     growing towards 1 as they turn apart."""
     name: str
@@ -57,30 +55,49 @@ class LambdaPhi:
     description: str
     fn: Callable  # φ (radians) -> λ(φ)
     reference: str = ""
+    scalar_fn: Callable | None = None   # the same for one φ
 
 
 def ashikhmin(phi):
-    """λ(φ) = 1 − exp(−7.3 φ²) (3-12; Ashikhmin et al. 2000), as −expm1 for small φ."""
+    """λ(φ) = 1 − exp(−7.3 φ²) (Ashikhmin et al. 2000), as −expm1 for small φ."""
     phi = np.asarray(phi, dtype=float)
     return -np.expm1(-7.3 * phi * phi)
 
 
+@scalar
+def ashikhmin_scalar(phi):
+    return -math.expm1(-7.3 * phi * phi)
+
+
 def van_ginneken(phi):
-    """λ(φ) = 4.41 φ / (4.41 φ + 1) (3-13; van Ginneken et al. 1998)."""
+    """λ(φ) = 4.41 φ / (4.41 φ + 1) (van Ginneken et al. 1998)."""
     x = 4.41 * np.asarray(phi, dtype=float)
     return x / (x + 1.0)
 
 
-LAMBDA_PHIS: dict[str, LambdaPhi] = {
-    lp.name: lp for lp in [
-        LambdaPhi("ashikhmin", "Ashikhmin",
-                  "λ(φ) = 1 − exp(−7.3 φ²): reaches 0.9 at φ ≈ 32° (3-12).",
-                  ashikhmin, "Ashikhmin, Premože, Shirley 2000; seed 000 (3-12)"),
-        LambdaPhi("van_ginneken", "van Ginneken",
-                  "λ(φ) = 4.41φ/(4.41φ + 1): rises more slowly, 0.93 at φ = 180° (3-13).",
-                  van_ginneken, "van Ginneken, Stavridi, Koenderink 1998; seed 000 (3-13)"),
-    ]
-}
+@scalar
+def van_ginneken_scalar(phi):
+    x = 4.41 * phi
+    return x / (x + 1.0)
+
+
+LAMBDA_PHIS: Registry[LambdaPhi] = Registry("lambda_phi")
+for _lp in [
+    LambdaPhi("ashikhmin", "Ashikhmin",
+              "λ(φ) = 1 − exp(−7.3 φ²): reaches 0.9 at φ ≈ 32°.",
+              ashikhmin, "Ashikhmin, Premože, Shirley 2000", ashikhmin_scalar),
+    LambdaPhi("van_ginneken", "van Ginneken",
+              "λ(φ) = 4.41φ/(4.41φ + 1): rises more slowly, 0.93 at φ = 180°.",
+              van_ginneken, "van Ginneken, Stavridi, Koenderink 1998", van_ginneken_scalar),
+]:
+    LAMBDA_PHIS.register(_lp)
+
+
+def lambda_phi_entry(fn: Callable | None) -> LambdaPhi | None:
+    """The registered λ(φ) whose function is ``fn`` (None: the default one)."""
+    if fn is None:
+        return LAMBDA_PHIS[DEFAULT_LAMBDA_PHI]
+    return next((lp for lp in LAMBDA_PHIS.values() if lp.fn is fn), None)
 
 #: λ(φ) used when a direction-correlated form is given none.
 DEFAULT_LAMBDA_PHI = "ashikhmin"
@@ -96,20 +113,20 @@ def _lambda(phi, lambda_phi):
 # ------------------------------------------------------------------------- forms
 
 def separable(mu_l, mu_v, ml_l, ml_v, **_):
-    """G2 = G1(l) G1(v) (3-10), V = 1 / (4 (μ_l + μ_lΛ_l)(μ_v + μ_vΛ_v))."""
+    """G2 = G1(l) G1(v), V = 1 / (4 (μ_l + μ_lΛ_l)(μ_v + μ_vΛ_v))."""
     a_l, a_v = mu_l + ml_l, mu_v + ml_v
     return _ratio(mu_l * mu_v, a_l * a_v), _visibility(4.0 * a_l * a_v)
 
 
 def height_correlated(mu_l, mu_v, ml_l, ml_v, **_):
-    """G2 = 1/(1 + Λ_l + Λ_v) (3-17), times μ_l μ_v over itself:
+    """G2 = 1/(1 + Λ_l + Λ_v), times μ_l μ_v over itself:
     G2 = μ_l μ_v / (μ_l μ_v + μ_v·μ_lΛ_l + μ_l·μ_vΛ_v)."""
     den = mu_l * mu_v + mu_v * ml_l + mu_l * ml_v
     return _ratio(mu_l * mu_v, den), _visibility(4.0 * den)
 
 
 def direction_correlated(mu_l, mu_v, ml_l, ml_v, *, phi=None, lambda_phi=None, **_):
-    """G2 = λ G1(l)G1(v) + (1 − λ) min(G1(l), G1(v)) (3-11), λ = λ(φ).
+    """G2 = λ G1(l)G1(v) + (1 − λ) min(G1(l), G1(v)), λ = λ(φ).
 
     With G1 = μ/a: G1(l)G1(v)/(μ_l μ_v) = 1/(a_l a_v), and since G1(l) ≤ G1(v) ⟺
     μ_l a_v ≤ μ_v a_l, min(G1(l), G1(v))/(μ_l μ_v) = 1/max(μ_v a_l, μ_l a_v). So
@@ -133,7 +150,7 @@ def direction_correlated(mu_l, mu_v, ml_l, ml_v, *, phi=None, lambda_phi=None, *
 
 
 def height_direction_correlated(mu_l, mu_v, ml_l, ml_v, *, phi=None, lambda_phi=None, **_):
-    """G2 = 1/(1 + max(Λ_l, Λ_v) + λ min(Λ_l, Λ_v)) (3-18), λ = λ(φ), times μ_l μ_v over
+    """G2 = 1/(1 + max(Λ_l, Λ_v) + λ min(Λ_l, Λ_v)), λ = λ(φ), times μ_l μ_v over
     itself. μ_l μ_v Λ_l = μ_v·μ_lΛ_l =: A and μ_l μ_v Λ_v = μ_l·μ_vΛ_v =: B, and Λ_l ≥ Λ_v
     ⟺ A ≥ B (compared without dividing by μ, which may be 0):
 
@@ -147,9 +164,9 @@ def height_direction_correlated(mu_l, mu_v, ml_l, ml_v, *, phi=None, lambda_phi=
 
 
 def hammon(mu_l, mu_v, ml_l, ml_v, *, ndf=None, **_):
-    """Hammon 2017 (3-40): V ≈ 0.5 / lerp(2 μ_l μ_v, μ_l + μ_v, α), lerp(x0, x1, t) =
+    """Hammon 2017: V ≈ 0.5 / lerp(2 μ_l μ_v, μ_l + μ_v, α), lerp(x0, x1, t) =
     (1 − t) x0 + t x1, α the isotropic GGX α; G2 = 4 μ_l μ_v V. It replaces each
-    √(α² + (1 − α²)μ²) of the exact (3-37) by lerp(μ, 1, α); it is exact at α → 0
+    √(α² + (1 − α²)μ²) of the exact height-correlated GGX form by lerp(μ, 1, α); it is exact at α → 0
     (G2 = 1) and at α = 1 (both give 2 μ_l μ_v/(μ_l + μ_v)). μΛ is not used."""
     if ndf is None:
         raise ValueError("hammon needs the NDF (its α)")
@@ -162,8 +179,47 @@ def hammon(mu_l, mu_v, ml_l, ml_v, *, ndf=None, **_):
     return _ratio(2.0 * mu_l * mu_v, den), _visibility(2.0 * den)
 
 
+@scalar
+def separable_V(mu_l, mu_v, ml_l, ml_v, lam, p):
+    den4 = 4.0 * (mu_l + ml_l) * (mu_v + ml_v)
+    return 1.0 / den4 if den4 > 0.0 else math.inf
+
+
+@scalar
+def height_correlated_V(mu_l, mu_v, ml_l, ml_v, lam, p):
+    den4 = 4.0 * (mu_l * mu_v + mu_v * ml_l + mu_l * ml_v)
+    return 1.0 / den4 if den4 > 0.0 else math.inf
+
+
+@scalar
+def direction_correlated_V(mu_l, mu_v, ml_l, ml_v, lam, p):
+    a_l, a_v = mu_l + ml_l, mu_v + ml_v
+    big = max(mu_v * a_l, mu_l * a_v)
+    return 0.25 * (lam / (a_l * a_v) + (1.0 - lam) / big) if big > 0.0 else math.inf
+
+
+@scalar
+def height_direction_correlated_V(mu_l, mu_v, ml_l, ml_v, lam, p):
+    A, B = mu_v * ml_l, mu_l * ml_v
+    den4 = 4.0 * (mu_l * mu_v + max(A, B) + lam * min(A, B))
+    return 1.0 / den4 if den4 > 0.0 else math.inf
+
+
+@scalar
+def hammon_V(mu_l, mu_v, ml_l, ml_v, lam, p):
+    alpha = p[0]
+    den2 = 2.0 * ((1.0 - alpha) * 2.0 * mu_l * mu_v + alpha * (mu_l + mu_v))
+    return 1.0 / den2 if den2 > 0.0 else math.inf
+
+
+def _no_params(ndf) -> tuple:
+    return ()
+
+
 @dataclass(frozen=True)
 class G2Form:
+    """A G2 form. ``approximates`` names the exact form this one approximates;
+    ``scalar_V(μ_l, μ_v, μΛ_l, μΛ_v, λ, p)`` is V for one point, p = kernel_params(ndf)."""
     name: str
     label: str
     description: str
@@ -172,34 +228,46 @@ class G2Form:
     applies_to: tuple[str, ...] | None = None   # NDF names; None = every NDF
     isotropic_only: bool = False                # rejects α_x ≠ α_y (ValueError)
     reference: str = ""
-    approximation: bool = False                 # an approximation of another form
+    approximates: str | None = None
+    scalar_V: Callable | None = None
+    kernel_params: Callable = field(default=_no_params)   # (ndf) -> floats
+
+    @property
+    def approximation(self) -> bool:
+        return self.approximates is not None
+
+    def exact(self) -> "G2Form":
+        """The exact form this one stands for (itself when exact)."""
+        return self if self.approximates is None else G2_FORMS[self.approximates].exact()
 
 
-G2_FORMS: dict[str, G2Form] = {
-    g.name: g for g in [
-        G2Form("separable", "Separable",
-               "G1(l)·G1(v): ignores the correlation of masking and shadowing (3-10).",
-               separable, reference="Heitz 2014, eq. 98; seed 000 (3-10)"),
-        G2Form("height_correlated", "Height-correlated",
-               "1/(1+Λ(l)+Λ(v)): the recommended form (Heitz 2014, eq. 99; (3-17)).",
-               height_correlated, reference="Heitz 2014, eq. 99; seed 000 (3-17)"),
-        G2Form("direction_correlated", "Direction-correlated",
-               "λ(φ)·G1(l)G1(v) + (1−λ(φ))·min(G1(l), G1(v)): min(G1) when l and v share "
-               "an azimuth, separable as they turn apart (3-11).",
-               direction_correlated, needs_phi=True,
-               reference="Ashikhmin et al. 2000; Heitz 2014, sec. 6; seed 000 (3-11)"),
-        G2Form("height_direction_correlated", "Height-direction-correlated",
-               "1/(1 + max(Λl, Λv) + λ(φ)·min(Λl, Λv)): height-correlated, and min(G1) "
-               "when l and v share an azimuth (3-18).",
-               height_direction_correlated, needs_phi=True,
-               reference="Heitz 2014, sec. 6; seed 000 (3-18)"),
-        G2Form("hammon", "Hammon (approx.)",
-               "Height-correlated GGX visibility approximated by 0.5/lerp(2μlμv, μl+μv, α); "
-               "isotropic GGX only (3-40).",
-               hammon, applies_to=("ggx",), isotropic_only=True, approximation=True,
-               reference="Hammon 2017, GDC; seed 000 (3-40)"),
-    ]
-}
+#: Every G2 form by name (``G2_FORMS.register(G2Form(...))``).
+G2_FORMS: Registry[G2Form] = Registry("G2 form")
+for _g in [
+    G2Form("separable", "Separable",
+           "G1(l)·G1(v): ignores the correlation of masking and shadowing.",
+           separable, reference="Heitz 2014, eq. 98", scalar_V=separable_V),
+    G2Form("height_correlated", "Height-correlated",
+           "1/(1+Λ(l)+Λ(v)): the recommended form (Heitz 2014, eq. 99).",
+           height_correlated, reference="Heitz 2014, eq. 99", scalar_V=height_correlated_V),
+    G2Form("direction_correlated", "Direction-correlated",
+           "λ(φ)·G1(l)G1(v) + (1−λ(φ))·min(G1(l), G1(v)): min(G1) when l and v share "
+           "an azimuth, separable as they turn apart.",
+           direction_correlated, needs_phi=True,
+           reference="Ashikhmin et al. 2000; Heitz 2014, sec. 6", scalar_V=direction_correlated_V),
+    G2Form("height_direction_correlated", "Height-direction-correlated",
+           "1/(1 + max(Λl, Λv) + λ(φ)·min(Λl, Λv)): height-correlated, and min(G1) "
+           "when l and v share an azimuth.",
+           height_direction_correlated, needs_phi=True,
+           reference="Heitz 2014, sec. 6", scalar_V=height_direction_correlated_V),
+    G2Form("hammon", "Hammon (approx.)",
+           "Height-correlated GGX visibility approximated by 0.5/lerp(2μlμv, μl+μv, α); "
+           "isotropic GGX only.",
+           hammon, applies_to=("ggx",), isotropic_only=True, approximates="height_correlated",
+           reference="Hammon 2017, GDC", scalar_V=hammon_V,
+           kernel_params=lambda ndf: (ndf.alpha_x,)),
+]:
+    G2_FORMS.register(_g)
 
 
 def azimuth_difference(l, v) -> np.ndarray:
@@ -209,3 +277,8 @@ def azimuth_difference(l, v) -> np.ndarray:
     cross = l[..., 0] * v[..., 1] - l[..., 1] * v[..., 0]
     dot = l[..., 0] * v[..., 0] + l[..., 1] * v[..., 1]
     return np.arctan2(np.abs(cross), dot)
+
+
+@scalar
+def azimuth_difference_scalar(lx, ly, vx, vy):
+    return math.atan2(abs(lx * vy - ly * vx), lx * vx + ly * vy)

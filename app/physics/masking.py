@@ -1,34 +1,64 @@
-"""Smith masking: Λ → G1 → G2, all from μΛ (finite everywhere).
+"""Smith masking: how μΛ is obtained for a direction, and G1 = μ/(μ + μΛ).
 
-With a = μ(1 + Λ) = μ + μΛ (> 0 for any α > 0):
-
-* G1(ω) = μ / a                                            (3-5), (3-8)
-
-The joint masking-shadowing forms built on it are in ``g2.py``.
+With a = μ(1 + Λ) = μ + μΛ (> 0 for any α > 0), G1(ω) = μ/a (Heitz 2014, eq. 43); the
+joint masking-shadowing forms built on it are in ``g2.py``. Every masking also writes
+μΛ for one point (``scalar_mu_Lambda``, physics/scalar.py), given (μ, s = α(φ) sinθ,
+sinθ), its own parameters and the NDF's scalar formulas.
 
 References
 ----------
-Heitz 2014, JCGT 3(2), eq. 43.
+Heitz 2014, JCGT 3(2), eq. 43; Walter et al. 2007, eq. 27; Karis 2013, "Real Shading in
+Unreal Engine 4", SIGGRAPH course notes; Schlick 1994.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+import math
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
 
+from .gauss import gauss_legendre_01
 from .numeric import where_valid
-from .smith_integral import mu_Lambda_numeric
+from .registry import Registry
+from .scalar import scalar
+from .smith_integral import K_MAX, ORDER, mu_Lambda_numeric
+
+#: The masking every other one is checked against: the general Smith integral.
+REFERENCE = "smith_numeric"
+
+
+def _no_params(ndf) -> tuple:
+    return ()
 
 
 @dataclass(frozen=True)
 class Masking:
-    """How μΛ is obtained for a direction. ``applies_to`` None means every NDF."""
+    """How μΛ is obtained for a direction. ``applies_to`` None means every NDF.
+
+    ``approximates`` names the exact masking this one approximates (None: exact, as far
+    as the NDF's own Λ is: see :meth:`exact`). ``simplifies_to``: ((values, name), ...)
+    where it is another registered masking. ``scalar_mu_Lambda(μ, s, sinθ, p, ndf_p,
+    ndf_mu_Lambda, ndf_radial_ccdf, ndf_radial_ccdf_inv)`` with p = kernel_params(ndf).
+    """
     name: str
     label: str
     description: str
     mu_Lambda: Callable  # (ndf, w) -> μΛ(w)
     applies_to: tuple[str, ...] | None = None
+    approximates: str | None = None
+    uses_ndf_Lambda: bool = False     # the NDF's own Λ (exact iff the NDF's smith_exact)
+    simplifies_to: tuple[tuple[dict, str], ...] = ()
+    scalar_mu_Lambda: Callable | None = None
+    kernel_params: Callable = field(default=_no_params)   # (ndf) -> floats
+
+    def exact(self, ndf) -> "Masking":
+        """The exact masking this one stands for with ``ndf`` (itself when exact)."""
+        if self.approximates is not None:
+            return MASKINGS[self.approximates].exact(ndf)
+        if self.uses_ndf_Lambda and not type(ndf).smith_exact:
+            return MASKINGS[REFERENCE]
+        return self
 
 
 def _stretched(ndf, w):
@@ -44,24 +74,36 @@ def _alpha_phi(s, sin_theta):
     return where_valid(sin_theta > 0, [s, sin_theta], lambda a, b: a / b, 0.0)
 
 
-def walter_mu_Lambda(ndf, w):
-    """Walter 2007 eq. 27 (seed (3-31), constants corrected in MATH.md):
-    Λ(a) ≈ (1 − 1.259a + 0.396a²)/(3.535a + 2.181a²) for a < 1.6, else 0.
-    Times μ = a·s: μΛ ≈ s (1 − 1.259a + 0.396a²)/(3.535 + 2.181a)."""
-    mu, s, _ = _stretched(ndf, w)
-
-    def formula(m, ss):
-        a = m / ss
-        return np.where(a < WALTER_A_MAX, ss * (1.0 - 1.259 * a + 0.396 * a * a) / (3.535 + 2.181 * a), 0.0)
-    return where_valid(s > 0, [mu, s], formula, 0.0)
-
-
 # Walter's fit is set to Λ = 0 from a = 1.6 on (where the exact Λ < 3.4e-3).
 WALTER_A_MAX = 1.6
 
 
+def walter_mu_Lambda(ndf, w):
+    """Walter 2007 eq. 27: Λ(a) ≈ (1 − 1.259a + 0.396a²)/(3.535a + 2.181a²) for a < 1.6,
+    else 0. Times μ = a·s: μΛ ≈ s (1 − 1.259a + 0.396a²)/(3.535 + 2.181a). The numerator
+    is negative for 1.5497 < a < 1.6 (Λ down to −5e-5, G1 up to 1.00005): it is bounded
+    at 0 there, the value the fit takes from a = 1.6 on."""
+    mu, s, _ = _stretched(ndf, w)
+
+    def formula(m, ss):
+        a = m / ss
+        num = np.maximum(1.0 - 1.259 * a + 0.396 * a * a, 0.0)
+        return np.where(a < WALTER_A_MAX, ss * num / (3.535 + 2.181 * a), 0.0)
+    return where_valid(s > 0, [mu, s], formula, 0.0)
+
+
+@scalar
+def walter_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
+    if not s > 0.0:
+        return 0.0
+    a = mu / s
+    if not a < WALTER_A_MAX:
+        return 0.0
+    return s * max(1.0 - 1.259 * a + 0.396 * a * a, 0.0) / (3.535 + 2.181 * a)
+
+
 def schlick_mu_Lambda(k_of_alpha):
-    """Schlick-GGX G1 = μ/(μ(1 − k) + k) (seed 004) is Λ = k(1 − μ)/μ: μΛ = k(1 − μ).
+    """Schlick-GGX G1 = μ/(μ(1 − k) + k) is Λ = k(1 − μ)/μ: μΛ = k(1 − μ).
     k from α(φ) of the direction, so the approximation follows anisotropy."""
     def mu_Lambda(ndf, w):
         mu, s, sin_t = _stretched(ndf, w)
@@ -69,35 +111,92 @@ def schlick_mu_Lambda(k_of_alpha):
     return mu_Lambda
 
 
-MASKINGS: dict[str, Masking] = {
-    m.name: m for m in [
-        Masking("smith", "Smith (exact Λ)",
-                "The NDF's own Smith Λ: closed form for GGX, Beckmann, Student-t; a table of "
-                "the Smith integral for GTR and exponential power; Walter's Beckmann "
-                "substitution for Blinn-Phong (Heitz 2014, eq. 43).",
-                lambda ndf, w: ndf.mu_Lambda(w)),
-        Masking("smith_numeric", "Smith integral (numerical reference)",
-                "G1 = μ / ∫ D(m)(ω·m)⁺ dm by Gauss quadrature (3-6): the reference every "
-                "closed form and approximation is checked against.",
-                lambda ndf, w: mu_Lambda_numeric(ndf, w)),
-        Masking("walter", "Walter rational fit",
-                "Walter 2007's rational approximation of Beckmann's Λ (3-31), cheap, "
-                "no erf.", walter_mu_Lambda, applies_to=("beckmann", "blinn_phong")),
-        Masking("karis", "Karis (3-39)",
-                "G1 ≈ 2μ/(μ(2 − α) + α) (Karis 2013); identical to Schlick-GGX with "
-                "k = α/2.", schlick_mu_Lambda(lambda a: 0.5 * a), applies_to=("ggx",)),
-        Masking("schlick_direct", "Schlick-GGX, direct light",
-                "G1 = μ/(μ(1−k)+k), k = (r+1)²/8 with r = √α (Karis 2013, as in "
-                "LearnOpenGL).", schlick_mu_Lambda(lambda a: (np.sqrt(a) + 1.0) ** 2 / 8.0),
-                applies_to=("ggx",)),
-        Masking("schlick_ibl", "Schlick-GGX, image-based light",
-                "G1 = μ/(μ(1−k)+k), k = r²/2 = α/2 (Karis 2013).",
-                schlick_mu_Lambda(lambda a: 0.5 * a), applies_to=("ggx",)),
-    ]
-}
+@scalar
+def half_alpha_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
+    """μΛ = k (1 − μ), k = α(φ)/2 (Karis; Schlick-GGX for image-based light)."""
+    alpha = s / sin_t if sin_t > 0.0 else 0.0
+    return 0.5 * alpha * (1.0 - mu)
+
+
+@scalar
+def schlick_direct_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
+    """μΛ = k (1 − μ), k = (√α(φ) + 1)²/8 (Schlick-GGX for direct light)."""
+    alpha = s / sin_t if sin_t > 0.0 else 0.0
+    return (math.sqrt(alpha) + 1.0) ** 2 / 8.0 * (1.0 - mu)
+
+
+@scalar
+def smith_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
+    return ndf_mu_Lambda(mu, s, ndf_p)
+
+
+def _numeric_params(ndf) -> np.ndarray:
+    """k of the tail substitution, then the Gauss nodes t and weights dt of
+    smith_integral._integral (the same rule, so the two agree to rounding)."""
+    sg, wsg = gauss_legendre_01(ORDER)
+    t = np.sin(0.5 * np.pi * sg) ** 2
+    wt = 0.5 * np.pi * np.sin(np.pi * sg) * wsg
+    k = min(1.0 / (1.0 - ndf.tail_beta), K_MAX)
+    return np.concatenate([[k], t, wt])
+
+
+@scalar
+def numeric_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
+    """The general Smith integral of smith_integral.py for one direction."""
+    if not s > 0.0:
+        return 0.0
+    a = mu / s
+    v0 = ndf_ccdf(a * a, ndf_p)
+    if not v0 > 0.0:
+        return 0.0
+    k = p[0]
+    n = (p.shape[0] - 1) // 2
+    total = 0.0
+    for j in range(n):
+        t, wt = p[1 + j], p[1 + n + j]
+        v = v0 * (1.0 - t) ** k
+        dv = k * v0 * (1.0 - t) ** (k - 1.0) * wt
+        r2 = ndf_ccdf_inv(v, ndf_p) if v > 0.0 else 0.0
+        q = math.sqrt(max(r2 - a * a, 0.0))
+        total += (q - a * math.atan2(q, a)) * dv
+    return s / math.pi * total
+
+
+#: Every masking by name (``MASKINGS.register(Masking(...))``).
+MASKINGS: Registry[Masking] = Registry("masking")
+for _m in [
+    Masking("smith", "Smith (exact Λ)",
+            "The NDF's own Smith Λ: closed form for GGX, Beckmann, Student-t; a table of "
+            "the Smith integral for GTR and exponential power; Walter's Beckmann "
+            "substitution for Blinn-Phong (Heitz 2014, eq. 43).",
+            lambda ndf, w: ndf.mu_Lambda(w), uses_ndf_Lambda=True,
+            scalar_mu_Lambda=smith_mu_Lambda_scalar),
+    Masking(REFERENCE, "Smith integral (numerical reference)",
+            "G1 = μ / ∫ D(m)(ω·m)⁺ dm by Gauss quadrature (Heitz 2014, eq. 43): the "
+            "reference every closed form and approximation is checked against.",
+            lambda ndf, w: mu_Lambda_numeric(ndf, w),
+            scalar_mu_Lambda=numeric_mu_Lambda_scalar, kernel_params=_numeric_params),
+    Masking("walter", "Walter rational fit",
+            "Walter 2007's rational approximation of Beckmann's Λ (eq. 27), cheap, no erf.",
+            walter_mu_Lambda, applies_to=("beckmann", "blinn_phong"), approximates="smith",
+            scalar_mu_Lambda=walter_mu_Lambda_scalar),
+    Masking("karis", "Karis",
+            "G1 ≈ 2μ/(μ(2 − α) + α) (Karis 2013); identical to Schlick-GGX with k = α/2.",
+            schlick_mu_Lambda(lambda a: 0.5 * a), applies_to=("ggx",), approximates="smith",
+            simplifies_to=(({}, "schlick_ibl"),), scalar_mu_Lambda=half_alpha_mu_Lambda_scalar),
+    Masking("schlick_direct", "Schlick-GGX, direct light",
+            "G1 = μ/(μ(1−k)+k), k = (r+1)²/8 with r = √α (Karis 2013, as in LearnOpenGL).",
+            schlick_mu_Lambda(lambda a: (np.sqrt(a) + 1.0) ** 2 / 8.0), applies_to=("ggx",),
+            approximates="smith", scalar_mu_Lambda=schlick_direct_mu_Lambda_scalar),
+    Masking("schlick_ibl", "Schlick-GGX, image-based light",
+            "G1 = μ/(μ(1−k)+k), k = r²/2 = α/2 (Karis 2013).",
+            schlick_mu_Lambda(lambda a: 0.5 * a), applies_to=("ggx",), approximates="smith",
+            scalar_mu_Lambda=half_alpha_mu_Lambda_scalar),
+]:
+    MASKINGS.register(_m)
 
 
 def G1(mu, mu_Lambda):
-    """G1 = 1/(1+Λ) = μ/(μ + μΛ); 0 at μ ≤ 0 (χ⁺ of (3-8))."""
+    """G1 = 1/(1+Λ) = μ/(μ + μΛ); 0 at μ ≤ 0 (the χ⁺ of Heitz 2014, eq. 43)."""
     mu = np.asarray(mu, dtype=float)
     return where_valid(mu > 0, [mu, mu_Lambda], lambda m, ml: m / (m + ml), 0.0)

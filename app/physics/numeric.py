@@ -6,9 +6,12 @@ cleaned up after the fact.
 """
 from __future__ import annotations
 
+import math
 from typing import Callable
 
 import numpy as np
+
+from .scalar import scalar
 
 
 def where_valid(cond, arrays, formula: Callable, fill) -> np.ndarray:
@@ -61,3 +64,15 @@ def log1p_ratio(y) -> np.ndarray:
     y = np.asarray(y, dtype=float)
     small = np.abs(y) < SERIES_CUTOFF
     return np.where(small, 1.0 - 0.5 * y, where_valid(~small, [y], lambda x: np.log1p(x) / x, 1.0))
+
+
+@scalar
+def expm1_ratio_scalar(y):
+    """:func:`expm1_ratio` for one value."""
+    return 1.0 + 0.5 * y if abs(y) < SERIES_CUTOFF else math.expm1(y) / y
+
+
+@scalar
+def log1p_ratio_scalar(y):
+    """:func:`log1p_ratio` for one value."""
+    return 1.0 - 0.5 * y if abs(y) < SERIES_CUTOFF else math.log1p(y) / y

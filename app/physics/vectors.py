@@ -1,4 +1,4 @@
-"""Directions in the local frame n = +z, t = +x, b = +y (MATH.md, "Conventions").
+"""Directions in the local frame n = +z, t = +x, b = +y; ω = (sinθ cosφ, sinθ sinφ, cosθ).
 
 Directions are float64 arrays of shape (..., 3). Helpers here are the only place where
 spherical angles become vectors, so the exact zeros at the poles and the horizon are
@@ -39,7 +39,7 @@ def half_vector(l, v):
     s = np.asarray(l, dtype=float) + np.asarray(v, dtype=float)
     norm = np.sqrt(dot(s, s))
     # Two unit vectors sum to length < 1e-12 only if they are opposite to within 1e-12
-    # rad; there h is undefined and the specular term is 0 (MATH.md, conventions).
+    # rad; there h is undefined and the specular term is 0.
     exists = norm > HALF_VECTOR_MIN_NORM
     inv = where_valid(exists, [norm], lambda n: 1.0 / n, 0.0)
     return s * inv[..., None], exists
@@ -53,3 +53,14 @@ HALF_VECTOR_MIN_NORM = 1e-12
 def reflect(v, m):
     """Mirror v about m: l = 2 (v·m) m − v."""
     return 2.0 * dot(v, m)[..., None] * m - v
+
+
+def unit(x) -> np.ndarray:
+    """x / ‖x‖ along the last axis (x ≠ 0)."""
+    x = np.asarray(x, dtype=float)
+    return x / np.sqrt(dot(x, x))[..., None]
+
+
+def slopes_to_normal(X, Y) -> np.ndarray:
+    """m ∝ (−X, −Y, 1) for slopes (X, Y) (Heitz 2014, eq. 2)."""
+    return unit(np.stack([-X, -Y, np.ones_like(X)], axis=-1))

@@ -1,38 +1,18 @@
-"""The NDF registry.
-
-Every module in this package that defines an NDF subclass decorated with ``@register``
-is imported here, so adding an NDF is adding one file: it then appears in
-``/api/v1/models``, the API's ``ndf`` parameter and the page's menu.
+"""The NDF registry: one module per NDF, each registering its class with
+``@NDFS.register``. Every module of this package is imported here, so adding an NDF is
+adding its file: it then appears in ``/api/v1/models``, the API's ``ndf`` parameter,
+the page's menu, the compiled kernels and the tables.
 """
 from __future__ import annotations
 
-import importlib
-import pkgutil
-
-from .base import ALPHA, ALPHA_Y, NDF, ShapeInvariantNDF, SlopeSpaceNDF
-
-NDFS: dict[str, type[NDF]] = {}
-
-
-def register(cls: type[NDF]) -> type[NDF]:
-    if cls.name in NDFS:
-        raise ValueError(f"NDF {cls.name!r} registered twice")
-    NDFS[cls.name] = cls
-    return cls
+from ..registry import import_modules
+from .base import ALPHA, ALPHA_Y, NDF, NDFS, ShapeInvariantNDF, SlopeSpaceNDF
 
 
 def make_ndf(name: str, alpha: float, alpha_y: float | None = None, **shape) -> NDF:
     return NDFS[name](alpha, alpha_y, **shape)
 
 
-def _import_all() -> None:
-    for info in sorted(pkgutil.iter_modules(__path__), key=lambda i: i.name):
-        if info.name != "base":
-            importlib.import_module(f"{__name__}.{info.name}")
+import_modules(__name__, __path__, skip=("base",))
 
-
-_import_all()
-NDFS = dict(sorted(NDFS.items(), key=lambda kv: (kv[1].menu_order, kv[0])))
-
-__all__ = ["ALPHA", "ALPHA_Y", "NDF", "NDFS", "ShapeInvariantNDF", "SlopeSpaceNDF", "make_ndf",
-           "register"]
+__all__ = ["ALPHA", "ALPHA_Y", "NDF", "NDFS", "ShapeInvariantNDF", "SlopeSpaceNDF", "make_ndf"]

@@ -1,23 +1,25 @@
-"""The NDF interface and the shape-invariant base class.
+"""The NDF interface, the slope-space base class and the NDF registry.
 
 Everything a BRDF needs from an NDF is D(m) and μΛ(ω) — the Smith Λ times μ = cosθ,
 which is finite everywhere (Λ itself diverges at grazing, μΛ tends to a constant).
 G1, G2 and the BRDF are built from those in ``masking.py`` and ``brdf.py``, as pbrt-v4
-builds them from ``Lambda``.
+builds them from ``Lambda``. Each NDF also writes its formulas for one point
+(``*_scalar``, see ``physics/scalar.py``), which app/kernels compiles.
 
 References
 ----------
 Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based BRDFs",
-JCGT 3(2), sections 3-5 (seed 000, (3-4)..(3-27)).
+JCGT 3(2), sections 3-5.
 """
 from __future__ import annotations
 
-from typing import ClassVar
+from typing import Callable, ClassVar
 
 import numpy as np
 
 from ..numeric import where_valid
 from ..params import Param
+from ..registry import Registry
 
 ALPHA = Param(
     "alpha", "α (roughness, x)", 1e-4, 1.0, 0.3,
@@ -31,9 +33,8 @@ ALPHA_Y = Param(
 class NDF:
     """A normal distribution function bound to its parameters.
 
-    Subclasses set the class attributes and implement :meth:`D` and :meth:`mu_Lambda`.
-    Registering a subclass (``@register`` in ``ndf/__init__.py``) is all it takes for
-    it to appear in ``/api/v1/models``, the API and the page's menus.
+    Subclasses set the class attributes and implement :meth:`D` and :meth:`mu_Lambda`,
+    and register with ``@NDFS.register``.
     """
 
     name: ClassVar[str]
@@ -47,6 +48,13 @@ class NDF:
     #: with masking=smith_numeric.
     smith_exact: ClassVar[bool] = True
     anisotropic: ClassVar[bool] = True
+    #: Parameter values at which this NDF is another registered one:
+    #: ((shape values, NDF name), ...), e.g. GTR at γ = 2 is GGX.
+    simplifies_to: ClassVar[tuple[tuple[dict, str], ...]] = ()
+    #: ``sample_visible(v, u) -> m``: visible normals with density G1(v)(v·m)⁺D(m)/(n·v)
+    #: (Heitz 2014, eq. 38) for views v (k, 3) and primary samples u (n, 3); None where
+    #: no sampler is known (a vndf request is then refused).
+    sample_visible: ClassVar[Callable | None] = None
 
     def __init__(self, alpha: float, alpha_y: float | None = None, **shape: float):
         self.alpha_x = float(alpha)
@@ -70,7 +78,7 @@ class NDF:
         raise NotImplementedError
 
     def Lambda(self, w) -> np.ndarray:
-        """Smith Λ(ω) (3-5); +inf at μ = 0, where it truly diverges."""
+        """Smith Λ(ω) (Heitz 2014, eq. 43); +inf at μ = 0, where it truly diverges."""
         mu = np.asarray(w)[..., 2]
         return where_valid(mu > 0, [self.mu_Lambda(w), mu], lambda ml, m: ml / m, np.inf)
 
@@ -80,7 +88,7 @@ class NDF:
 
 
 class SlopeSpaceNDF(NDF):
-    """An NDF written in α-stretched slope space (3-19..3-25).
+    """An NDF written in α-stretched slope space (Heitz 2014, sec. 5).
 
     D(m) = P22(x̃, ỹ) / (α_x α_y cos⁴θ_m) with stretched slopes x̃ = −m_x/(α_x m_z),
     ỹ = −m_y/(α_y m_z), and Smith's Λ(ω) as a function of μ and
@@ -150,6 +158,22 @@ class SlopeSpaceNDF(NDF):
     def radial_cdf_inv(self, u):
         return self.radial_ccdf_inv(1.0 - np.asarray(u, dtype=float))
 
+    # ---- the same formulas for one point (physics/scalar.py), p = kernel_params() ----
+    # D_scalar(mz, q2, p): α_x α_y D (as _D); mu_Lambda_scalar(mu, s, p): μΛ for μ ≥ 0,
+    # s ≥ 0 (0 at s = 0); radial_ccdf_scalar(r2, p), radial_cdf_inv_scalar(u, p),
+    # radial_ccdf_inv_scalar(v, p). An NDF without them is served by numpy alone.
+    D_scalar = mu_Lambda_scalar = None
+    radial_ccdf_scalar = radial_cdf_inv_scalar = radial_ccdf_inv_scalar = None
+
+    def kernel_params(self) -> tuple[float, ...]:
+        """The floats the scalar formulas read from ``p`` (α-dependent constants and
+        shape parameters, tables where Λ is tabulated)."""
+        return ()
+
 
 # The shape-invariant NDFs are slope-space NDFs whose hooks ignore α.
 ShapeInvariantNDF = SlopeSpaceNDF
+
+#: Every NDF by name, in menu order: ``@NDFS.register`` on the class is all it takes to
+#: appear in ``/api/v1/models``, the API and the page's menus.
+NDFS: Registry[type[NDF]] = Registry("NDF")

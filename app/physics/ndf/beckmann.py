@@ -1,27 +1,39 @@
-"""Beckmann (seed 000 (3-28)..(3-30)).
+"""Beckmann.
 
 References
 ----------
-Beckmann & Spizzichino 1963; Walter et al. 2007, eq. 25-27; Heitz 2014, eq. 83-84.
+Beckmann & Spizzichino 1963; Walter et al. 2007, eq. 25-27; Heitz 2014, eq. 83-84;
+Heitz & d'Eon 2014, "Importance Sampling Microfacet-Based BSDFs using the Distribution
+of Visible Normals", EGSR, sec. 4 (visible normals).
 """
 from __future__ import annotations
 
-import numpy as np
-from scipy.special import erfcx
+import math
 
-from . import register
-from .base import ShapeInvariantNDF
+import numpy as np
+from scipy.special import erfc, erfcx, ndtri
+
 from ..numeric import where_valid
+from ..scalar import scalar
+from ..vectors import slopes_to_normal, unit
+from .base import NDFS, ShapeInvariantNDF
 
 SQRT_PI = np.sqrt(np.pi)
 
 # Below A_SERIES the bracket 1/√π − a·erfcx(a) is computed directly; it loses about
 # 2a² ulps to cancellation, i.e. ≤ 1.4e-14 relative at a = 8. From A_SERIES on, the
 # asymptotic series with SERIES_TERMS terms is used: its truncation error is about the
-# next term, (2K+1)!!/(2a²)^(K+1) ≈ 7e-20 relative at a = 8, K = 20.
-# (An earlier 8-term series from a = 6 was only good to 4e-8: found by an mpmath test.)
+# next term, (2K+1)!!/(2a²)^(K+1) ≈ 7e-20 relative at a = 8, K = 20 (an 8-term series
+# from a = 6 was only good to 4e-8, against mpmath).
 A_SERIES = 8.0
 SERIES_TERMS = 20
+
+# Visible slopes: the 1-D marginal is bracketed in [−SLOPE_BRACKET, min(cot θ,
+# SLOPE_BRACKET)]; its mass outside is erfc(8)/2 ≈ 6e-30, far below any test's reach.
+SLOPE_BRACKET = 8.0
+# Bisection halves the bracket (width ≤ 16) BISECTION_STEPS times: 16/2^60 ≈ 1.4e-17,
+# below the spacing of doubles near the slopes that matter.
+BISECTION_STEPS = 60
 
 
 def _bracket_direct(a):
@@ -42,7 +54,7 @@ def _bracket_series(a):
 def beckmann_mu_Lambda(mu, s):
     """μΛ for the Beckmann slope distribution, a = μ/s.
 
-    Λ(a) = (erf a − 1)/2 + e^{−a²}/(2a√π) (3-30). Times μ, with
+    Λ(a) = (erf a − 1)/2 + e^{−a²}/(2a√π) (Walter et al. 2007, eq. 27). Times μ, with
     erf a − 1 = −erfc a = −erfcx(a) e^{−a²}:  μΛ = (s e^{−a²}/2)(1/√π − a·erfcx(a)).
     s = 0 is normal incidence, where Λ = 0.
     """
@@ -54,7 +66,46 @@ def beckmann_mu_Lambda(mu, s):
     return where_valid(s > 0, [mu, s], formula, 0.0)
 
 
-@register
+@scalar
+def beckmann_mu_Lambda_scalar(mu, s, p):
+    """:func:`beckmann_mu_Lambda` for one point (the same two branches)."""
+    if not s > 0.0:
+        return 0.0
+    a = mu / s
+    if a < A_SERIES:
+        bracket = 1.0 / SQRT_PI - a * erfcx(a)
+    else:
+        x = 1.0 / (2.0 * a * a)
+        total, term = 0.0, 1.0
+        for k in range(1, SERIES_TERMS + 1):
+            term = term * x * (2 * k - 1) if k > 1 else x
+            total = total + (term if k % 2 else -term)
+        bracket = total / SQRT_PI
+    return 0.5 * s * math.exp(-a * a) * bracket
+
+
+def _slope_marginal_inv(cos_t, sin_t, u):
+    """x̃ with density ∝ (cosθ − x̃ sinθ)⁺ e^{−x̃²}/√π (the visible slope along v's
+    azimuth, α = 1; Heitz & d'Eon 2014, sec. 4). Its unnormalised CDF is
+    A(x) = cosθ erfc(−x)/2 + sinθ e^{−x²}/(2√π) for x ≤ cot θ; A(x) = u·A(cot θ) is
+    solved by bisection (A is increasing there)."""
+    def A(x):
+        return 0.5 * cos_t * erfc(-x) + sin_t * np.exp(-x * x) / (2.0 * SQRT_PI)
+
+    cot = where_valid(sin_t > 0, [cos_t, sin_t], lambda c, s: c / s, np.inf)
+    hi = np.minimum(cot, SLOPE_BRACKET)
+    target = u * A(hi)
+    lo = np.full_like(target, -SLOPE_BRACKET)
+    hi = np.broadcast_to(hi, target.shape).copy()
+    for _ in range(BISECTION_STEPS):
+        mid = 0.5 * (lo + hi)
+        below = A(mid) < target
+        lo = np.where(below, mid, lo)
+        hi = np.where(below, hi, mid)
+    return 0.5 * (lo + hi)
+
+
+@NDFS.register
 class Beckmann(ShapeInvariantNDF):
     name = "beckmann"
     label = "Beckmann"
@@ -87,3 +138,44 @@ class Beckmann(ShapeInvariantNDF):
 
     def radial_ccdf_inv(self, v):
         return -np.log(v)
+
+    @staticmethod
+    @scalar
+    def D_scalar(mz, q2, p):
+        if not mz > 0.0:
+            return 0.0
+        return math.exp(-q2 / (mz * mz)) / (math.pi * mz ** 4)
+
+    mu_Lambda_scalar = staticmethod(beckmann_mu_Lambda_scalar)
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_scalar(r2, p):
+        return math.exp(-r2)
+
+    @staticmethod
+    @scalar
+    def radial_cdf_inv_scalar(u, p):
+        return -math.log1p(-u)
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_inv_scalar(v, p):
+        return -math.log(v)
+
+    def sample_visible(self, v, u):
+        """Slope-space visible normals (Heitz & d'Eon 2014): stretch v, sample the slope
+        along its azimuth from the visible marginal and the other from the Gaussian
+        e^{−ỹ²}/√π (the α = 1 slopes are independent), rotate, unstretch."""
+        V = unit(np.stack([self.alpha_x * v[..., 0], self.alpha_y * v[..., 1], v[..., 2]],
+                          axis=-1))[..., None, :]
+        sin_t = np.sqrt(V[..., 0] ** 2 + V[..., 1] ** 2)
+        cos_t = V[..., 2]
+        inv = where_valid(sin_t > 0, [sin_t], lambda s: 1.0 / s, 0.0)
+        cos_p = np.where(sin_t > 0, V[..., 0] * inv, 1.0)
+        sin_p = np.where(sin_t > 0, V[..., 1] * inv, 0.0)
+        x = _slope_marginal_inv(cos_t, sin_t, u[..., 0])
+        y = ndtri(u[..., 1]) / np.sqrt(2.0)                       # N(0, ½): e^{−y²}/√π
+        xr = cos_p * x - sin_p * y
+        yr = sin_p * x + cos_p * y
+        return slopes_to_normal(self.alpha_x * xr, self.alpha_y * yr)

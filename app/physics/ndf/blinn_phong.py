@@ -1,6 +1,6 @@
-"""Blinn-Phong, normalised (3-32), parameterised by its Beckmann-equivalent α_b.
+"""Blinn-Phong, normalised, parameterised by its Beckmann-equivalent α_b.
 
-D(m) = (α_p + 2)/(2π) (n·m)^{α_p},  α_p = 2/α_b² − 2  (3-33).
+D(m) = (α_p + 2)/(2π) (n·m)^{α_p},  α_p = 2/α_b² − 2  (Walter et al. 2007, eq. 30, 33).
 
 Not shape-invariant, so isotropic only. Its Smith Λ has no closed form; ``smith`` uses
 Walter 2007's substitution a = √(0.5 α_p + 1)/tanθ into Beckmann's Λ — and since
@@ -16,14 +16,16 @@ Blinn 1977; Walter et al. 2007, eq. 30-32 (normalisation, α_p, Λ).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from . import register
-from .base import SlopeSpaceNDF
-from .beckmann import beckmann_mu_Lambda
+from ..scalar import scalar
+from .base import NDFS, SlopeSpaceNDF
+from .beckmann import beckmann_mu_Lambda, beckmann_mu_Lambda_scalar
 
 
-@register
+@NDFS.register
 class BlinnPhong(SlopeSpaceNDF):
     name = "blinn_phong"
     label = "Blinn-Phong"
@@ -34,11 +36,11 @@ class BlinnPhong(SlopeSpaceNDF):
     shape_invariant = False
     anisotropic = False
     smith_exact = False
-    derived_doc = {"alpha_p": "2/alpha^2 - 2 (3-33), the Phong exponent"}
+    derived_doc = {"alpha_p": "2/alpha^2 - 2, the Phong exponent (Walter et al. 2007, eq. 33)"}
 
     @property
     def alpha_p(self) -> float:
-        """The Phong exponent (3-33)."""
+        """The Phong exponent (Walter et al. 2007, eq. 33)."""
         return 2.0 / self.alpha_x ** 2 - 2.0
 
     def derived(self) -> dict:
@@ -72,3 +74,30 @@ class BlinnPhong(SlopeSpaceNDF):
     def radial_cdf_inv(self, u):
         a2 = self.alpha_x ** 2
         return np.expm1(-a2 * np.log1p(-u)) / a2
+
+    # p = (α², α_p, α² (α_p + 2)/(2π))
+    def kernel_params(self):
+        a2 = self.alpha_x ** 2
+        return (a2, self.alpha_p, a2 * (self.alpha_p + 2.0) / (2.0 * np.pi))
+
+    @staticmethod
+    @scalar
+    def D_scalar(mz, q2, p):
+        return p[2] * mz ** p[1]
+
+    mu_Lambda_scalar = staticmethod(beckmann_mu_Lambda_scalar)
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_scalar(r2, p):
+        return math.exp(-math.log1p(p[0] * r2) / p[0])
+
+    @staticmethod
+    @scalar
+    def radial_cdf_inv_scalar(u, p):
+        return math.expm1(-p[0] * math.log1p(-u)) / p[0]
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_inv_scalar(v, p):
+        return math.expm1(-p[0] * math.log(v)) / p[0]

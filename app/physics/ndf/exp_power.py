@@ -1,4 +1,4 @@
-"""Exponential-power NDF (3-48, 3-49 as corrected in MATH.md): p = 1 is Beckmann.
+"""Exponential-power NDF: p = 1 is Beckmann.
 
 P22(r̃) = p / (π Γ(1/p)) · exp(−(r̃²)^p) in stretched slopes (normalised:
 ∫ 2π r P22 dr = p/Γ(1/p) ∫ e^{−t^p} dt = 1), so D(m) carries the exponent
@@ -6,37 +6,45 @@ P22(r̃) = p / (π Γ(1/p)) · exp(−(r̃²)^p) in stretched slopes (normalised
 longer tails than Beckmann, p > 1 shorter.
 
 The mass beyond r̃ is the regularised upper incomplete gamma Q(1/p, r̃^{2p}).
-Smith Λ (MATH.md's corrected (3-50)) has no closed form: ``smith`` interpolates a
-table of the general Smith integral, one per p (the NDF is shape-invariant).
+Its Smith Λ(a) = (1/a) ∫_a^∞ (x − a) g(x) dx (Heitz 2014, eq. 72; g the marginal slope
+density) has no closed form: ``smith`` interpolates a table of the general Smith
+integral, one per p (the NDF is shape-invariant).
 
 References
 ----------
-Seed 000 (3-48)..(3-50); Heitz 2014 sec. 5 (shape invariance).
+Heitz 2014, JCGT 3(2), sec. 5 (shape invariance) and eq. 72 (Λ from the slopes).
 """
 from __future__ import annotations
+
+import math
 
 import numpy as np
 from scipy.special import gamma as gamma_fn
 from scipy.special import gammainc, gammaincc, gammainccinv, gammaincinv
 
-from . import register
-from .base import SlopeSpaceNDF
+from ..lambda_table import table_params, tabulated_mu_Lambda_scalar
 from ..numeric import where_valid
 from ..params import Param
+from ..scalar import scalar
 from ..smith_table import mu_Lambda_tabulated
+from .base import NDFS, SlopeSpaceNDF
+
+# kernel_params layout: p, 1/p, p/(π Γ(1/p)), then the tabulated μΛ from TABLE_AT.
+TABLE_AT = 3
 
 P = Param("p", "p (kurtosis: 1 = Beckmann)", 0.25, 4.0, 1.0,
           "Exponential-power shape: p = 1 is Beckmann; p < 1 longer tails, p > 1 shorter.")
 
 
-@register
+@NDFS.register
 class ExpPower(SlopeSpaceNDF):
     name = "exp_power"
     label = "Exponential power"
     menu_order = 5
     description = "exp(−(tan²θ/α²)^p): p = 1 is Beckmann; p tunes the tail."
-    reference = "seed 000 (3-48), (3-49) corrected in MATH.md"
+    reference = "Heitz 2014, sec. 5"
     shape_params = (P,)
+    simplifies_to = (({"p": 1.0}, "beckmann"),)
 
     @property
     def tail_beta(self) -> float:
@@ -66,3 +74,36 @@ class ExpPower(SlopeSpaceNDF):
 
     def radial_cdf_inv(self, u):
         return np.power(gammaincinv(1.0 / self.p, u), 1.0 / self.p)
+
+    def kernel_params(self):
+        p = self.p
+        head = [p, 1.0 / p, p / (np.pi * gamma_fn(1.0 / p))]
+        return np.concatenate([np.asarray(head, dtype=float), table_params(self)])
+
+    @staticmethod
+    @scalar
+    def D_scalar(mz, q2, p):
+        if not mz > 0.0:
+            return 0.0
+        tail = math.exp(p[0] * (math.log(q2) - 2.0 * math.log(mz))) if q2 > 0.0 else 0.0
+        return p[2] * math.exp(-tail - 4.0 * math.log(mz))
+
+    @staticmethod
+    @scalar
+    def mu_Lambda_scalar(mu, s, p):
+        return tabulated_mu_Lambda_scalar(mu, s, p, TABLE_AT)
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_scalar(r2, p):
+        return gammaincc(p[1], r2 ** p[0])
+
+    @staticmethod
+    @scalar
+    def radial_cdf_inv_scalar(u, p):
+        return gammaincinv(p[1], u) ** p[1]
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_inv_scalar(v, p):
+        return gammainccinv(p[1], v) ** p[1]

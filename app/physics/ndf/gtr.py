@@ -1,9 +1,9 @@
-"""Generalized Trowbridge-Reitz (GTR, Burley 2012) (3-41, 3-42).
+"""Generalized Trowbridge-Reitz (GTR, Burley 2012).
 
 D(m) = k(α, γ) / (π (1 + (n·m)² (α² − 1))^γ),
 k(α, γ) = (γ − 1)(α² − 1) / (1 − (α²)^{1−γ})   (γ ≠ 1, α ≠ 1),
 with removable singularities at γ = 1 and α = 1. With x = ln α² and E(y) = (e^y − 1)/y,
-k = E(x) / E((1 − γ) x), which is continuous through both (MATH.md). γ = 2 is GGX.
+k = E(x) / E((1 − γ) x), which is continuous through both. γ = 2 is GGX.
 
 Not shape-invariant: isotropic only, and its Smith Λ has no closed form; ``smith``
 interpolates a table of the general Smith integral (smith_table.py).
@@ -19,26 +19,35 @@ appendix B (normalisation, sampling).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 
-from . import register
-from .base import SlopeSpaceNDF
-from ..numeric import SERIES_CUTOFF, expm1_ratio, log1p_ratio, where_valid
+from ..lambda_table import table_params, tabulated_mu_Lambda_scalar
+from ..numeric import (SERIES_CUTOFF, expm1_ratio, expm1_ratio_scalar, log1p_ratio,
+                       log1p_ratio_scalar, where_valid)
 from ..params import Param
+from ..scalar import scalar
 from ..smith_table import mu_Lambda_tabulated
+from .base import NDFS, SlopeSpaceNDF
+
+# kernel_params layout: α², γ, k, ln α², k α^{2(1−γ)}, ln(k/π) + (2 − 2γ) ln α, then
+# the tabulated μΛ (lambda_table.py) from TABLE_AT.
+TABLE_AT = 6
 
 GAMMA = Param("gamma", "γ (GTR tail: 2 = GGX)", 0.5, 10.0, 2.0,
               "GTR exponent: γ = 2 is GGX, γ = 1 is Berry's, smaller γ has longer tails.")
 
 
-@register
+@NDFS.register
 class GTR(SlopeSpaceNDF):
     name = "gtr"
     label = "GTR (generalized Trowbridge-Reitz)"
     menu_order = 3
     description = "Burley's generalisation of GGX with tail exponent γ; isotropic only."
-    reference = "Burley 2012, eq. 8; seed 000 (3-41), (3-42)"
+    reference = "Burley 2012, eq. 8 and appendix B"
     shape_params = (GAMMA,)
+    simplifies_to = (({"gamma": 2.0}, "ggx"),)
     shape_invariant = False
     anisotropic = False
 
@@ -118,3 +127,54 @@ class GTR(SlopeSpaceNDF):
         # μ² ≤ 1; at v ≈ 1 (r̃ ≈ 0) rounding can put it a few ulps above 1, and r̃² = 0
         # is the value there.
         return np.maximum(1.0 / mu2 - 1.0, 0.0) / self.alpha_x ** 2
+
+    def kernel_params(self):
+        A, g = self.alpha_x ** 2, self.gamma
+        log_D0 = np.log(self.k / np.pi) + (2.0 - 2.0 * g) * np.log(self.alpha_x)
+        head = [A, g, self.k, np.log(A), self.k * A ** (1.0 - g), log_D0]
+        return np.concatenate([np.asarray(head, dtype=float), table_params(self)])
+
+    @staticmethod
+    @scalar
+    def D_scalar(mz, q2, p):
+        return math.exp(p[5] - p[1] * math.log(mz * mz + q2))
+
+    @staticmethod
+    @scalar
+    def mu_Lambda_scalar(mu, s, p):
+        return tabulated_mu_Lambda_scalar(mu, s, p, TABLE_AT)
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_scalar(r2, p):
+        if not math.isfinite(r2):
+            return 0.0
+        A, g, k = p[0], p[1], p[2]
+        mu2 = 1.0 / (1.0 + A * r2)
+        log_B = p[3] + math.log1p((1.0 - A) * r2 * mu2)
+        y = mu2 * (A - 1.0)
+        ratio = 1.0 - 0.5 * y if abs(y) < SERIES_CUTOFF else log_B / y
+        return min(k * mu2 * expm1_ratio_scalar((1.0 - g) * log_B) * ratio, 1.0)
+
+    @staticmethod
+    @scalar
+    def radial_cdf_inv_scalar(u, p):
+        A, g = p[0], p[1]
+        scale = u / p[4]
+        w = max((g - 1.0) * (A - 1.0) * scale, -1.0 + EPS)
+        ratio = log1p_ratio_scalar(w)
+        Z = expm1_ratio_scalar(ratio * (1.0 - A) * scale) * ratio * scale
+        return Z / (1.0 - A * Z) if 1.0 - A * Z > 0.0 else math.inf
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_inv_scalar(v, p):
+        A, g, k = p[0], p[1], p[2]
+        x_v = v * (A - 1.0) / k
+        ratio = log1p_ratio_scalar((1.0 - g) * x_v)
+        mu2 = v / k * expm1_ratio_scalar(ratio * x_v) * ratio
+        return max(1.0 / mu2 - 1.0, 0.0) / A
+
+
+#: float64 machine epsilon (the floor of w in radial_cdf_inv).
+EPS = float(np.finfo(float).eps)

@@ -1,18 +1,19 @@
-"""Student-t NDF (3-43, 3-44): between GGX (γ = 2) and Beckmann (γ → ∞).
+"""Student-t NDF: between GGX (γ = 2) and Beckmann (γ → ∞).
 
 In stretched slopes the α = 1 slope density is
 P22(r̃) = (1/π) (1 + r̃²/(γ − 1))^{−γ},
 normalised (∫ 2π r P22 dr = 1), and 1 − C(r̃) = (1 + r̃²/(γ − 1))^{1−γ}. Written this
-way, (γ − 1)^γ — which overflows for large γ — never appears (MATH.md).
+way, (γ − 1)^γ — which overflows for large γ — never appears.
 
 Smith Λ from the marginal slope density, a Student-t with ν = 2γ − 2 scaled by 1/√2:
 g(x) = c (1 + x²/(γ − 1))^{−(γ−½)}, c = Γ(γ−½) / (Γ(γ−1) √(π(γ−1))), and
-Λ(a) = (1/a) ∫_a^∞ (x − a) g(x) dx (MATH.md's corrected (3-22)), so
+Λ(a) = (1/a) ∫_a^∞ (x − a) g(x) dx (Heitz 2014, eq. 72), so
 μΛ = s (T₁ − a T₂) with
 T₁ = ∫_a^∞ x g = c (γ−1)/(2γ−3) (1 + a²/(γ−1))^{3/2−γ},
 T₂ = ∫_a^∞ g = ½ I_{(γ−1)/(γ−1+a²)}(γ − 1, ½)   (regularised incomplete beta).
 T₂ is computed as the tail itself, not 1 − CDF, so μΛ keeps its relative precision for
-large a. Equivalent to (3-45..3-47); finite only for γ > 1.5, where the mean slope is.
+large a. Equivalent to Ribardière et al.'s closed form; finite only for γ > 1.5, where
+the mean slope is.
 
 References
 ----------
@@ -21,13 +22,15 @@ for Microfacet Based BRDFs", Computer Graphics Forum 36(2).
 """
 from __future__ import annotations
 
+import math
+
 import numpy as np
 from scipy.special import betainc, gammaln
 
-from . import register
-from .base import SlopeSpaceNDF
 from ..numeric import where_valid
 from ..params import Param
+from ..scalar import scalar
+from .base import NDFS, SlopeSpaceNDF
 
 GAMMA = Param("gamma", "γ (tail: 2 = GGX, ∞ = Beckmann)", 1.5, 1000.0, 2.0,
               "Student-t shape: γ = 2 is GGX, γ → ∞ tends to Beckmann; Λ exists for γ > 1.5.",
@@ -37,14 +40,15 @@ GAMMA = Param("gamma", "γ (tail: 2 = GGX, ∞ = Beckmann)", 1.5, 1000.0, 2.0,
 LOG_MAX = 709.0
 
 
-@register
+@NDFS.register
 class StudentT(SlopeSpaceNDF):
     name = "student_t"
     label = "Student-t"
     menu_order = 4
     description = "Slope distribution with a tunable tail: γ = 2 is GGX, γ → ∞ is Beckmann."
-    reference = "Ribardière et al. 2017; seed 000 (3-43)..(3-47)"
+    reference = "Ribardière et al. 2017"
     shape_params = (GAMMA,)
+    simplifies_to = (({"gamma": 2.0}, "ggx"),)
 
     @property
     def tail_beta(self) -> float:
@@ -68,9 +72,14 @@ class StudentT(SlopeSpaceNDF):
             horizon = np.inf
         return where_valid(mz > 0, [mz, q2], inside, horizon)
 
+    @property
+    def _log_c(self) -> float:
+        g = self.gamma
+        return gammaln(g - 0.5) - gammaln(g - 1.0) - 0.5 * np.log(np.pi * (g - 1.0))
+
     def _mu_Lambda(self, mu, s):
         g = self.gamma
-        log_c = gammaln(g - 0.5) - gammaln(g - 1.0) - 0.5 * np.log(np.pi * (g - 1.0))
+        log_c = self._log_c
 
         def formula(mu, s):
             a = mu / s
@@ -94,3 +103,49 @@ class StudentT(SlopeSpaceNDF):
     def radial_cdf_inv(self, u):
         g = self.gamma
         return (g - 1.0) * np.expm1(-np.log1p(-u) / (g - 1.0))
+
+    # p = (γ, ln c of the marginal, exponent 2γ − 4 of D)
+    def kernel_params(self):
+        return (self.gamma, float(self._log_c), 2.0 * self.gamma - 4.0)
+
+    @staticmethod
+    @scalar
+    def D_scalar(mz, q2, p):
+        g = p[0]
+        if mz > 0.0:
+            log_d = p[2] * math.log(mz) - g * math.log(mz * mz + q2 / (g - 1.0))
+            return math.exp(log_d) / math.pi if log_d < LOG_MAX else math.inf
+        if g > 2.0:
+            return 0.0
+        if g == 2.0:
+            return 1.0 / (math.pi * q2 * q2) if q2 > 0.0 else math.inf
+        return math.inf
+
+    @staticmethod
+    @scalar
+    def mu_Lambda_scalar(mu, s, p):
+        if not s > 0.0:
+            return 0.0
+        g = p[0]
+        a = mu / s
+        t1 = math.exp(p[1] + (1.5 - g) * math.log1p(a * a / (g - 1.0))) * (g - 1.0) / (2.0 * g - 3.0)
+        t2 = 0.5 * betainc(g - 1.0, 0.5, (g - 1.0) / (g - 1.0 + a * a))
+        return s * (t1 - a * t2)
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_scalar(r2, p):
+        g = p[0]
+        return math.exp((1.0 - g) * math.log1p(r2 / (g - 1.0)))
+
+    @staticmethod
+    @scalar
+    def radial_cdf_inv_scalar(u, p):
+        g = p[0]
+        return (g - 1.0) * math.expm1(-math.log1p(-u) / (g - 1.0))
+
+    @staticmethod
+    @scalar
+    def radial_ccdf_inv_scalar(v, p):
+        g = p[0]
+        return (g - 1.0) * math.expm1(-math.log(v) / (g - 1.0))

@@ -1,0 +1,105 @@
+"""Exact unpolarised Fresnel reflectance of a dielectric of real index η seen from air.
+
+References
+----------
+Born & Wolf, "Principles of Optics", sec. 1.5.2; Pharr, Jakob, Humphreys, pbrt-v4
+(2023), sec. 9.3 "FrDielectric".
+"""
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..numeric import where_valid
+from ..params import Param
+from ..scalar import scalar
+from .base import FRESNELS, Fresnel, _cos, clip_cos_scalar
+
+IOR_DIELECTRIC = Param("ior", "η (index of refraction)", 1.0, 4.0, 1.5,
+                       "Relative index η = n₂/n₁ of the surface seen from air; 1.5 is glass "
+                       "(F₀ = 0.04), 1.33 water, 2.42 diamond.")
+
+
+def f0_from_ior(eta):
+    """F₀ = ((η − 1)/(η + 1))² (normal incidence)."""
+    eta = np.asarray(eta, dtype=float)
+    return ((eta - 1.0) / (eta + 1.0)) ** 2
+
+
+def ior_from_f0(f0):
+    """η ≥ 1 with ((η − 1)/(η + 1))² = F₀, F₀ ∈ [0, 1): η = (1 + √F₀)/(1 − √F₀); +inf
+    at F₀ = 1."""
+    r = np.sqrt(np.asarray(f0, dtype=float))
+    return where_valid(r < 1.0, [r], lambda x: (1.0 + x) / (1.0 - x), np.inf)
+
+
+def dielectric_reflectance(cos_theta, eta):
+    """Exact unpolarised Fresnel reflectance F = (r_s² + r_p²)/2 for light from index 1
+    onto index η ≥ 1 (Born & Wolf sec. 1.5.2; pbrt-v4 FrDielectric).
+
+    With c = cos θ, d = η² − 1 = (η − 1)(η + 1) and g = η cos θ_t = √(d + c²) (Snell:
+    η² sin²θ_t = sin²θ), the amplitude ratios r_s = (c − g)/(c + g) and
+    r_p = (η² c − g)/(η² c + g) are written with numerator and denominator multiplied by
+    the denominator, and the squares expanded with g² = d + c²:
+
+        r_s = −d / (d + 2c(c + g)),
+        r_p = d((η² + 1)c² − 1) / (d + c² + η²c(η²c + 2g)).
+
+    Nothing cancels when η → 1 (d is formed from η − 1), every denominator term is ≥ 0,
+    and at c = 0 both are −d/d = −1 exactly, so F(0) = 1 exactly. A denominator is 0
+    only when d = 0 and c = 0 (or they underflow): no interface, F = 0 (its limit along
+    c). η = +inf (a perfect mirror, F₀ = 1) gives F = 1.
+    """
+    c = _cos(cos_theta)
+    eta = np.asarray(eta, dtype=float)
+    c, eta = np.broadcast_arrays(c, eta)
+    return where_valid(np.isfinite(eta), [c, eta], _dielectric_finite, 1.0)
+
+
+def _dielectric_finite(c, eta):
+    e2 = eta * eta
+    d = (eta - 1.0) * (eta + 1.0)
+    g = np.sqrt(d + c * c)
+    den_s = d + 2.0 * c * (c + g)
+    den_p = d + c * c + e2 * c * (e2 * c + 2.0 * g)
+    ok = (den_s > 0) & (den_p > 0)
+
+    def F(c, e2, d, den_s, den_p):
+        rs = -d / den_s
+        rp = d * ((e2 + 1.0) * c * c - 1.0) / den_p
+        return 0.5 * (rs * rs + rp * rp)
+
+    return where_valid(ok, [c, e2, d, den_s, den_p], F, 0.0)
+
+
+
+@FRESNELS.register
+class Dielectric(Fresnel):
+    name = "dielectric"
+    label = "Dielectric (exact)"
+    description = "Exact unpolarised Fresnel reflectance of a dielectric of index η seen from air."
+    reference = "Born & Wolf, Principles of Optics, sec. 1.5.2"
+    params = (IOR_DIELECTRIC,)
+    menu_order = 2
+
+    def F(self, cos_theta_d):
+        return dielectric_reflectance(cos_theta_d, self.ior)
+
+    @staticmethod
+    @scalar
+    def F_scalar(c, p):
+        eta = p[0]
+        if not math.isfinite(eta):
+            return 1.0
+        c = clip_cos_scalar(c)
+        e2 = eta * eta
+        d = (eta - 1.0) * (eta + 1.0)
+        g = math.sqrt(d + c * c)
+        den_s = d + 2.0 * c * (c + g)
+        den_p = d + c * c + e2 * c * (e2 * c + 2.0 * g)
+        if not (den_s > 0.0 and den_p > 0.0):
+            return 0.0
+        rs = -d / den_s
+        rp = d * ((e2 + 1.0) * c * c - 1.0) / den_p
+        return 0.5 * (rs * rs + rp * rp)
