@@ -18,11 +18,11 @@ from typing import Callable
 
 import numpy as np
 
-from .gauss import gauss_legendre_01
 from .numeric import where_valid
 from .registry import Registry
 from .scalar import scalar
-from .smith_integral import K_MAX, ORDER, mu_Lambda_numeric
+from .lambda_table import table_params, tabulated_mu_Lambda_scalar
+from .smith_integral import mu_Lambda_numeric
 
 #: The masking every other one is checked against: the general Smith integral.
 REFERENCE = "smith_numeric"
@@ -130,36 +130,10 @@ def smith_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_
     return ndf_mu_Lambda(mu, s, ndf_p)
 
 
-def _numeric_params(ndf) -> np.ndarray:
-    """k of the tail substitution, then the Gauss nodes t and weights dt of
-    smith_integral._integral (the same rule, so the two agree to rounding)."""
-    sg, wsg = gauss_legendre_01(ORDER)
-    t = np.sin(0.5 * np.pi * sg) ** 2
-    wt = 0.5 * np.pi * np.sin(np.pi * sg) * wsg
-    k = min(1.0 / (1.0 - ndf.tail_beta), K_MAX)
-    return np.concatenate([[k], t, wt])
-
-
 @scalar
-def numeric_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
-    """The general Smith integral of smith_integral.py for one direction."""
-    if not s > 0.0:
-        return 0.0
-    a = mu / s
-    v0 = ndf_ccdf(a * a, ndf_p)
-    if not v0 > 0.0:
-        return 0.0
-    k = p[0]
-    n = (p.shape[0] - 1) // 2
-    total = 0.0
-    for j in range(n):
-        t, wt = p[1 + j], p[1 + n + j]
-        v = v0 * (1.0 - t) ** k
-        dv = k * v0 * (1.0 - t) ** (k - 1.0) * wt
-        r2 = ndf_ccdf_inv(v, ndf_p) if v > 0.0 else 0.0
-        q = math.sqrt(max(r2 - a * a, 0.0))
-        total += (q - a * math.atan2(q, a)) * dv
-    return s / math.pi * total
+def tabulated_mu_Lambda_masking_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
+    """The general Smith integral through its table (lambda_table.py), p = the table."""
+    return tabulated_mu_Lambda_scalar(mu, s, p, 0)
 
 
 #: Every masking by name (``MASKINGS.register(Masking(...))``).
@@ -172,10 +146,11 @@ for _m in [
             lambda ndf, w: ndf.mu_Lambda(w), uses_ndf_Lambda=True,
             scalar_mu_Lambda=smith_mu_Lambda_scalar),
     Masking(REFERENCE, "Smith integral (numerical reference)",
-            "G1 = μ / ∫ D(m)(ω·m)⁺ dm by Gauss quadrature (Heitz 2014, eq. 43): the "
-            "reference every closed form and approximation is checked against.",
+            "G1 = μ / ∫ D(m)(ω·m)⁺ dm by Gauss quadrature (Heitz 2014, eq. 43), tabulated "
+            "in a = 1/(α tanθ): the reference every closed form and approximation is "
+            "checked against.",
             lambda ndf, w: mu_Lambda_numeric(ndf, w),
-            scalar_mu_Lambda=numeric_mu_Lambda_scalar, kernel_params=_numeric_params),
+            scalar_mu_Lambda=tabulated_mu_Lambda_masking_scalar, kernel_params=table_params),
     Masking("walter", "Walter rational fit",
             "Walter 2007's rational approximation of Beckmann's Λ (eq. 27), cheap, no erf.",
             walter_mu_Lambda, applies_to=("beckmann", "blinn_phong"), approximates="smith",
