@@ -16,6 +16,7 @@ from starlette.concurrency import run_in_threadpool
 from . import __version__, warmup
 from .api import errors, middleware
 from .api.routes import router
+from .api.routes_data import router as data_router
 from .api.routes_export import router as export_router
 from .api.routes_shader import router as shader_router
 from .config import Settings
@@ -56,6 +57,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(router)
     app.include_router(export_router)
     app.include_router(shader_router)
+    app.include_router(data_router)
 
     @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
     def plotly_js():

@@ -1,0 +1,182 @@
+"""Data sets (upload, summary, delete), fits of models to them, and models exported as
+data. The work is in app/datasets and app/fit; this file reads bodies and maps errors."""
+from __future__ import annotations
+
+import re
+import threading
+from contextlib import contextmanager
+from typing import Annotated, Literal, Optional
+
+import numpy as np
+from fastapi import APIRouter, HTTPException, Path, Query, Request, Response
+from pydantic import Field
+from starlette.concurrency import run_in_threadpool
+
+from ..datasets import formats, summary, tabulate
+from ..datasets.store import DatasetStore, content_id
+from ..errors import Busy, ParameterError, TooLarge
+from ..model import make_spec
+from . import schemas
+from .encode import json_response
+from .errors import ParamError
+
+router = APIRouter(prefix="/api/v1")
+
+#: defaults of the two settings until app/config.py has them: one MERL file (34 992 012
+#: bytes) with room for a multipart envelope; seven MERL tables in memory
+DEFAULT_MAX_UPLOAD_BYTES = 36_000_000
+DEFAULT_MAX_DATASETS_BYTES = 256 * 1024 * 1024
+_STORE_LOCK = threading.Lock()
+DataId = Annotated[str, Path(pattern=r"^[0-9a-f]{32}$", description="a data set's id (32 hex digits)",
+                             examples=["3e071955855cb1a4a828bf3b009a1d2b"])]
+_ANSWER = {"id": "1a2c1ba1124b3d9ca4d4913bf23ac299", "format": "samples_csv", "summary": {
+    "format": "samples_csv", "bytes": 88, "kind": "brdf", "channels": ["f"], "count": 2,
+    "fraction_measured": 1.0, "range": {"f": [0.25, 1.5]},
+    "reciprocity": {"max_relative_error": None, "pairs": 0}, "albedo": {"mu": [], "E": {"f": []}}}}
+
+
+def _setting(request: Request, name: str, default: int) -> int:
+    return getattr(request.app.state.settings, name, default)
+
+
+def store(request: Request) -> DatasetStore:
+    """The app's data-set store, made on first use."""
+    with _STORE_LOCK:
+        if not hasattr(request.app.state, "datasets"):
+            request.app.state.datasets = DatasetStore(
+                _setting(request, "max_datasets_bytes", DEFAULT_MAX_DATASETS_BYTES))
+        return request.app.state.datasets
+
+
+@contextmanager
+def http_errors():
+    """app.errors' ParameterError → the API's 4xx, Busy → 503 with Retry-After (until
+    app/api maps them everywhere)."""
+    try:
+        yield
+    except ParameterError as exc:
+        raise ParamError(exc.param, exc.message, status_code=exc.status, loc=exc.loc) from None
+    except Busy as exc:
+        raise HTTPException(503, [{"loc": ["query"], "msg": exc.message, "type": "busy"}],
+                            headers={"Retry-After": str(exc.retry_after)}) from None
+
+
+async def read_upload(request: Request, limit: int) -> bytes:
+    """The body, refused (413) as soon as it is known to exceed ``limit`` bytes: from its
+    Content-Length before anything is read, else while it streams."""
+    encoding = request.headers.get("content-encoding", "identity").strip().lower()
+    if encoding not in ("", "identity"):
+        raise ParameterError("content-encoding", f"Content-Encoding {encoding!r} is not accepted: "
+                                                 "send the file uncompressed", status=415, loc="header")
+    message = f"an upload may have {limit} bytes (setting BRDF_MAX_UPLOAD_BYTES)"
+    length = request.headers.get("content-length", "")
+    if length.isdigit() and int(length) > limit:
+        raise TooLarge("file", f"the upload has {int(length)} bytes; {message}", loc="body")
+    chunks, received = [], 0
+    async for chunk in request.stream():
+        received += len(chunk)
+        if received > limit:
+            raise TooLarge("file", f"the upload has more than {limit} bytes; {message}", loc="body")
+        chunks.append(chunk)
+    body = b"".join(chunks)
+    kind = request.headers.get("content-type", "")
+    return multipart_file(body, kind) if kind.lower().startswith("multipart/form-data") else body
+
+
+def multipart_file(body: bytes, content_type: str) -> bytes:
+    """The part named ``file`` of a multipart/form-data body (RFC 7578), byte-exact."""
+    found = re.search(r'boundary="?([^";]+)"?', content_type)
+    if not found:
+        raise ParameterError("content-type", "multipart/form-data needs a boundary parameter",
+                             loc="header")
+    delimiter = b"--" + found.group(1).encode("latin-1")
+    for part in body.split(delimiter)[1:]:
+        if part.startswith(b"--"):
+            break
+        head, sep, content = part.partition(b"\r\n\r\n")
+        if sep and re.search(rb'name="file"', head):
+            return content[:-2] if content.endswith(b"\r\n") else content
+    raise ParameterError("file", "the multipart body has no part named \"file\"", loc="body")
+
+
+_UPLOAD_BODY = {"requestBody": {"required": True, "content": {
+    "multipart/form-data": {"schema": {"type": "object", "required": ["file"], "properties": {
+        "file": {"type": "string", "format": "binary"}}}},
+    "application/octet-stream": {"schema": {"type": "string", "format": "binary"}},
+    "text/csv": {"schema": {"type": "string"}, "example": (
+        "theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,f\n30,0,30,180,1.5\n45,0,20,90,0.25\n")}}}}
+_FORMAT = Literal[tuple(formats.FORMATS)]
+
+
+@router.post("/datasets", tags=["datasets"], status_code=201, openapi_extra=_UPLOAD_BODY,
+             summary="Upload a data set: MERL .binary, or CSV of BRDF samples or of one term",
+             description="The body is the file (any Content-Type), or multipart/form-data with "
+                         "the file in the field `file`. The format is found from the content; "
+                         "`format` insists on one: " + "; ".join(
+                             f"`{k}`: {v}" for k, v in formats.FORMATS.items()) +
+                         ". The id is a hash of the content: the same file gets the same id. "
+                         "Data sets are kept in memory up to BRDF_MAX_DATASETS_BYTES, the least "
+                         "recently used going first.")
+async def upload(request: Request, format: Annotated[Optional[_FORMAT], Query(
+        description="insist on a format instead of detecting it")] = None) -> Response:
+    with http_errors():
+        content = await read_upload(request, _setting(request, "max_upload_bytes",
+                                                      DEFAULT_MAX_UPLOAD_BYTES))
+        data = await run_in_threadpool(formats.load, content, format)
+        data_id = content_id(data.format, content)
+        datasets = store(request)
+        if data_id not in datasets:
+            datasets.put(data_id, data, await run_in_threadpool(summary.summarize, data))
+        _, info = datasets.get(data_id)
+    return json_response({"id": data_id, "format": data.format, "summary": info}, status_code=201)
+
+
+@router.get("/datasets/{data_id}", tags=["datasets"], summary="A data set's summary",
+            responses={200: {"content": {"application/json": {"example": _ANSWER}}}, 404: {"description": "No data set has this id"},
+                       410: {"description": "The data set has expired (evicted or deleted)"}})
+def dataset(request: Request, data_id: DataId) -> Response:
+    with http_errors():
+        data, info = store(request).get(data_id, "data_id", "path")
+    return json_response({"id": data_id, "format": data.format, "summary": info})
+
+
+@router.delete("/datasets/{data_id}", tags=["datasets"], status_code=204, summary="Drop a data set",
+               responses={404: {"description": "No data set has this id"},
+                          410: {"description": "The data set has already expired"}})
+def delete_dataset(request: Request, data_id: DataId) -> Response:
+    with http_errors():
+        store(request).delete(data_id)
+    return Response(status_code=204)
+
+
+class SamplesExportQuery(schemas.ModelQuery):
+    n_theta: int = Field(19, ge=2, le=91, description="polar angles θ_i = θ_o, 0..90° (both ends)")
+    n_phi: int = Field(24, ge=1, le=360, description="azimuths φ_o = k·360°/n_phi; φ_i = 0")
+
+
+@router.get("/export/model.binary", tags=["exports"], response_class=Response,
+            summary="The model as a MERL .binary file (the same in R, G and B)",
+            description="f at the centre of each of the 90 × 90 × 180 cells; cells with a "
+                        "direction below the horizon are marked not measured. ~35 MB.",
+            responses={200: {"content": {"application/octet-stream": {
+                "schema": {"type": "string", "format": "binary"}}}},
+                       503: {"description": "The table would take longer than the request's "
+                                            "time budget (BRDF_MAX_SECONDS); Retry-After says "
+                                            "about how long it takes"}})
+def export_merl(q: Annotated[schemas.ModelQuery, Query()]) -> Response:
+    spec = make_spec(**schemas.model_values(q))
+    with http_errors():
+        content = tabulate.merl_bytes(spec.brdf())
+    return Response(content, media_type="application/octet-stream",
+                    headers={"content-disposition": 'attachment; filename="model.binary"'})
+
+
+@router.get("/export/model.csv", tags=["exports"], response_class=Response,
+            summary="The model as a CSV of BRDF samples (the format POST /datasets reads)",
+            responses={200: {"content": {"text/csv": {"example": ",".join(tabulate.SAMPLE_COLUMNS)}}}})
+def export_samples(q: Annotated[SamplesExportQuery, Query()]) -> Response:
+    spec = make_spec(**schemas.model_values(q))
+    text = tabulate.samples_csv(spec.brdf(), np.linspace(0.0, 90.0, q.n_theta),
+                                np.arange(q.n_phi) * 360.0 / q.n_phi)
+    return Response(text, media_type="text/csv",
+                    headers={"content-disposition": 'attachment; filename="model.csv"'})

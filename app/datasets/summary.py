@@ -1,0 +1,231 @@
+"""What a data set holds, in numbers: size, channels, coverage, value range, and for
+BRDF data its reciprocity error and directional albedo E(μ) with an error bar.
+
+E(μ_v) = ∫ f(l, v) (n·l) dl (Kulla & Conty 2017) is ∫∫ f dx dy over the unit disk of
+projected directions l = (x, y, √(1 − x² − y²)): the cosine is the Jacobian. The
+midpoint rule in (ρ², φ) gives every point the same weight, so E = π · mean(f). The data
+are known only at their cells or samples, so E carries two errors, stated apart and
+added: the interpolation error (nearest-cell against linear interpolation of the same
+data) and the quadrature error (the grid against one of half the resolution); missing
+values count fully into the error bar.
+"""
+from __future__ import annotations
+
+import numpy as np
+from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
+from scipy.spatial import ConvexHull, QhullError
+
+from . import merl
+from .dataset import BrdfData, TermData, select
+
+#: cosines μ_v of the view directions at which E is given for a MERL table
+MU = np.round(np.linspace(0.1, 1.0, 10), 6)
+#: (ρ², φ) midpoint grid of the albedo integral; the error estimate uses half of it
+GRID_MERL = (96, 192)
+GRID_SAMPLES = (48, 96)
+#: a view direction of a samples CSV is integrated if it has this many samples whose
+#: projected directions span this fraction of the unit disk (else E is not given there)
+MIN_GROUP, MIN_COVER = 32, 0.75
+#: view directions of a samples CSV integrated at most (evenly spread in μ_v)
+MAX_GROUPS = 10
+
+
+def summarize(data) -> dict:
+    out = {"format": data.format, "bytes": data.size, "kind": data.kind,
+           "channels": list(data.channels), "count": int(data.count)}
+    if isinstance(data, TermData):
+        return {**out, **_term(data)}
+    measured = data.measured()
+    values = data.table.reshape(len(data.channels), -1) if data.table is not None else data.f
+    out["fraction_measured"] = float(measured.mean())
+    out["range"] = {c: [float(values[k][measured].min()), float(values[k][measured].max())]
+                    if measured.any() else None for k, c in enumerate(data.channels)}
+    out["reciprocity"] = _reciprocity_table(data) if data.table is not None else _reciprocity_samples(data)
+    out["albedo"] = _albedo_table(data) if data.table is not None else _albedo_samples(data)
+    return out
+
+
+def _disk(n_s: int, n_phi: int) -> np.ndarray:
+    """Midpoints of the (ρ², φ) grid as directions l (n_s·n_phi, 3)."""
+    s = (np.arange(n_s) + 0.5) / n_s
+    phi = (np.arange(n_phi) + 0.5) * 2.0 * np.pi / n_phi
+    rho = np.sqrt(s)[:, None]
+    x, y = rho * np.cos(phi), rho * np.sin(phi)
+    z = np.broadcast_to(np.sqrt(1.0 - s)[:, None], x.shape)
+    return np.stack([x, y, z], axis=-1).reshape(-1, 3)
+
+
+def _view(mu: float) -> np.ndarray:
+    return np.array([np.sqrt(1.0 - mu * mu), 0.0, mu])
+
+
+def _mean_with_gaps(f: np.ndarray, ok: np.ndarray):
+    """(π·mean, π·missing part): missing values taken as the mean of the others, their
+    whole share counted as error."""
+    if not ok.any():
+        return 0.0, np.inf
+    mean = f[..., ok].mean(axis=-1)
+    return np.pi * mean, np.pi * mean * (1.0 - ok.mean())
+
+
+def _albedo_table(data: BrdfData) -> dict:
+    channels = data.channels
+    E = {c: [] for c in channels}
+    err = {c: [] for c in channels}
+    fine, coarse = _disk(*GRID_MERL), _disk(GRID_MERL[0] // 2, GRID_MERL[1] // 2)
+    every_other = data.table[:, ::2, ::2, ::2]
+    for mu in MU:
+        v = _view(mu)
+        runs = []
+        for l, table, stride in ((fine, data.table, 1), (fine, every_other, 2), (coarse, data.table, 1)):
+            f = merl.lookup_linear(table, l, np.broadcast_to(v, l.shape), stride)
+            runs.append(_mean_with_gaps(f, (f >= 0).all(axis=0)))
+        (full, gap), (sparse, _), (half, _) = runs
+        for k, c in enumerate(channels):
+            E[c].append(float(full[k]))
+            err[c].append(float(abs(full[k] - sparse[k]) + abs(full[k] - half[k]) + gap[k]))
+    return {"mu": MU.tolist(), "E": E, "E_error": err,
+            "method": f"E(μ) = ∫ f (n·l) dl over the table, midpoint rule on a {GRID_MERL[0]} × "
+                      f"{GRID_MERL[1]} (ρ², φ) grid of l, f interpolated linearly between cell "
+                      "centres; E_error = |all cells − every other cell| (interpolation: "
+                      "linear interpolation's error is O(h²), so this is ~3× the error of the full "
+                      "table) + |grid − half grid| (quadrature) + the share of unmeasured cells"}
+
+
+def _reciprocity_table(data: BrdfData) -> dict:
+    return {"max_relative_error": 0.0, "pairs": 0,
+            "method": "exact by the format: a cell holds f at (θ_h, θ_d, φ_d), and swapping l "
+                      "and v maps φ_d to φ_d + 180°, which a lookup folds onto the same cell"}
+
+
+def _keys(theta, phi) -> np.ndarray:
+    """Directions rounded to 1e-6° (azimuth mod 360°) as hashable keys."""
+    return np.round(np.column_stack([theta, np.mod(phi, 360.0) * (theta > 0)]), 6)
+
+
+def _angles(w: np.ndarray):
+    theta = np.rad2deg(np.arccos(np.clip(w[:, 2], -1.0, 1.0)))
+    return theta, np.rad2deg(np.arctan2(w[:, 1], w[:, 0]))
+
+
+def _swapped_pairs(data: BrdfData, isotropic: bool) -> list:
+    """(a, b) index pairs where sample b is sample a with l and v exchanged; with
+    ``isotropic``, up to a rotation about n (keys (θ_i, θ_o, φ_o − φ_i))."""
+    (ti, pi), (to, po) = _angles(data.l), _angles(data.v)
+    if isotropic:
+        dphi = np.mod(po - pi, 360.0) * (ti > 0) * (to > 0)
+        key = np.round(np.column_stack([ti, to, dphi]), 6)
+        swap = np.round(np.column_stack([to, ti, np.mod(-dphi, 360.0) * (dphi > 0)]), 6)
+    else:
+        key = np.hstack([_keys(ti, pi), _keys(to, po)])
+        swap = np.hstack([_keys(to, po), _keys(ti, pi)])
+    index = {tuple(k): n for n, k in enumerate(key)}
+    pairs = [(n, index.get(tuple(k))) for n, k in enumerate(swap)]
+    return [(a, b) for a, b in pairs if b is not None and a < b]
+
+
+def _reciprocity_samples(data: BrdfData) -> dict:
+    pairs, how = _swapped_pairs(data, False), "whose swap (l and v exchanged) is in the data"
+    if not pairs:
+        pairs = _swapped_pairs(data, True)
+        how = ("whose swap is in the data up to a rotation about n (assuming the data "
+               "isotropic)")
+    if not pairs:
+        return {"max_relative_error": None, "pairs": 0,
+                "method": "no sample has its swap (l and v exchanged) in the data"}
+    a, b = (np.array(x) for x in zip(*pairs))
+    fa, fb = data.f[:, a], data.f[:, b]
+    scale = np.maximum(fa, fb)
+    rel = np.abs(fa - fb) / np.where(scale > 0, scale, 1.0)
+    c, k = np.unravel_index(int(np.argmax(rel)), rel.shape)
+    ti, pi = _angles(data.l[a[k]][None])
+    to, po = _angles(data.v[a[k]][None])
+    return {"max_relative_error": float(rel[c, k]), "pairs": len(pairs),
+            "where": {"channel": data.channels[c], **{name: round(float(x[0]), 6) for name, x in (
+                ("theta_i_deg", ti), ("phi_i_deg", pi), ("theta_o_deg", to), ("phi_o_deg", po))}},
+            "method": f"|f(l, v) − f(v, l)| / max of the two over the samples {how}"}
+
+
+def _groups(fixed: np.ndarray, moving: np.ndarray) -> list:
+    """[(μ of the fixed direction, sample indices)] of the fixed directions whose samples
+    of the moving one cover enough of the projected hemisphere."""
+    groups, inverse = np.unique(_keys(*_angles(fixed)), axis=0, return_inverse=True)
+    inverse = inverse.ravel()
+    usable = []
+    for g in range(len(groups)):
+        members = np.flatnonzero(inverse == g)
+        if members.size >= MIN_GROUP and _hull_area(moving[members, :2]) >= MIN_COVER * np.pi:
+            usable.append((float(np.cos(np.deg2rad(groups[g, 0]))), members))
+    return usable
+
+
+def _albedo_samples(data: BrdfData) -> dict:
+    fixed, moving, over = data.v, data.l, "l at fixed v"
+    usable = _groups(fixed, moving)
+    if not usable:   # E(μ) is also ∫ f (n·v) dv at fixed l, for a reciprocal BRDF
+        fixed, moving, over = data.l, data.v, "v at fixed l (the same E for a reciprocal BRDF)"
+        usable = _groups(fixed, moving)
+    usable.sort(key=lambda item: item[0])
+    if len(usable) > MAX_GROUPS:
+        usable = [usable[k] for k in np.linspace(0, len(usable) - 1, MAX_GROUPS).round().astype(int)]
+    E = {c: [] for c in data.channels}
+    err = {c: [] for c in data.channels}
+    fine, coarse = _disk(*GRID_SAMPLES), _disk(GRID_SAMPLES[0] // 2, GRID_SAMPLES[1] // 2)
+    for _, members in usable:
+        xy, f = moving[members, :2], data.f[:, members].T
+        linear, nearest = LinearNDInterpolator(xy, f), NearestNDInterpolator(xy, f)
+
+        def integrate(grid, lin=True):
+            near = nearest(grid[:, :2])
+            if not lin:
+                return np.pi * near.mean(axis=0)
+            value = linear(grid[:, :2])
+            inside = np.isfinite(value).all(axis=1)   # outside the convex hull: nearest
+            return np.pi * np.where(inside[:, None], value, near).mean(axis=0)
+        lin, near, half = integrate(fine), integrate(fine, False), integrate(coarse)
+        for k, c in enumerate(data.channels):
+            E[c].append(float(lin[k]))
+            err[c].append(float(abs(lin[k] - near[k]) + abs(lin[k] - half[k])))
+    return {"mu": [m for m, _ in usable], "E": E, "E_error": err,
+            "method": f"integrated over {over}, for each fixed direction with ≥ {MIN_GROUP} "
+                      f"samples spanning ≥ {MIN_COVER:.0%} of the projected hemisphere: E(μ) = ∫ f "
+                      "(n·l) dl, f interpolated linearly over the projected directions (nearest "
+                      "sample outside their hull), midpoint rule on a "
+                      f"{GRID_SAMPLES[0]} × {GRID_SAMPLES[1]} (ρ², φ) grid; E_error = |linear − "
+                      "nearest| (interpolation) + |grid − half grid| (quadrature)"}
+
+
+def _hull_area(xy: np.ndarray) -> float:
+    try:
+        return float(ConvexHull(xy).volume)   # a 2-D hull's "volume" is its area
+    except (QhullError, ValueError):
+        return 0.0
+
+
+def _term(data: TermData) -> dict:
+    out = {"axis": data.axis, "axis_range": [float(data.x.min()), float(data.x.max())],
+           "range": {k: [float(x.min()), float(x.max())] for k, x in data.terms.items()}}
+    order = np.argsort(data.x)
+    x = data.x[order]
+    if "D" in data.terms and x.size >= 3:
+        t = np.deg2rad(x)
+        integrand = 2.0 * np.pi * data.terms["D"][order] * np.cos(t) * np.sin(t)
+        full = np.trapezoid(integrand, t)
+        half = np.trapezoid(integrand[::2], t[::2])
+        out["D_normalisation"] = {
+            "value": float(full), "error": float(abs(full - half)), "expected": 1.0,
+            "method": "2π ∫ D(θ) cos θ sin θ dθ over the given θ (an isotropic D; ∫ D (n·m) dm "
+                      "= 1 for a normalised NDF), trapezoid rule; error = |all points − every "
+                      "other point|" + ("" if x[0] <= 0 and x[-1] >= 90 else
+                                         f"; only θ in [{x[0]:g}°, {x[-1]:g}°] is given")}
+    if "E" in data.terms and x.size >= 3:
+        integrand = 2.0 * data.terms["E"][order] * x
+        full = np.trapezoid(integrand, x)
+        half = np.trapezoid(integrand[::2], x[::2])
+        out["E_avg"] = {"value": float(full), "error": float(abs(full - half)),
+                        "method": "2 ∫ E(μ) μ dμ over the given μ, trapezoid rule; error = |all "
+                                  "points − every other point|"}
+    return out
+
+
+__all__ = ["summarize", "select"]
