@@ -114,11 +114,10 @@ class Progress:
 
 def run_exports(jobs: list[list[str]], quiet: bool = False) -> int:
     """Run export command lines (each ``KIND options -o FILE``) with one browser."""
-    from .api.errors import ParamError
+    from .errors import ParameterError
     from .config import Settings
     from .export import files
     from .export.image import ExportUnavailable, ImageRenderer
-    from .model import ModelError
     import os
 
     parsed = []
@@ -139,7 +138,7 @@ def run_exports(jobs: list[list[str]], quiet: bool = False) -> int:
             t0 = time.perf_counter()
             try:
                 size = files.write(view, q, out, settings, renderer)
-            except (ParamError, ModelError) as e:
+            except ParameterError as e:
                 print(f"brdf-explorer export: {out}: {e.message}", file=sys.stderr)
                 return 2
             except ExportUnavailable as e:

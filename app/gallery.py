@@ -13,9 +13,9 @@ from urllib.parse import urlencode
 from pydantic import ValidationError
 
 from .api import schemas
-from .api.errors import ParamError
+from .errors import ParameterError
 from .api.views import VIEWS
-from .model import ModelError, make_spec
+from .model import make_spec
 
 
 @dataclass(frozen=True)
@@ -122,7 +122,7 @@ def _validate(kind: str, state: dict) -> bool:
                 {**{k: getattr(q, k) for k in view.figure_query.model_fields if k in q.model_fields_set},
                  q.vary: value})
             make_spec(**schemas.model_values(qk))
-    except (ValidationError, ParamError, ModelError):
+    except (ValidationError, ParameterError):
         return False
     return True
 

@@ -1,6 +1,6 @@
 """From flat parameters (as the API and the CLI spell them) to a BRDF.
 
-Knows the registries; raises :class:`ModelError` naming the offending parameter and
+Knows the registries; raises :class:`ParameterError` naming the offending parameter and
 what it allows, which the API turns into an HTTP 422.
 """
 from __future__ import annotations
@@ -10,6 +10,7 @@ from typing import Callable
 
 import numpy as np
 
+from .errors import ParameterError
 from .integrate.compensation import MULTISCATTERS, compensated
 from .physics.brdf import BRDF
 from .physics.fresnel import FRESNELS
@@ -72,15 +73,6 @@ SUB_OPTIONS = {
 }
 
 
-class ModelError(ValueError):
-    """A parameter that the chosen model does not accept."""
-
-    def __init__(self, param: str, message: str):
-        super().__init__(message)
-        self.param = param
-        self.message = message
-
-
 def choice_params(option: str, name: str) -> tuple[Param, ...]:
     """Parameters that belong to one choice of an option (an NDF's shape, Schlick's f0)."""
     entry = OPTIONS[option][1][name]
@@ -128,7 +120,7 @@ def make_spec(**given) -> ModelSpec:
     for option, (_, registry, default) in OPTIONS.items():
         name = given.pop(option, default)
         if name not in registry:
-            raise ModelError(option, f"{option} must be one of {', '.join(registry)}; got {name!r}")
+            raise ParameterError(option, f"{option} must be one of {', '.join(registry)}; got {name!r}")
         values[option] = name
     for p in COMMON_PARAMS:
         if p.name in given:
@@ -141,23 +133,23 @@ def make_spec(**given) -> ModelSpec:
         chosen = given.pop(name, None)
         if not applies(values):
             if chosen is not None:
-                raise ModelError(name, f"{name} applies only with {when}")
+                raise ParameterError(name, f"{name} applies only with {when}")
             continue
         if chosen is not None and chosen not in registry:
-            raise ModelError(name, f"{name} must be one of {', '.join(registry)}; got {chosen!r}")
+            raise ParameterError(name, f"{name} must be one of {', '.join(registry)}; got {chosen!r}")
         values[name] = chosen or default
     if values["roughness"] is not None:
         _apply_aniso_map(values)
     if values["lobe_mix"] > 0 and values["alpha2"] is None:
-        raise ModelError("lobe_mix", "lobe_mix > 0 needs alpha2, the second lobe's roughness")
+        raise ParameterError("lobe_mix", "lobe_mix > 0 needs alpha2, the second lobe's roughness")
     _check_applicability(values)
     owners = choice_param_names()
     for name, x in given.items():
         if name not in owners:
-            raise ModelError(name, f"unknown model parameter {name!r}")
+            raise ParameterError(name, f"unknown model parameter {name!r}")
         chosen = [key for key in owners[name] if values[key.split('=')[0]] == key.split('=')[1]]
         if not chosen:
-            raise ModelError(name, f"{name} applies only with {' or '.join(owners[name])}")
+            raise ParameterError(name, f"{name} applies only with {' or '.join(owners[name])}")
         _check_range(owners[name][chosen[0]], x)
         values[name] = float(x)
     for option in ("ndf", "fresnel"):
@@ -166,9 +158,11 @@ def make_spec(**given) -> ModelSpec:
     spec = ModelSpec(values)
     try:
         brdf = spec.brdf()
+    except ParameterError:
+        raise
     except ValueError as exc:  # a model that cannot be built, e.g. an anisotropic GTR,
         # or whose compensation table would not build within the request's time budget
-        raise ModelError(getattr(exc, "param", "alpha_y"), str(exc)) from exc
+        raise ParameterError(getattr(exc, "param", "alpha_y"), str(exc)) from exc
     # Derived quantities for display (Blinn-Phong's α_p); not parameters.
     values.update(getattr(brdf.ndf, "derived", dict)())
     return spec
@@ -179,7 +173,7 @@ def _roughness_form(values: dict, given: dict, explicit_alpha: list) -> None:
     if not uses_r:
         return
     if explicit_alpha:
-        raise ModelError(explicit_alpha[0], "give either alpha/alpha_y or roughness/anisotropy/aniso_map, "
+        raise ParameterError(explicit_alpha[0], "give either alpha/alpha_y or roughness/anisotropy/aniso_map, "
                                       "not both")
     if values["roughness"] is None:
         values["roughness"] = ROUGHNESS.default
@@ -192,7 +186,7 @@ def _apply_aniso_map(values: dict) -> None:
     ax, ay = ANISO_MAPS[values["aniso_map"]].alphas(values["roughness"], values["anisotropy"])
     for name, a in (("alpha", ax), ("alpha_y", ay)):
         if not ALPHA.contains(float(a)):
-            raise ModelError("anisotropy", f"roughness={values['roughness']:g} and anisotropy="
+            raise ParameterError("anisotropy", f"roughness={values['roughness']:g} and anisotropy="
                              f"{values['anisotropy']:g} give {name}={float(a):.4g}, outside "
                              f"{ALPHA.range_text()}")
     values["alpha"] = float(ax)
@@ -204,22 +198,22 @@ def _check_applicability(values: dict) -> None:
     for option in ("masking", "g2"):
         entry = OPTIONS[option][1][values[option]]
         if entry.applies_to is not None and ndf not in entry.applies_to:
-            raise ModelError(option, f"{option}={values[option]} applies to ndf "
+            raise ParameterError(option, f"{option}={values[option]} applies to ndf "
                              f"{', '.join(entry.applies_to)} only, not {ndf}")
     g2 = G2_FORMS[values["g2"]]
     anisotropic = values["alpha_y"] is not None and values["alpha_y"] != values["alpha"]
     if getattr(g2, "isotropic_only", False) and anisotropic:
-        raise ModelError("g2", f"g2={values['g2']} is for isotropic roughness only (alpha_y = alpha)")
+        raise ParameterError("g2", f"g2={values['g2']} is for isotropic roughness only (alpha_y = alpha)")
     if (values.get("multiscatter") == "kulla_conty" and values["masking"] == "smith"
             and not NDFS[ndf].smith_exact):
-        raise ModelError("multiscatter", f"multiscatter=kulla_conty needs the NDF's exact Smith Λ: "
+        raise ParameterError("multiscatter", f"multiscatter=kulla_conty needs the NDF's exact Smith Λ: "
                                          f"ndf={ndf} with masking=smith uses an approximate Λ whose "
                                          "albedo exceeds 1 (use masking=smith_numeric)")
     if anisotropic and values.get("multiscatter") == "kulla_conty":
-        raise ModelError("multiscatter", "multiscatter=kulla_conty is for isotropic roughness only "
+        raise ParameterError("multiscatter", "multiscatter=kulla_conty is for isotropic roughness only "
                                          "(alpha_y = alpha): its E(μ, α) table is isotropic")
     if anisotropic and not NDFS[ndf].anisotropic:
-        raise ModelError("alpha_y", f"ndf={ndf} is isotropic only: it is not shape-invariant, "
+        raise ParameterError("alpha_y", f"ndf={ndf} is isotropic only: it is not shape-invariant, "
                                     "so it has no anisotropic form")
 
 
@@ -229,4 +223,4 @@ def _check_range(p: Param, x) -> None:
     except (TypeError, ValueError):
         ok = False
     if not ok:
-        raise ModelError(p.name, f"{p.name} must be a number in {p.range_text()}; got {x!r}")
+        raise ParameterError(p.name, f"{p.name} must be a number in {p.range_text()}; got {x!r}")

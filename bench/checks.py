@@ -15,7 +15,8 @@ import time
 import common  # noqa: F401  (puts the checkout on sys.path)
 
 from app.analysis.checks import checks
-from app.model import ModelError, make_spec
+from app.errors import ParameterError
+from app.model import make_spec
 from app.physics.ndf import NDFS
 
 REPEATS = 20
@@ -42,7 +43,7 @@ def main() -> None:
         for ax, ay in ((1e-4, None), (1.0, None), (1e-4, 1.0), (1.0, 1e-4)):
             try:
                 spec = make_spec(ndf=ndf, alpha=ax, alpha_y=ay)
-            except ModelError:
+            except ParameterError:
                 continue                    # isotropic-only NDF
             for theta in (60.0, 89.9):
                 med, cold = seconds(spec, theta, 5)

@@ -72,10 +72,11 @@ import numpy as np
 from ..integrate import budget
 from ..integrate.cache import Keyed, complete_only, freeze
 from ..integrate.albedo import DEFAULT_TOL
-from ..integrate.methods import MethodError, albedo_by
+from ..errors import ParameterError
+from ..integrate.methods import albedo_by
 from ..integrate.tables import mu_from_y, y_from_mu
 from ..integrate.sampling import SAMPLERS
-from ..model import OPTIONS, ModelError, ModelSpec, choice_params, make_spec
+from ..model import OPTIONS, ModelSpec, choice_params, make_spec
 from ..physics.fresnel import FRESNELS
 from ..physics.g2 import G2_FORMS
 from ..physics.masking import MASKINGS
@@ -383,7 +384,7 @@ def advise(given: dict, tol: float, scene: Scene, albedo_methods: bool = False,
     spec = spec or make_spec(**given)
     values = spec.values
     if is_anisotropic(values):
-        raise ModelError("alpha_y", "advise is for isotropic models: the range replaces α")
+        raise ParameterError("alpha_y", "advise is for isotropic models: the range replaces α")
     fresnel = FRESNELS[values["fresnel"]](**{p.name: values[p.name]
                                              for p in choice_params("fresnel", values["fresnel"])})
     f0 = float(fresnel.F(np.array(1.0)))
@@ -455,7 +456,7 @@ def _singles(given, values, f0, ref_grid, scene, tol, base_cost, grids: dict) ->
             continue
         try:
             make_spec(**model)
-        except ModelError:
+        except ParameterError:
             continue                      # this choice does not combine with the model
         grid = albedo_grid(model, scene, name=label(changes))
         last, grids[label(changes)] = max(last, grid.seconds), grid
@@ -490,7 +491,7 @@ def _combinations(given, values, f0, entries, ref_grid, scene, tol, base_cost,
             continue
         try:
             make_spec(**model)
-        except ModelError:
+        except ParameterError:
             continue
         cost = seconds_per_batch(model) / base_cost
         if cost < cheapest_single:
@@ -541,7 +542,7 @@ def _albedo_methods(model: dict, quad: Grid, scene: Scene, tol_left: float) -> d
             break
         try:
             grid = albedo_grid(model, scene, method, cache=False, **kw)
-        except MethodError:
+        except ParameterError:
             continue                                     # the table does not apply
         build = 0.0
         if method == "table" and grid.complete:          # its cost: the lookups, not the build

@@ -59,7 +59,8 @@ import numpy as np
 
 from ..integrate import budget
 from ..integrate.methods import albedo_by
-from ..model import COMMON_PARAMS, OPTIONS, ModelError, ModelSpec, choice_params, make_spec
+from ..errors import ParameterError
+from ..model import COMMON_PARAMS, OPTIONS, ModelSpec, choice_params, make_spec
 from ..physics.brdf import BRDF
 from ..physics.g2 import G2_FORMS
 from ..physics.gauss import gauss_legendre_01
@@ -557,7 +558,7 @@ def _furnace_row(brdf: BRDF, spec: ModelSpec, albedos: _Albedos, t0: float) -> R
                    time.perf_counter() - t0)
     try:
         r, evaluations = albedos.get(multiscatter="kulla_conty")
-    except ModelError as exc:      # a combination make_spec refuses: say why
+    except ParameterError as exc:      # a combination make_spec refuses: say why
         return Row("7-furnace", identity, relation, None, 1.0, None, None, None,
                    f"does not apply; {exc.message}", 0, time.perf_counter() - t0)
     value = float(r["E"][0])

@@ -37,7 +37,8 @@ import numpy as np
 from ..physics.brdf import BRDF, CompensatedBRDF
 from ..integrate import budget, tables
 from ..integrate.cache import Keyed, complete_only, freeze
-from ..integrate.methods import MC_METHODS, MethodError, albedo_by
+from ..errors import ParameterError
+from ..integrate.methods import MC_METHODS, albedo_by
 from ..integrate.sampling import SAMPLERS
 
 QUANTITIES = ("albedo",)
@@ -257,7 +258,7 @@ def _measure(brdf: BRDF, key, mu: np.ndarray, phi: float, asked: tuple, max_budg
                     p, table_info = _table_point(brdf, mu, phi, E_ref, ref_err)
                 else:
                     p = _point(_run(brdf, mu, phi, m, n, seed), E_ref, ref_err)
-            except MethodError as exc:     # a rule not_applicable does not know yet
+            except ParameterError as exc:     # a rule not_applicable does not know yet
                 skipped.append({"method": m, "reason": str(exc)})
                 stopped[m] = ""
                 continue

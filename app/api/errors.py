@@ -1,23 +1,48 @@
-"""One error shape for every 4xx: FastAPI's own ``{"detail": [{"loc", "msg", "type"}]}``."""
+"""The one place where errors become HTTP responses.
+
+Every layer raises :mod:`app.errors`: ``ParameterError`` → its status (422, or 413 for
+``TooLarge``), ``Busy`` → 503 with ``Retry-After``. FastAPI's validation errors → 422.
+The body is always FastAPI's own shape ``{"detail": [{"loc", "msg", "type"}]}``. A
+handler that fails itself answers a minimal body with the same status, never a 500.
+"""
 from __future__ import annotations
 
-from fastapi import Request
+import json
+import logging
+
+from fastapi import Request, Response
 from fastapi.exceptions import RequestValidationError
-from fastapi.responses import JSONResponse
 
-from ..model import ModelError
+from ..errors import Busy, ParameterError
+from ..model import COMMON_PARAMS, choice_param_names
 
-
-class ParamError(Exception):
-    """A request parameter that is well-formed but not allowed (a limit, a mismatch)."""
-
-    def __init__(self, param: str, message: str, status_code: int = 422, loc: str = "query"):
-        super().__init__(message)
-        self.param, self.message, self.status_code, self.loc = param, message, status_code, loc
+log = logging.getLogger("app")
 
 
-def _detail(loc: str, param: str, message: str, kind: str) -> dict:
-    return {"detail": [{"loc": [loc, param], "msg": message, "type": kind}]}
+def _detail(loc: list, message: str, kind: str) -> dict:
+    return {"detail": [{"loc": loc, "msg": message, "type": kind}]}
+
+
+def _respond(status: int, payload: dict, headers: dict | None = None) -> Response:
+    """JSON out without the encoder that could fail on an odd message: ``default=str``
+    turns anything unexpected into text."""
+    body = json.dumps(payload, ensure_ascii=False, default=str, allow_nan=False)
+    return Response(body, status_code=status, media_type="application/json", headers=headers)
+
+
+def _safe(status_of):
+    """Wrap a handler so that an exception inside it still answers with the status the
+    error asked for (``status_of(exc)``) and a generic message, never a 500."""
+    def wrap(handler):
+        async def safe(request: Request, exc: Exception):
+            try:
+                return handler(exc)
+            except Exception:
+                log.exception("error handler failed for %s", type(exc).__name__)
+                return Response(b'{"detail":"error"}', status_code=status_of(exc),
+                                media_type="application/json")
+        return safe
+    return wrap
 
 
 def _clean_validation(errors) -> list[dict]:
@@ -38,33 +63,37 @@ def _clean_validation(errors) -> list[dict]:
     return out
 
 
-async def validation_handler(request: Request, exc: RequestValidationError):
-    return JSONResponse({"detail": _clean_validation(exc.errors())}, status_code=422)
+@_safe(lambda exc: 422)
+def validation_handler(exc: RequestValidationError) -> Response:
+    return _respond(422, {"detail": _clean_validation(exc.errors())})
 
 
-async def param_error_handler(request: Request, exc: ParamError):
-    return JSONResponse(_detail(exc.loc, exc.param, exc.message, "value_error"),
-                        status_code=exc.status_code)
+@_safe(lambda exc: exc.status)
+def parameter_handler(exc: ParameterError) -> Response:
+    return _respond(exc.status, _detail([exc.loc, exc.param], exc.message, "value_error"))
 
 
-async def model_error_handler(request: Request, exc: ModelError):
-    return JSONResponse(_detail("query", exc.param, exc.message, "value_error"), status_code=422)
+@_safe(lambda exc: 503)
+def busy_handler(exc: Busy) -> Response:
+    loc = ["server", exc.what] if exc.what else ["server"]
+    return _respond(503, _detail(loc, exc.message, "busy"),
+                    headers={"Retry-After": str(exc.retry_after), "Cache-Control": "no-store"})
 
 
-async def internal_error_handler(request: Request, exc: Exception):
-    # Never a stack trace or a file path in a response.
-    return JSONResponse({"detail": "internal error"}, status_code=500)
+async def internal_error_handler(request: Request, exc: Exception) -> Response:
+    # Never a stack trace or a file path in a response: the trace goes to the log.
+    log.exception("unhandled error in %s %s", request.method, request.url.path)
+    return Response(b'{"detail":"internal error"}', status_code=500, media_type="application/json")
 
 
 def install(app) -> None:
     app.add_exception_handler(RequestValidationError, validation_handler)
-    app.add_exception_handler(ParamError, param_error_handler)
-    app.add_exception_handler(ModelError, model_error_handler)
+    app.add_exception_handler(ParameterError, parameter_handler)
+    app.add_exception_handler(Busy, busy_handler)
     app.add_exception_handler(Exception, internal_error_handler)
 
 
 def _allowed() -> dict[str, str]:
-    from ..model import COMMON_PARAMS, choice_param_names
     out = {p.name: p.range_text() for p in COMMON_PARAMS}
     for name, owners in choice_param_names().items():
         out[name] = "; ".join(f"{p.range_text()} with {who}" for who, p in owners.items())

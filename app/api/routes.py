@@ -6,14 +6,14 @@ from fastapi import APIRouter, Body, Query, Request, Response
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
 from .. import __version__, figures, quantities
-from ..figures.overlay import OverlayError, overlay
+from ..figures.overlay import overlay
 from ..figures.style import model_title
-from ..model import (COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, ModelError, choice_params,
+from ..model import (COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_params,
                      make_spec)
 from ..physics.vectors import direction_deg
 from . import schemas
 from .encode import json_response
-from .errors import ParamError
+from ..errors import ParameterError
 from .views import VIEWS, View
 
 router = APIRouter(prefix="/api/v1")
@@ -77,14 +77,14 @@ def _evaluate(q: schemas.EvalQuery, limit: int, status: int, env: str):
     sizes = {name: len(v) for name, v in lists.items()}
     for name, size in sizes.items():
         if size == 0:
-            raise ParamError(name, f"{name} is empty: give at least one value")
+            raise ParameterError(name, f"{name} is empty: give at least one value")
         if size > limit:
-            raise ParamError(name, f"{name} has {size} values; the limit is {limit} (setting {env})",
-                             status_code=status)
+            raise ParameterError(name, f"{name} has {size} values; the limit is {limit} (setting {env})",
+                             status=status)
     n = max(sizes.values())
     for name, size in sizes.items():
         if size not in (1, n):
-            raise ParamError(name, f"{name} has {size} values but another list has {n}: "
+            raise ParameterError(name, f"{name} has {size} values but another list has {n}: "
                                    "lists must have equal length, or one value to broadcast")
     spec = make_spec(**schemas.model_values(q))
     arrays = {k: np.asarray(v, dtype=float) for k, v in lists.items()}
@@ -163,14 +163,14 @@ def _compare_route(view: View):
         settings = request.app.state.settings
         limit = settings.max_compare_models
         if len(body.models) > limit:
-            raise ParamError("models", f"{len(body.models)} models; the limit is {limit} "
-                             "(setting BRDF_MAX_COMPARE_MODELS)", status_code=413, loc="body")
+            raise ParameterError("models", f"{len(body.models)} models; the limit is {limit} "
+                             "(setting BRDF_MAX_COMPARE_MODELS)", status=413, loc="body")
         if body.labels is not None and len(body.labels) != len(body.models):
-            raise ParamError("labels", "give one label per model", loc="body")
+            raise ParameterError("labels", "give one label per model", loc="body")
         model_fields = set(schemas.ModelQuery.model_fields)
         if set(body.view) & model_fields:
             name = sorted(set(body.view) & model_fields)[0]
-            raise ParamError("view", f"{name} is a model parameter: put it in each model", loc="body")
+            raise ParameterError("view", f"{name} is a model parameter: put it in each model", loc="body")
         figures_, specs = [], []
         for k, model in enumerate(body.models):
             try:
@@ -178,21 +178,18 @@ def _compare_route(view: View):
             except ValidationError as exc:
                 e = exc.errors()[0]
                 field = ".".join(str(x) for x in e.get("loc", ()))
-                raise ParamError(f"models[{k}].{field}", f"models[{k}].{field}: {e.get('msg', '')}",
+                raise ParameterError(f"models[{k}].{field}", f"models[{k}].{field}: {e.get('msg', '')}",
                                  loc="body") from None
             view.check(q, settings)
             try:
                 spec = make_spec(**schemas.model_values(q))
-            except ModelError as exc:
-                raise ParamError(f"models[{k}].{exc.param}", f"models[{k}]: {exc.message}",
+            except ParameterError as exc:
+                raise ParameterError(f"models[{k}].{exc.param}", f"models[{k}]: {exc.message}",
                                  loc="body") from None
             figures_.append(view.figure(view.compute(spec, q), spec, q))
             specs.append(spec.values)
         labels = body.labels or _difference_labels(specs)
-        try:
-            figure = overlay(figures_, labels, f"{view.summary}: {len(labels)} models")
-        except OverlayError as exc:
-            raise ParamError("models", f"figures/{view.name} cannot be compared: {exc}", loc="body") from None
+        figure = overlay(figures_, labels, f"{view.summary}: {len(labels)} models", param="models")
         return Response(figures.to_json(figure), media_type="application/json")
     return route
 

@@ -21,12 +21,12 @@ from pathlib import Path
 from typing import Annotated
 
 from fastapi import APIRouter, Depends, Query, Request, Response
-from fastapi.responses import FileResponse, JSONResponse
+from fastapi.responses import FileResponse
 from starlette.concurrency import run_in_threadpool
 
 from .. import gallery
 from ..export import build
-from ..export.image import ExportUnavailable, ImageRenderer, get_renderer
+from ..export.image import ImageRenderer, get_renderer
 from .encode import json_response
 from .views import VIEWS, View
 
@@ -42,9 +42,10 @@ _CSV_EXAMPLE = ("# view = ndf\n# phi_deg = 0\n# ndf = ggx\n# alpha = 0.3\ntheta_
                 "0,3.5367765131532298\n0.5,3.5347584447016218\n…\n")
 _PNG_NOTE = "PNG bytes: width·scale × height·scale pixels, RGBA."
 _UNAVAILABLE = {"description": "No Chromium on the server: the message says what to install",
-                "content": {"application/json": {"example": {"detail": "No Chromium found. "
-                            "Server-side image export needs a Chromium browser: install it "
-                            "(Debian/Ubuntu: apt-get install chromium; …)"}}}}
+                "content": {"application/json": {"example": {"detail": [{
+                    "loc": ["server", "image export"], "type": "busy",
+                    "msg": "No Chromium found. Server-side image export needs a Chromium "
+                           "browser: install it (Debian/Ubuntu: apt-get install chromium; …)"}]}}}}
 
 
 def _filename(view: View, q, ext: str) -> str:
@@ -71,10 +72,7 @@ def _image_route(view: View, fmt: str):
         t0 = time.perf_counter()
         produced = build.produce(view, q, settings)
         t1 = time.perf_counter()
-        try:
-            body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
-        except ExportUnavailable as e:
-            return JSONResponse({"detail": str(e)}, status_code=503)
+        body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
         t2 = time.perf_counter()
         return Response(body, media_type=MEDIA[fmt], headers={
             "Content-Disposition": f'inline; filename="{_filename(view, q, fmt)}"',

@@ -12,7 +12,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 from ..integrate.albedo import ORDER_MAX
 from ..integrate.methods import DEFAULT_SAMPLES, MC_METHODS, MC_SAMPLES_MAX, METHODS
 from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_param_names
-from .errors import ParamError
+from ..errors import ParameterError
 
 STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
 
@@ -26,7 +26,7 @@ def applies_to(**when: list) -> dict:
 
 
 def applies_where_given(q: BaseModel) -> None:
-    """Raise ParamError (→ 422 naming the parameter) for a parameter given explicitly
+    """Raise ParameterError (→ 422 naming the parameter) for a parameter given explicitly
     where its ``x-applies-to`` condition does not hold: silently ignoring it would let a
     script believe it had set the samples of a quadrature."""
     for name in q.model_fields_set:
@@ -35,7 +35,7 @@ def applies_where_given(q: BaseModel) -> None:
         for other, allowed in (when or {}).items():
             value = getattr(q, other)
             if value not in allowed:
-                raise ParamError(name, f"{name} applies to {other}={'|'.join(allowed)} only, "
+                raise ParameterError(name, f"{name} applies to {other}={'|'.join(allowed)} only, "
                                        f"not {other}={value}")
 
 

@@ -14,7 +14,7 @@ from ..integrate.cache import Keyed, complete_only
 from ..model import make_spec
 from ..physics.ndf import ALPHA
 from . import schemas
-from .errors import ParamError
+from ..errors import ParameterError
 from .views import View, register
 
 
@@ -35,12 +35,12 @@ class AdviseQuery(schemas.ModelQuery):
 
 def _check_advise(q: AdviseQuery, s: Settings):
     if q.alpha_min > q.alpha_max:
-        raise ParamError("alpha_min", f"alpha_min={q.alpha_min:g} is above alpha_max="
+        raise ParameterError("alpha_min", f"alpha_min={q.alpha_min:g} is above alpha_max="
                                       f"{q.alpha_max:g}: the range needs alpha_min ≤ alpha_max")
     given = schemas.model_values(q)
     if is_anisotropic(make_spec(**given).values):
         name = "anisotropy" if "anisotropy" in given else "alpha_y"
-        raise ParamError(name, f"{name}: advise is for isotropic models (alpha_y = alpha): the "
+        raise ParameterError(name, f"{name}: advise is for isotropic models (alpha_y = alpha): the "
                                "scene's range replaces one α, and the albedo metric, the tables "
                                "and Kulla-Conty are isotropic")
 

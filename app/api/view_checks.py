@@ -10,7 +10,7 @@ from .. import figures
 from ..analysis import checks
 from ..config import Settings
 from . import schemas
-from .errors import ParamError
+from ..errors import ParameterError
 from .views import View, register
 
 #: Largest θ of v: at 90° (μ_v = 0) rows 2–4 are 0 = 0 and 0/0. A closed bound (not
@@ -35,7 +35,7 @@ class ChecksQuery(schemas.ModelQuery):
 
 def _check(q, s: Settings):
     if q.ids is not None and len(q.ids) == 0:
-        raise ParamError("ids", "ids must name at least one row of " + ", ".join(checks.ROW_IDS))
+        raise ParameterError("ids", "ids must name at least one row of " + ", ".join(checks.ROW_IDS))
 
 
 register(View(

@@ -7,7 +7,7 @@ from ..config import Settings
 from ..integrate.sampling import SAMPLERS
 from ..model import make_spec
 from . import schemas
-from .errors import ParamError
+from ..errors import ParameterError
 from .views import View, _limit, register
 
 
@@ -16,7 +16,7 @@ def _check_samples(q, s: Settings):
     try:
         SAMPLERS[q.sampler].check(make_spec(**schemas.model_values(q)).brdf())
     except ValueError as exc:
-        raise ParamError("sampler", str(exc)) from None
+        raise ParameterError("sampler", str(exc)) from None
 
 
 register(View(

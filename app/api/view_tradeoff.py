@@ -13,7 +13,7 @@ from ..analysis import tradeoff
 from ..integrate.albedo import max_evaluations
 from ..model import make_spec
 from . import schemas
-from .errors import ParamError
+from ..errors import ParameterError
 from .views import View, _limit, register
 
 #: Largest max_budget the schema admits; the setting BRDF_MAX_TRADEOFF_SAMPLES is the
@@ -51,16 +51,16 @@ class TradeoffFigureQuery(TradeoffQuery):
 
 def _check(q, s: Settings):
     if q.methods is not None and len(q.methods) == 0:
-        raise ParamError("methods", "methods must name at least one of " + ", ".join(tradeoff.METHODS))
+        raise ParameterError("methods", "methods must name at least one of " + ", ".join(tradeoff.METHODS))
     if q.mu is not None and len(q.mu) == 0:
-        raise ParamError("mu", "mu must hold at least one value in [0, 1]")
+        raise ParameterError("mu", "mu must hold at least one value in [0, 1]")
     count = len(q.mu) if q.mu is not None else len(tradeoff.DEFAULT_MU)
     _limit("mu", count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
     _limit("max_budget", q.max_budget, s.max_tradeoff_samples, "BRDF_MAX_TRADEOFF_SAMPLES")
     # the reference is the refining quadrature: the albedo view's worst case
     worst = max_evaluations(make_spec(**schemas.model_values(q)).brdf(), count)
     if worst > s.max_evaluations:
-        raise ParamError("mu", f"the reference at {count} μ values may need up to {worst:.3g} "
+        raise ParameterError("mu", f"the reference at {count} μ values may need up to {worst:.3g} "
                                f"integrand evaluations; the limit is {s.max_evaluations:.3g} "
                                "(setting BRDF_MAX_EVALUATIONS): ask for fewer")
 

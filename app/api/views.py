@@ -18,10 +18,9 @@ from ..config import Settings
 from ..integrate import budget
 from ..integrate.albedo import max_evaluations
 from ..integrate.cache import Keyed, complete_only, freeze
-from ..integrate.methods import MethodError
 from ..model import ModelSpec, make_spec
 from . import schemas
-from .errors import ParamError
+from ..errors import ParameterError
 
 
 #: albedo results kept (each a few kB: E, E_error at ≤ BRDF_MAX_ALBEDO_POINTS μ values)
@@ -30,7 +29,7 @@ ALBEDO_CACHE_ENTRIES = 256
 
 def _limit(name: str, value: int, limit: int, env: str) -> None:
     if value > limit:
-        raise ParamError(name, f"{name}={value} exceeds the limit {limit} (setting {env})")
+        raise ParameterError(name, f"{name}={value} exceeds the limit {limit} (setting {env})")
 
 
 @dataclass(frozen=True)
@@ -60,17 +59,14 @@ def _check_grid(q, s: Settings):
 
 def _check_square_grid(q, s: Settings):
     if q.n * q.n > s.max_grid_points:
-        raise ParamError("n", f"n={q.n} gives n²={q.n * q.n} grid points, above the limit "
+        raise ParameterError("n", f"n={q.n} gives n²={q.n * q.n} grid points, above the limit "
                               f"{s.max_grid_points} (setting BRDF_MAX_GRID_POINTS)")
 
 
 @complete_only(ALBEDO_CACHE_ENTRIES, complete=lambda data: data["complete"])
 def _albedo_cached(model: Keyed, mu: tuple | int, phi_deg: float, method: tuple) -> dict:
     mu_values = np.asarray(mu, dtype=float) if isinstance(mu, tuple) else np.linspace(0.0, 1.0, mu)
-    try:
-        data = freeze(quantities.albedo_curve(model.value.brdf(), mu_values, phi_deg, **dict(method)))
-    except MethodError as exc:
-        raise ParamError(exc.param, str(exc)) from None
+    data = freeze(quantities.albedo_curve(model.value.brdf(), mu_values, phi_deg, **dict(method)))
     b = budget.current()
     data["complete"] = not (b and b.notes)
     if not data["complete"]:
@@ -101,18 +97,18 @@ def _method_key(q) -> tuple:
 
 def _check_albedo(q, s: Settings):
     if q.mu is not None and len(q.mu) == 0:
-        raise ParamError("mu", "mu must hold at least one value in [0, 1]")
+        raise ParameterError("mu", "mu must hold at least one value in [0, 1]")
     count = len(q.mu) if q.mu is not None else q.n
     where = "mu" if q.mu is not None else "n"
     _limit(where, count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
     if q.method.startswith("mc_"):
         if count * q.samples > s.max_mc_evaluations:
-            raise ParamError("samples", f"{count} μ values × samples={q.samples} = "
+            raise ParameterError("samples", f"{count} μ values × samples={q.samples} = "
                              f"{count * q.samples} Monte Carlo evaluations exceed the limit "
                              f"{s.max_mc_evaluations} (setting BRDF_MAX_MC_EVALUATIONS)")
     worst = max_evaluations(make_spec(**schemas.model_values(q)).brdf(), count)
     if worst > s.max_evaluations:
-        raise ParamError("mu" if q.mu is not None else "n",
+        raise ParameterError("mu" if q.mu is not None else "n",
                          f"{count} μ values may need up to {worst:.3g} integrand evaluations "
                          f"(every μ refined to the highest order); the limit is "
                          f"{s.max_evaluations:.3g} (setting BRDF_MAX_EVALUATIONS): ask for fewer")

@@ -14,10 +14,10 @@ from pydantic import BaseModel, BeforeValidator, Field, ValidationError, create_
 
 from .. import figures
 from ..api import schemas
-from ..api.errors import ParamError
+from ..errors import ParameterError
 from ..api.views import VIEWS, View
 from ..config import Settings
-from ..figures.overlay import OverlayError, overlay
+from ..figures.overlay import overlay
 from ..figures.style import PALETTE
 from ..model import ModelSpec, make_spec
 from . import table
@@ -101,7 +101,7 @@ def image_query(view: View) -> type[BaseModel]:
 def check_image_size(q, settings: Settings) -> None:
     pixels = q.width * q.height * q.scale ** 2
     if pixels > settings.max_export_pixels:
-        raise ParamError("scale", f"width×height×scale² = {pixels:.0f} pixels exceeds the limit "
+        raise ParameterError("scale", f"width×height×scale² = {pixels:.0f} pixels exceeds the limit "
                                   f"{settings.max_export_pixels} (setting BRDF_MAX_EXPORT_PIXELS)")
 
 
@@ -148,7 +148,7 @@ def produce(view: View, q, settings: Settings) -> Produced:
     the plain figure query)."""
     vary, values = getattr(q, "vary", None), getattr(q, "values", None)
     if vary is None and values:
-        raise ParamError("vary", "values is given but vary is not: name the parameter to vary")
+        raise ParameterError("vary", "values is given but vary is not: name the parameter to vary")
     base = view.figure_query.model_validate(
         {k: getattr(q, k) for k in view.figure_query.model_fields if k in q.model_fields_set})
     if vary is None:
@@ -156,11 +156,11 @@ def produce(view: View, q, settings: Settings) -> Produced:
         meta = {**_state(view, base), **{k: v for k, v in spec.values.items() if v is not None}}
         return Produced(view, fig, [(None, data)], [spec], [base], meta=meta)
     if not values:
-        raise ParamError("values", f"vary={vary} needs values: a comma-separated list")
+        raise ParameterError("values", f"vary={vary} needs values: a comma-separated list")
     if len(values) > MAX_VARIANTS:
-        raise ParamError("values", f"{len(values)} values; at most {MAX_VARIANTS} (one per colour)")
+        raise ParameterError("values", f"{len(values)} values; at most {MAX_VARIANTS} (one per colour)")
     if len(set(values)) != len(values):
-        raise ParamError("values", "values has a repeated value")
+        raise ParameterError("values", "values has a repeated value")
     given = {k: getattr(q, k) for k in view.figure_query.model_fields if k in q.model_fields_set}
     payloads, figs, specs, queries = [], [], [], []
     for value in values:
@@ -168,17 +168,14 @@ def produce(view: View, q, settings: Settings) -> Produced:
             qk = view.figure_query.model_validate({**given, vary: value})
         except ValidationError as e:
             msg = e.errors()[0].get("msg", "invalid")
-            raise ParamError("values", f"{vary}={value}: {msg}") from None
+            raise ParameterError("values", f"{vary}={value}: {msg}") from None
         spec, data, fig = _one(view, qk, settings)
         payloads.append((value, data))
         figs.append(fig)
         specs.append(spec)
         queries.append(qk)
     head = _title_text(figs[0]).split(" — ")[0]
-    try:
-        fig = overlay(figs, [f"{vary}={v}" for v in values], f"{head} — {vary} = {', '.join(values)}")
-    except OverlayError as e:
-        raise ParamError("vary", f"vary is for curve figures; {view.name}: {e}") from None
+    fig = overlay(figs, [f"{vary}={v}" for v in values], f"{head} — {vary} = {', '.join(values)}")
     meta = {**_state(view, base), "vary": vary}
     meta.pop(vary, None)
     return Produced(view, fig, payloads, specs, queries, vary=vary, meta=meta)
@@ -203,6 +200,6 @@ def standalone_html(produced: Produced, plotlyjs: str | bool = True) -> str:
 
 def lookup(kind: str) -> View:
     if kind not in VIEWS:
-        raise ParamError("kind", f"unknown figure kind {kind!r}; one of {', '.join(VIEWS)}",
-                         status_code=404, loc="path")
+        raise ParameterError("kind", f"unknown figure kind {kind!r}; one of {', '.join(VIEWS)}",
+                         status=404, loc="path")
     return VIEWS[kind]

@@ -21,6 +21,8 @@ import sys
 import threading
 import time
 
+from ..errors import Busy
+
 # Tabs rendering in parallel in the one browser. One: every tab is a renderer process,
 # and the service runs on small machines; requests queue for the tab.
 TABS = 1
@@ -39,8 +41,12 @@ INSTALL_HINT = ("Server-side image export needs a Chromium browser: install it "
 FORMATS = {"svg": "image/svg+xml", "png": "image/png"}
 
 
-class ExportUnavailable(RuntimeError):
-    """No browser to render with (or it would not start): HTTP 503."""
+class ExportUnavailable(Busy):
+    """No browser to render with (or it would not start, or it took too long): 503,
+    the message says what to install."""
+
+    def __init__(self, message: str):
+        super().__init__(message, retry_after=int(START_TIMEOUT_S), what="image export")
 
 
 class ImageRenderer:

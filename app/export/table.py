@@ -22,6 +22,8 @@ from typing import Iterable
 
 import numpy as np
 
+from ..errors import ParameterError
+
 # Units of the quantities the views return, as a column-name suffix. A key that already
 # ends in its unit (``theta_deg``) or is dimensionless (G1, Λ, F, E, μ) has none.
 PER_SR = "_per_sr"
@@ -32,8 +34,11 @@ UNIT_SUFFIX = {
 
 
 
-class TableError(ValueError):
-    """A payload that is not a table or a grid (a view that breaks the layout rules)."""
+def _not_a_table(reason: str) -> ParameterError:
+    """A payload that breaks the layout rules: CSV does not apply to it (422 on the
+    request's format)."""
+    return ParameterError("format", f"format=csv: this view's data is not a table ({reason})",
+                          loc="path")
 
 
 def column_name(key: str) -> str:
@@ -79,17 +84,17 @@ def columns(payload: dict) -> dict[str, np.ndarray]:
     """Payload key → 1-D column, following the layout rules above."""
     arrays, _ = split(payload)
     if not arrays:
-        raise TableError("the payload has no arrays")
+        raise _not_a_table("the payload has no arrays")
     grids = {k: a for k, a in arrays.items() if a.ndim >= 2}
     if not grids:
         n = next(iter(arrays.values())).size
         wrong = [k for k, a in arrays.items() if a.size != n]
         if wrong:
-            raise TableError(f"columns of unequal length: {', '.join(wrong)}")
+            raise _not_a_table(f"columns of unequal length: {', '.join(wrong)}")
         return arrays
     shape = next(iter(grids.values())).shape
     if any(a.shape != shape for a in grids.values()):
-        raise TableError("grids of different shapes: " +
+        raise _not_a_table("grids of different shapes: " +
                          ", ".join(f"{k}{a.shape}" for k, a in grids.items()))
     axes_left = [(k, a) for k, a in arrays.items() if a.ndim == 1]
     out: dict[str, np.ndarray] = {}
@@ -102,7 +107,7 @@ def columns(payload: dict) -> dict[str, np.ndarray]:
             name, values = axes_left.pop(match)
         mesh_axes.append((name, values))
     if axes_left:
-        raise TableError(f"1-D arrays that are not axes of the grid {shape}: "
+        raise _not_a_table(f"1-D arrays that are not axes of the grid {shape}: "
                          + ", ".join(k for k, _ in axes_left))
     mesh = np.meshgrid(*(v for _, v in mesh_axes), indexing="ij")
     for (name, _), m in zip(mesh_axes, mesh):

@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import copy
 
+from ..errors import ParameterError
 from .style import PALETTE
 
 OVERLAY_TRACES = {"scatter", "scatterpolar"}
@@ -18,10 +19,6 @@ OVERLAY_TRACES = {"scatter", "scatterpolar"}
 DASHES = ["solid", "dash", "dot", "dashdot"]
 # Opacity of a recoloured error band or fill.
 FILL_ALPHA = 0.15
-
-
-class OverlayError(ValueError):
-    """A figure whose traces cannot be overlaid (an image, a surface)."""
 
 
 def is_guide(trace: dict) -> bool:
@@ -54,14 +51,17 @@ def _merge_ranges(layouts: list[dict], path: tuple[str, ...]) -> None:
         target["range"] = [min(r[0] for r in ranges), max(r[1] for r in ranges)]
 
 
-def overlay(figures: list[dict], labels: list[str], title: str) -> dict:
-    """One figure with the curves of ``figures`` (label k belongs to figure k)."""
+def overlay(figures: list[dict], labels: list[str], title: str, param: str = "vary") -> dict:
+    """One figure with the curves of ``figures`` (label k belongs to figure k).
+    Figures that are not curves are refused with a ParameterError naming ``param``
+    (the request's parameter that asked for the overlay)."""
     if not figures or len(figures) != len(labels):
         raise ValueError("one label per figure")
     for fig in figures:
         if not overlayable(fig):
             kinds = sorted({t.get("type", "") for t in fig["data"]} - OVERLAY_TRACES)
-            raise OverlayError(f"{', '.join(kinds)} traces cannot be overlaid")
+            raise ParameterError(param, f"{param}: this figure has {', '.join(kinds)} traces, "
+                                        "which cannot be overlaid (only curve figures can)")
     traces = []
     for k, (fig, label) in enumerate(zip(figures, labels)):
         colour = PALETTE[k % len(PALETTE)]

@@ -23,6 +23,7 @@ import time
 
 import numpy as np
 
+from ..errors import ParameterError
 from ..physics.brdf import BRDF, CompensatedBRDF
 from .albedo import DEFAULT_TOL, albedo, albedo_average
 from .montecarlo import SAMPLERS, albedo_mc
@@ -36,20 +37,12 @@ DEFAULT_SAMPLES = 1024
 MC_SAMPLES_MAX = 2 ** 20
 
 
-class MethodError(ValueError):
-    """A method that does not apply to this model (the API answers 422 naming ``param``)."""
-
-    def __init__(self, param: str, message: str):
-        super().__init__(message)
-        self.param = param
-
-
 def _table(brdf: BRDF, mu) -> dict:
     t0 = time.perf_counter()
     try:
         E, error, tables = tabulated_albedo(brdf, mu)
     except ValueError as exc:
-        raise MethodError("method", str(exc)) from exc
+        raise ParameterError("method", str(exc)) from exc
     return {"E": E, "E_error": np.full(E.shape, error), "evaluations": 0,
             "seconds": time.perf_counter() - t0,
             "table": {"size": tables[0].size if tables else None, "error": error,
@@ -69,15 +62,15 @@ def single_albedo(brdf: BRDF, mu, phi: float, method: str, tol: float = DEFAULT_
         try:
             res = albedo_mc(brdf, mu, phi, MC_METHODS[method], samples, seed)
         except ValueError as exc:
-            raise MethodError("method", f"method={method}: {exc}") from exc
+            raise ParameterError("method", f"method={method}: {exc}") from exc
         return {"E": res.E, "E_error": res.E_error, "evaluations": res.evaluations,
                 "seconds": res.seconds, "samples": res.samples, "seed": res.seed}
     if method == "table":
         if not brdf.ndf.isotropic:
-            raise MethodError("method", "method=table is for isotropic roughness only "
+            raise ParameterError("method", "method=table is for isotropic roughness only "
                                         "(alpha_y = alpha)")
         return _table(brdf, mu)
-    raise MethodError("method", f"method must be one of {', '.join(METHODS)}; got {method!r}")
+    raise ParameterError("method", f"method must be one of {', '.join(METHODS)}; got {method!r}")
 
 
 def choose(brdf: BRDF, tol: float) -> tuple[str, str]:

@@ -79,3 +79,62 @@ def test_every_endpoint_refuses_out_of_range_alpha(client):
     for view in ["ndf", "g1", "lobe", "lobe3d", "albedo", "figures/lobe", "figures/albedo"]:
         r = client.get(f"/api/v1/{view}?alpha=0")
         assert r.status_code == 422 and "alpha" in detail(r)[0]["loc"], (view, r.text)
+
+
+# ------------------------------------------------------ one mapping for every layer
+
+def _app_raising(exc):
+    """The real app with one extra route that raises ``exc`` (as any layer may)."""
+    from app.main import create_app
+    from tests.budget import settings_for_tests
+
+    app = create_app(settings_for_tests())
+
+    @app.get("/api/v1/raise-for-test")
+    def raise_it():
+        raise exc
+    return app
+
+
+def test_busy_is_503_with_retry_after():
+    from fastapi.testclient import TestClient
+    from app.errors import Busy
+
+    client = TestClient(_app_raising(Busy("the E(μ, α) table is being built", retry_after=7,
+                                          what="table")))
+    r = client.get("/api/v1/raise-for-test")
+    assert r.status_code == 503 and r.headers["retry-after"] == "7"
+    (e,) = detail(r)
+    assert "being built" in e["msg"] and "table" in e["loc"]
+    assert r.headers["cache-control"] == "no-store"
+
+
+def test_parameter_error_from_any_layer_is_its_status():
+    from fastapi.testclient import TestClient
+    from app.errors import ParameterError, TooLarge
+
+    r = TestClient(_app_raising(ParameterError("alpha", "alpha: out of range"))).get(
+        "/api/v1/raise-for-test")
+    assert r.status_code == 422 and detail(r)[0]["loc"] == ["query", "alpha"]
+    r = TestClient(_app_raising(TooLarge("n", "n: above BRDF_MAX_CURVE_POINTS"))).get(
+        "/api/v1/raise-for-test")
+    assert r.status_code == 413 and "n" in detail(r)[0]["loc"]
+
+
+def test_a_failing_error_handler_keeps_the_errors_status(monkeypatch):
+    """An exception inside a handler (here: its encoder) is not a 500: the status the
+    error asked for, with a generic body."""
+    from fastapi.testclient import TestClient
+    from app.api import errors
+    from app.errors import Busy, ParameterError
+
+    def broken(*args, **kwargs):
+        raise RuntimeError("encoder broke")
+
+    monkeypatch.setattr(errors, "_respond", broken)
+    client = TestClient(_app_raising(ParameterError("alpha", "bad")), raise_server_exceptions=False)
+    assert client.get("/api/v1/raise-for-test").status_code == 422
+    client = TestClient(_app_raising(Busy("busy")), raise_server_exceptions=False)
+    assert client.get("/api/v1/raise-for-test").status_code == 503
+    r = TestClient(_app_raising(ParameterError("alpha", "bad"))).get("/api/v1/eval?alpha=2",)
+    assert r.status_code == 422

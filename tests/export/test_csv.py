@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 from app.api.views import VIEWS
+from app.errors import ParameterError
 from app.export import table
 
 from .conftest import read_csv
@@ -135,7 +136,7 @@ def test_table_layout_rules():
     assert list(cols) == ["t", "index1", "g"]
     np.testing.assert_array_equal(cols["index1"], [0, 1, 2, 0, 1, 2])
     np.testing.assert_array_equal(cols["g"], np.arange(6.0))
-    with pytest.raises(table.TableError):
+    with pytest.raises(ParameterError):
         table.columns({"a": [1, 2], "b": [1, 2, 3]})
-    with pytest.raises(table.TableError):
+    with pytest.raises(ParameterError):
         table.columns({"x": [1.0, 2.0], "stray": [1.0, 2.0, 3.0, 4.0], "g": np.zeros((2, 2))})

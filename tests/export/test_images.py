@@ -95,7 +95,9 @@ def test_no_chromium_is_503_saying_what_to_install():
     for ext in ("svg", "png"):
         r = client.get(f"/api/v1/figures/lobe.{ext}")
         assert r.status_code == 503
-        msg = r.json()["detail"]
+        assert int(r.headers["retry-after"]) >= 1
+        (error,) = r.json()["detail"]
+        msg = error["msg"]
         assert "apt-get install chromium" in msg and "/nonexistent/chromium" in msg
     assert client.get("/api/v1/figures/lobe.csv").status_code == 200     # CSV needs no browser
 

@@ -11,7 +11,8 @@ from scipy.integrate import quad
 from app.integrate import tables
 from app.integrate.albedo import albedo
 from app.integrate.compensation import fresnel_factor
-from app.model import ModelError, make_spec
+from app.errors import ParameterError
+from app.model import make_spec
 from app.physics.fresnel import FRESNELS
 from app.physics.ndf import NDFS
 
@@ -98,12 +99,12 @@ def test_reciprocity_with_compensation():
 
 
 def test_compensation_refuses_approximate_smith():
-    with pytest.raises(ModelError) as exc:
+    with pytest.raises(ParameterError) as exc:
         make_spec(ndf="blinn_phong", alpha=0.5, multiscatter="kulla_conty")
     assert exc.value.param == "multiscatter"
 
 
 def test_compensation_refuses_anisotropy():
-    with pytest.raises(ModelError) as exc:
+    with pytest.raises(ParameterError) as exc:
         make_spec(ndf="ggx", alpha=0.5, alpha_y=0.2, multiscatter="kulla_conty")
     assert exc.value.param == "multiscatter"

@@ -273,8 +273,8 @@ def test_walter_rational_fit():
 @pytest.mark.parametrize("r, k", [(0.5, 0.0), (0.5, 0.5), (0.8, 0.9), (0.3, 1.0)])
 def test_aniso_maps(r, k):
     """(3-26) and (3-27), converted once into (α_x, α_y); a pair outside [1e-4, 1] is a
-    ModelError naming ``anisotropy``."""
-    from app.model import ModelError
+    ParameterError naming ``anisotropy``."""
+    from app.errors import ParameterError
     aspect = np.sqrt(1 - 0.9 * k)
     for mapping, ax, ay in [("burley", r * r / aspect, r * r * aspect),
                             ("kulla_conty", r * r * (1 + k), r * r * (1 - k))]:
@@ -283,7 +283,7 @@ def test_aniso_maps(r, k):
             assert values["alpha"] == pytest.approx(ax)
             assert (values["alpha_y"] or values["alpha"]) == pytest.approx(ay)
         else:
-            with pytest.raises(ModelError) as err:
+            with pytest.raises(ParameterError) as err:
                 make_spec(roughness=r, anisotropy=k, aniso_map=mapping)
             assert err.value.param == "anisotropy"
 

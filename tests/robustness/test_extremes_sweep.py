@@ -40,7 +40,8 @@ import numpy as np
 import pytest
 
 from app.integrate.albedo import albedo
-from app.model import OPTIONS, ModelError, choice_params, make_spec
+from app.errors import ParameterError
+from app.model import OPTIONS, choice_params, make_spec
 from tests.strict import strict
 
 ALPHAS = [1e-4, 1e-3, 0.01, 0.5, 1.0 - 1e-9, 1.0]
@@ -86,7 +87,7 @@ def combinations():
         values = dict(zip(SWEPT, combo))
         try:
             make_spec(**values)
-        except ModelError:
+        except ParameterError:
             continue                 # not a model: enumeration, not a skipped test
         yield values
 
@@ -124,7 +125,7 @@ def models(combo: dict):
 def _spec(values):
     try:
         return make_spec(**values)
-    except ModelError as e:
+    except ParameterError as e:
         # an anisotropic α with an isotropic-only NDF or G2: not a model
         assert e.param in ("alpha_y", "g2", "ndf"), (values, e.message)
         return None

@@ -45,11 +45,11 @@ import schemathesis
 from schemathesis.config import SchemathesisConfig
 
 from app.api import schemas
-from app.api.errors import ParamError
+from app.errors import ParameterError
 from app.api.views import VIEWS
 from app.config import Settings
 from app.main import create_app
-from app.model import ModelError, make_spec
+from app.model import make_spec
 
 #: random examples per operation in the fuzzing phase (the coverage phase adds its own
 #: deterministic cases, ~100–400 per operation)
@@ -182,7 +182,7 @@ def _model_refusal(values: dict) -> str | None:
     given = {k: v for k, v in values.items() if k in schemas.ModelQuery.model_fields}
     try:
         make_spec(**schemas.model_values(schemas.ModelQuery(**given)))
-    except ModelError as e:
+    except ParameterError as e:
         return e.param
     return None
 
@@ -200,7 +200,7 @@ def _view_refusal(view, model):
     def refusal(values: dict) -> str | None:
         try:
             view.check(model(**values), APP.state.settings)
-        except (ParamError, ModelError) as e:
+        except ParameterError as e:
             return e.param
         return None
     return refusal
