@@ -14,7 +14,7 @@ from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 from . import __version__, warmup
-from .api import errors, middleware
+from .api import errors, http, openapi
 from .api.routes import router
 from .api.routes_data import router as data_router
 from .api.routes_export import router as export_router
@@ -29,11 +29,11 @@ SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 
 @asynccontextmanager
 async def lifespan(app: FastAPI):
-    # Before the first connection: compile the fast path (app/warmup.py says why), and
-    # build the OpenAPI document, which the middleware reads on every API request to
-    # know each operation's parameters (~1 s: it was the first request's latency).
+    # Before the first connection: compile the kernels (app/warmup.py says why), and
+    # index the OpenAPI document, which the request guard reads to know each
+    # operation's parameters (~1 s to build: it was the first request's latency).
     seconds = await run_in_threadpool(warmup.warm_up)
-    await run_in_threadpool(app.openapi)
+    await run_in_threadpool(openapi.operations, app)
     # uvicorn configures its own loggers only: this line shows beside its start-up lines
     logging.getLogger("uvicorn.error").info(
         "fast path ready in %.1f s (compiled, or loaded from numba's cache)", seconds)
@@ -53,7 +53,10 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     )
     app.state.settings = settings or Settings.from_env()
     errors.install(app)
-    middleware.install(app, app.state.settings, STATIC_DIR)
+    openapi.install(app)
+    # warm_up=: the kernels' hook, run before a request's budget opens if the lifespan
+    # did not run (a test client)
+    http.install(app, app.state.settings, STATIC_DIR, warm_up=warmup)
     app.include_router(router)
     app.include_router(export_router)
     app.include_router(shader_router)

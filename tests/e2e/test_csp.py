@@ -1,4 +1,4 @@
-"""The Content-Security-Policy (app/api/middleware.py) in a real Chromium: the page, the
+"""The Content-Security-Policy (app/api/http/security.py) in a real Chromium: the page, the
 gallery and every embed render their Plotly figures — 2-D, WebGL 3-D, heatmaps — with
 no violation, and the policy is really enforced (an inline script is blocked)."""
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""The HTTP layer (app/api/middleware.py): security headers, CORS, gzip, ETag and
+"""The HTTP layer (app/api/http/): security headers, CORS, gzip, ETag and
 Cache-Control, static files confined to static/, and no internals in any response."""
 from __future__ import annotations
 

@@ -1,0 +1,171 @@
+"""The request guard: refuse what no route should see (a query string too long, a
+scalar parameter given twice, a body too large, a query string sent to a body-only
+operation), list every method of a path in a 405, and open the request's time budget
+(BRDF_MAX_SECONDS)."""
+from __future__ import annotations
+
+import json
+from collections import Counter
+from typing import Protocol
+from urllib.parse import parse_qsl
+
+from fastapi import FastAPI
+from starlette.concurrency import run_in_threadpool
+from starlette.datastructures import Headers, MutableHeaders
+
+from ...config import Settings
+from ...integrate import budget
+from ..openapi import operations
+
+
+class WarmUp(Protocol):
+    """What must be ready before a request's budget opens (the compiled kernels, owned
+    by the kernel layer): ``done()`` is cheap, ``warm_up()`` blocks until ready."""
+
+    def done(self) -> bool: ...
+
+    def warm_up(self) -> float: ...
+
+
+def _json_error(status: int, loc: list, msg: str, kind: str) -> tuple[dict, bytes]:
+    body = json.dumps({"detail": [{"loc": loc, "msg": msg, "type": kind}]}).encode()
+    start = {"type": "http.response.start", "status": status,
+             "headers": [(b"content-type", b"application/json"),
+                         (b"content-length", str(len(body)).encode())]}
+    return start, body
+
+
+async def _send_error(send, status: int, loc: list, msg: str, kind: str) -> None:
+    start, body = _json_error(status, loc, msg, kind)
+    await send(start)
+    await send({"type": "http.response.body", "body": body})
+
+
+class RequestGuard:
+    """Refuse what no route should see, and open the request's time budget.
+
+    A scalar query parameter given twice (``alpha=0.1&alpha=0.2``) is ambiguous — the
+    framework would silently take the last — so it is a 422 naming the parameter. Which
+    parameters are lists (and may repeat: ``theta_i_deg=10&theta_i_deg=20``) is read from
+    the OpenAPI document of the matched operation, so new endpoints are covered as they
+    are added. For the same reason a query parameter sent to an operation that reads
+    only a JSON body is refused rather than ignored.
+    """
+
+    def __init__(self, app, fastapi_app: FastAPI, settings: Settings, warm_up: WarmUp | None = None):
+        self.app = app
+        self.fastapi_app = fastapi_app
+        self.settings = settings
+        self.warm_up = warm_up
+
+    def _operation(self, scope) -> dict | None:
+        return operations(self.fastapi_app).operation(scope["path"], scope["method"])
+
+    def _body_only(self, scope) -> bool:
+        """An operation with a JSON body and no query parameters (POST /eval): a query
+        parameter there would be ignored without a word."""
+        op = self._operation(scope)
+        return bool(op and "requestBody" in op
+                    and not any(p.get("in") == "query" for p in op.get("parameters", [])))
+
+    def _list_params(self, scope) -> frozenset[str] | None:
+        """Query parameters of the operation that are arrays (may repeat); None when the
+        path is not an API operation."""
+        op = self._operation(scope)
+        if op is None:
+            return None
+        out = set()
+        for p in op.get("parameters", []):
+            schema = p.get("schema", {})
+            variants = [schema, *schema.get("anyOf", []), *schema.get("oneOf", [])]
+            if p.get("in") == "query" and any(v.get("type") == "array" for v in variants):
+                out.add(p["name"])
+        return frozenset(out)
+
+    async def __call__(self, scope, receive, send):
+        if scope["type"] != "http":
+            await self.app(scope, receive, send)
+            return
+        s = self.settings
+        qs = scope.get("query_string", b"")
+        if len(qs) > s.max_query_bytes:
+            await _send_error(send, 414, ["query"],
+                              f"the query string has {len(qs)} bytes; the limit is "
+                              f"{s.max_query_bytes} (setting BRDF_MAX_QUERY_BYTES); send long "
+                              "lists as a JSON body to POST /api/v1/eval", "query_too_long")
+            return
+        if qs:
+            counts = Counter(k for k, _ in parse_qsl(qs.decode("latin-1"), keep_blank_values=True))
+            if counts and self._body_only(scope):
+                k = next(iter(counts))
+                await _send_error(send, 422, ["query", k],
+                                  f"{k}: this endpoint takes its parameters in the JSON body, "
+                                  "not the query string", "extra_forbidden")
+                return
+            repeated = sorted(k for k, c in counts.items() if c > 1)
+            if repeated:
+                lists = self._list_params(scope)
+                twice = [k for k in repeated if lists is not None and k not in lists]
+                if twice:
+                    k = twice[0]
+                    await _send_error(send, 422, ["query", k],
+                                      f"{k} given {counts[k]} times; give it once "
+                                      "(only list parameters may repeat)", "duplicate_parameter")
+                    return
+        length = Headers(scope=scope).get("content-length")
+        if length is not None and length.isdigit() and int(length) > s.max_body_bytes:
+            await _send_error(send, 413, ["body"], self._body_message(int(length)), "body_too_large")
+            return
+        if length is None and scope["method"] in ("POST", "PUT", "PATCH"):
+            # Chunked: read up to the limit before the route sees any of it (the route's
+            # body reader would turn an error raised mid-stream into a vague 400).
+            messages, received = [], 0
+            while True:
+                message = await receive()
+                messages.append(message)
+                received += len(message.get("body", b""))
+                if received > s.max_body_bytes:
+                    await _send_error(send, 413, ["body"], self._body_message(received),
+                                      "body_too_large")
+                    return
+                if message["type"] != "http.request" or not message.get("more_body", False):
+                    break
+            replay = iter(messages)
+
+            async def receive_buffered():
+                return next(replay, None) or await receive()
+
+            receive = receive_buffered
+
+        started = False
+        request_budget: budget.Budget | None = None
+
+        async def send_fixed(message):
+            nonlocal started
+            if message["type"] == "http.response.start":
+                started = True
+                if request_budget is not None and request_budget.notes:
+                    # cut short: say so, and let no cache keep this answer
+                    headers = MutableHeaders(scope=message)
+                    headers["x-time-budget"] = (
+                        f"cut; {len(request_budget.notes)} computation(s) stopped early to "
+                        f"end within BRDF_MAX_SECONDS={s.max_seconds:g}")
+                    headers["cache-control"] = "no-store"
+                methods = (operations(self.fastapi_app).methods(scope["path"])
+                           if message["status"] == 405 else None)
+                if methods:
+                    # Starlette lists the methods of the first route of the path only
+                    # (GET for /api/v1/eval, which also takes POST).
+                    MutableHeaders(scope=message)["allow"] = ", ".join(methods)
+            await send(message)
+
+        if self.warm_up is not None and not self.warm_up.done():
+            # an app served without its lifespan (a test client): the warm-up hook runs
+            # before the budget's clock starts, not inside the first request's budget
+            await run_in_threadpool(self.warm_up.warm_up)
+        with budget.limit(s.max_seconds) as request_budget:
+            await self.app(scope, receive, send_fixed)
+
+    def _body_message(self, size: int) -> str:
+        return (f"the request body has {size} bytes or more; the limit is "
+                f"{self.settings.max_body_bytes} (setting BRDF_MAX_BODY_BYTES)")
