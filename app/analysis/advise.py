@@ -1,126 +1,33 @@
-"""Model only what the scene requires: for each cheaper choice, its largest error over the
-roughness and angles a scene uses and its measured cost; the cheapest combination within
-a tolerance (issue 4).
+"""Model only what the scene requires: for each cheaper choice of the model, its largest
+albedo error over the scene's range of α and θ and its measured cost; the cheapest
+combination within a tolerance. Metric, grid, bound and cost: docs/advise.md.
 
-Reference and range
--------------------
-The reference is the model as configured. The scene's range is α ∈ [α_min, α_max] (the
-model's own α is replaced by each α of the range; a second lobe's α₂ is kept) and
-θ ∈ [0, θ_max] for the view and the light. Anisotropic models are refused (the API
-answers 422): one α per scene does not say how α_x and α_y would scale, the metric would
-need a φ axis as well, and the table, Kulla-Conty and Hammon choices are isotropic only.
-
-Metric
-------
-The absolute error of the directional albedo, |E_alt(μ) − E_ref(μ)| with
-E(μ) = ∫ f(l, v) (n·l) dl (MATH.md), the largest over the range. E is energy per
-direction, in [0, 1] for every model; it is finite where f·cos θ is not bounded (the
-mirror peak at α → 0), so the same number rates every choice: an approximate Λ, a simpler
-G2, Schlick's Fresnel, no multiple scattering, and the albedo methods (table, Monte
-Carlo) in the same units. By reciprocity E(μ) is also the reflectance for light arriving
-at θ (MATH.md), so θ ≤ θ_max covers the view and the light alike. It does not see an
-error that moves energy within the lobe without changing its total.
-
-Every E comes from the deterministic quadrature (app/integrate/methods.albedo_by, which
-adds the exact Kulla-Conty term), at the nodes: N_ALPHA values of α, geometric in the
-range, and for each N_MU cosines uniform in Smith's variable y = √a/(1 + √a),
-a = μ/(α sinθ) (the axis of app/integrate/tables.py), from θ_max to the normal. Uniform
-nodes in θ missed the grazing dip at μ ~ α of small α: the largest error of Karis's Λ over
-α ∈ [0.01, 1], θ ≤ 90° was 0.033 on a 5 × 7 grid in θ and 0.185 on 41 × 91; in y the
-5 × 8 grid found 0.192 (measured, see GRID_SAFETY).
-
-The reported bound is GRID_SAFETY × (largest |ΔE| at the nodes + the quadrature error
-bounds there) + that quadrature error again, so that it holds on a finer grid.
-
-Cost
-----
-The relative cost of a model is the CPU time (``time.thread_time``: the calling thread,
-so another process taking the core does not count) of evaluating f on COST_PAIRS fixed
-direction pairs, the minimum of COST_REPEATS or more runs, over the same of the current model.
-Below fast.PARALLEL_MIN pairs, so the compiled path (app/physics/fast.py) runs on one
-thread like numpy does: it is the per-evaluation cost. Measured once per process and kind
-of model (options, not continuous values) and kept (a bounded cache): a fixed cost model
-measured lazily. The compiled path matters: with numba, GGX with the exact Smith Λ,
-height-correlated G2 and Schlick takes 0.44 ms for 16 384 pairs; Karis's Λ, which the
-compiled path does not cover, 4.0 ms — the "cheaper" formula is 9× dearer here. An
-approximation is recommended only if it is measured cheaper (below CHEAPER_BELOW).
-
-For the albedo methods (only when asked: a table's first build takes seconds) the cost is
-the wall time of E on the same nodes by that method over the quadrature's.
-
-Result
-------
 ``recommendation`` is a model as every endpoint takes it (make_spec(**it) works), the
-cheapest within ``tol``, or the current model (max_error 0, relative_cost 1). Row 0 of the
-arrays ``max_errors``, ``relative_costs``, ``within_tol`` is the current model; row k is
-``alternatives[k - 1]`` (the CSV export writes these columns).
+cheapest within ``tol``, or the current model (max_error 0, relative_cost 1). Row 0 of
+the arrays ``max_errors``, ``relative_costs``, ``within_tol`` is the current model; row
+k is ``alternatives[k - 1]``.
 
-References
-----------
-Kulla & Conty 2017 (E(μ) as the measure of lost energy; the E(μ, α) tables); Karis 2013
-and Walter et al. 2007 (the approximate Λ); Heitz 2014 (G2 forms; Smith's a).
+References: Kulla & Conty 2017 (E(μ) as the measure of lost energy; the E(μ, α)
+tables); Karis 2013 and Walter et al. 2007 (the approximate Λ); Heitz 2014 (G2 forms).
 """
 from __future__ import annotations
 
 import itertools
 import time
-from dataclasses import dataclass
-from functools import lru_cache
 
 import numpy as np
 
-from ..integrate import budget
-from ..integrate.cache import Keyed, complete_only, freeze
-from ..integrate.albedo import DEFAULT_TOL
 from ..errors import ParameterError
-from ..integrate.methods import albedo_by
-from ..integrate.tables import mu_from_y, y_from_mu
+from ..integrate import budget
 from ..integrate.sampling import SAMPLERS
 from ..model import OPTIONS, ModelSpec, choice_params, make_spec
 from ..physics.fresnel import FRESNELS
 from ..physics.g2 import G2_FORMS
 from ..physics.masking import MASKINGS
+from .albedo_grid import (GRID_SAFETY, N_MU, QUAD_TOL, Grid, Scene, _affords, _cut, albedo_grid,
+                          is_anisotropic, model_error)
+from .cost import CHEAPER_BELOW, COST_PAIRS, COST_SECONDS_FLOOR, seconds_per_batch
 
-#: α nodes of the range (geometric) and μ nodes per α (uniform in Smith's y).
-N_ALPHA = 6
-N_MU = 9
-#: Tolerance of each quadrature E (the /albedo default); its error bound enters max_error.
-QUAD_TOL = DEFAULT_TOL
-#: max_error = GRID_SAFETY × (node error); the largest |ΔE| grows between nodes. Measured
-#: (/tmp bench, as in the tests: this 6 × 9 grid against 24 α × (36 nodes in y joined with
-#: 36 uniform in θ), tol 1e-6; α ranges [1e-4, 1], [0.01, 1], [0.05, 0.5], [0.2, 0.3],
-#: [0.1, 0.5], [0.02, 0.2] with θ_max 90°, 80°, 60°, 70°, 85°; GGX, Beckmann, dielectric,
-#: conductor, direction-correlated and Kulla-Conty models; every single alternative, 67
-#: cases): the largest growth was 1.48× (Walter's Λ on Beckmann, α ∈ [0.02, 0.2],
-#: θ ≤ 85°, whose small error oscillates in a), then 1.13× (Schlick for gold), the rest
-#: ≤ 1.04×. 2 covers it with margin.
-GRID_SAFETY = 2.0
-#: f evaluations timed per run (below fast.PARALLEL_MIN: one thread), at least this many
-#: runs per model (the minimum is kept), and the CPU seconds after which a slow model
-#: (smith_numeric: 0.3 s a run) stops repeating.
-COST_PAIRS = 16_384
-COST_REPEATS = 5
-#: ... and runs go on until this much CPU time is spent (a 0.3 ms run alone was off by
-#: up to 23 % under load; the minimum over ~60 runs, re-measured 12 times at load 2.7,
-#: spread by −0.3 % .. +0.5 %).
-COST_SECONDS_MIN = 0.02
-COST_SECONDS_CAP = 0.25
-COST_SEED = 0
-#: α of the timed models (cost does not depend on it but through smith_numeric's orders).
-COST_ALPHA = 0.3
-#: Models timed and kept per process (a few floats each).
-COST_CACHE_ENTRIES = 512
-#: Smallest CPU time a timing reports: time.thread_time ticks in 1 µs or coarser, so a
-#: run below a tick can read 0 and a relative cost would divide by it (here and for the
-#: albedo methods' wall times); 1 ns is far below
-#: any real run (the fastest measured, GGX compiled: 0.44 ms).
-COST_SECONDS_FLOOR = 1e-9
-#: A choice counts as cheaper when it costs below this fraction of the current model.
-#: The cost of one model re-measured 12 times on this 2-core machine spread by −9 % .. +1 %
-#: (GGX on the compiled path, 0.31 ms, load 4.4) and −3 % .. +7 % (Karis, 2.6 ms, load
-#: 2.7): 0.85 keeps an equal-cost choice (separable G2 on the compiled path) from being
-#: recommended on noise.
-CHEAPER_BELOW = 0.85
 #: Combinations of the acceptable single choices whose error is evaluated, at most.
 MAX_COMBINATIONS = 12
 #: Monte Carlo: samples per μ tried, the sampler preference, and the bound in σ (one
@@ -137,42 +44,8 @@ MC_SEED = 0
 #: BRDF_MAX_SECONDS = 10 a request never starts one and says so in its note; the CLI and
 #: Python (no budget) run every step, and a raised BRDF_MAX_SECONDS lets requests do it.
 TABLE_RESERVE_SECONDS = 10.0
-#: E grids kept (one per model and scene: 54 E and errors, ~1 kB).
-GRID_CACHE_ENTRIES = 512
 #: Complete results kept (each a few kB).
 RESULT_CACHE_ENTRIES = 64
-
-#: Continuous values that do not change what code runs (the cost key leaves them out).
-_CONTINUOUS = {"alpha", "alpha_y", "roughness", "anisotropy", "aniso_map", "kd", "f0", "f90",
-               "ior", "k", "alpha2", "lobe_mix"}
-#: Options of the roughness form, replaced by alpha when α is set from the range.
-_ROUGHNESS_FORM = ("roughness", "anisotropy", "aniso_map", "alpha_y")
-
-
-@dataclass(frozen=True)
-class Scene:
-    alpha_min: float
-    alpha_max: float
-    theta_max_deg: float
-
-    def alphas(self) -> np.ndarray:
-        return np.unique(np.geomspace(self.alpha_min, self.alpha_max, N_ALPHA))
-
-    def mu(self, alpha: float, n: int = N_MU) -> np.ndarray:
-        """n cosines uniform in y from θ_max to the normal (fewer if they coincide)."""
-        y0 = float(y_from_mu(np.cos(np.radians(self.theta_max_deg)), alpha))
-        return np.unique(np.clip(mu_from_y(np.linspace(y0, 1.0, n), alpha), 0.0, 1.0))
-
-
-def is_anisotropic(values: dict) -> bool:
-    return values.get("alpha_y") is not None and values["alpha_y"] != values["alpha"]
-
-
-def at_alpha(model: dict, alpha: float) -> dict:
-    """The model with its α (in whichever form it was given) replaced by ``alpha``."""
-    out = {k: v for k, v in model.items() if k not in _ROUGHNESS_FORM}
-    out["alpha"] = float(alpha)
-    return out
 
 
 # --------------------------------------------------------------------- the choices ---
@@ -220,123 +93,6 @@ def recommend_dict(given: dict, values: dict, changes: dict, f0: float) -> dict:
     return out
 
 
-# ------------------------------------------------------------------------ the errors ---
-
-@dataclass
-class Grid:
-    """E and its quadrature error bound at the scene's nodes, one array per α."""
-    E: list
-    E_error: list
-    evaluations: int
-    seconds: float
-    complete: bool
-
-
-def albedo_grid(model: dict, scene: Scene, method: str = "quadrature", name: str = "",
-                cache: bool = True, **kw) -> Grid:
-    """E at every α of the range, or at the first ones only, when the time budget would
-    not cover another row at the rate so far (``complete`` False: no bound over the range).
-
-    With ``cache``, from a bounded cache of grids that were computed whole with no cut
-    (keyed by the model's values, not by how the request spelled them): a request cut by
-    the budget keeps the grids it finished, and the next one, or the same scene at
-    another tol, starts from them. ``seconds`` is then that of the first computation."""
-    if not cache:
-        return _compute_grid(model, scene, method, name, kw)
-    key = tuple(sorted(make_spec(**at_alpha(model, 1.0)).values.items()))
-    return _grid_cached(Keyed((model, name), key), scene, method, tuple(sorted(kw.items())))
-
-
-@complete_only(GRID_CACHE_ENTRIES, complete=lambda grid: grid.complete)
-def _grid_cached(model: Keyed, scene: Scene, method: str, kw: tuple) -> Grid:
-    """``model.value``: (the model dict, what a note calls it); keyed by its values."""
-    values, name = model.value
-    return _compute_grid(values, scene, method, name, dict(kw))
-
-
-def _compute_grid(model: dict, scene: Scene, method: str, name: str, kw: dict) -> Grid:
-    E, err, evals, t0 = [], [], 0, time.perf_counter()
-    alphas = scene.alphas()
-    for alpha in alphas:
-        if E and not _affords((time.perf_counter() - t0) / len(E)):
-            _cut(f"advise: E of {name or method} stopped at α = {alpha:.3g} (no time left)")
-            break
-        res = albedo_by(make_spec(**at_alpha(model, alpha)).brdf(), scene.mu(alpha),
-                        method=method, tol=QUAD_TOL, average=False, **kw)
-        E.append(np.asarray(res["E"], dtype=float))
-        err.append(np.asarray(res["E_error"], dtype=float))
-        evals += int(res["evaluations"])
-    freeze(E + err)
-    return Grid(E, err, evals, time.perf_counter() - t0, len(E) == len(alphas))
-
-
-def model_error(ref: Grid, alt: Grid, scene: Scene) -> dict | None:
-    """The bound on max |E_alt − E_ref| over the range (module docstring) and where the
-    largest node difference is; None if either grid does not cover the range."""
-    if not (ref.complete and alt.complete):
-        return None
-    worst, where, quad = -1.0, (0.0, 0.0), 0.0
-    for alpha, a, r, ea, er in zip(scene.alphas(), alt.E, ref.E, alt.E_error, ref.E_error):
-        d = np.abs(a - r)
-        i = int(np.argmax(d))
-        if d[i] > worst:
-            worst, where = float(d[i]), (float(alpha), float(np.degrees(np.arccos(scene.mu(alpha)[i]))))
-        quad = max(quad, float(np.max(ea + er)))
-    return {"max_error": GRID_SAFETY * (worst + quad) + quad, "node_max": worst,
-            "quadrature_error": quad, "worst_alpha": where[0], "worst_theta_deg": where[1]}
-
-
-# -------------------------------------------------------------------------- the costs ---
-
-def cost_key(model: dict) -> tuple:
-    values = make_spec(**model).values
-    kept = {k: v for k, v in values.items()
-            if k not in _CONTINUOUS and isinstance(v, (str, int, float)) and k in _model_names()}
-    kept["two_lobes"] = bool(values.get("lobe_mix")) and values.get("alpha2") is not None
-    return tuple(sorted(kept.items()))
-
-
-@lru_cache(maxsize=1)
-def _model_names() -> frozenset:
-    from ..model import COMMON_PARAMS, SUB_OPTIONS, choice_param_names
-    return frozenset(OPTIONS) | frozenset(SUB_OPTIONS) | {p.name for p in COMMON_PARAMS} \
-        | frozenset(choice_param_names())
-
-
-@lru_cache(maxsize=1)
-def _pairs() -> tuple[np.ndarray, np.ndarray]:
-    """COST_PAIRS fixed (l, v), uniform over the upper hemisphere."""
-    rng = np.random.default_rng(COST_SEED)
-    u = rng.random((2, COST_PAIRS, 2))
-    mu, phi = u[..., 0], 2.0 * np.pi * u[..., 1]
-    s = np.sqrt(1.0 - mu * mu)
-    w = np.stack([s * np.cos(phi), s * np.sin(phi), mu], axis=-1)
-    freeze(w)
-    return w[0], w[1]
-
-
-@lru_cache(maxsize=COST_CACHE_ENTRIES)
-def _seconds(kind: Keyed) -> float:
-    """Least CPU seconds of f at the fixed pairs over the runs, for one kind of model
-    (``kind.key``); the first model of that kind seen (``kind.value``) is the one timed
-    (continuous values do not matter)."""
-    brdf = make_spec(**at_alpha(kind.value, COST_ALPHA)).brdf()
-    l, v = _pairs()
-    brdf.evaluate(l, v)                          # warm-up: numba compiles on first use
-    runs, spent = [], 0.0
-    while not runs or (spent < COST_SECONDS_CAP
-                       and (len(runs) < COST_REPEATS or spent < COST_SECONDS_MIN)):
-        t0 = time.thread_time()
-        brdf.evaluate(l, v)
-        runs.append(time.thread_time() - t0)
-        spent += runs[-1]
-    return max(float(np.min(runs)), COST_SECONDS_FLOOR)
-
-
-def seconds_per_batch(model: dict) -> float:
-    return _seconds(Keyed(model, cost_key(model)))
-
-
 # ----------------------------------------------------------------------- the advice ---
 
 def _entry(kind: str, changes: dict, model: dict, err: dict | None, cost: float | None,
@@ -354,11 +110,6 @@ def _entry(kind: str, changes: dict, model: dict, err: dict | None, cost: float 
     return out
 
 
-def _affords(seconds: float) -> bool:
-    b = budget.current()
-    return b is None or b.affords(seconds)
-
-
 def _new_tables(current: dict, model: dict) -> int:
     """Tables a Kulla-Conty ``model`` may build that ``current`` did not need: one when its
     lobe (masking, G2, λ(φ)) differs (compensation tabulates E of the lobe at F = 1)."""
@@ -367,12 +118,6 @@ def _new_tables(current: dict, model: dict) -> int:
     lobe = ("masking", "g2", "lambda_phi")
     return int(any(model.get(k) != current.get(k) for k in lobe)
                or current.get("multiscatter") != "kulla_conty")
-
-
-def _cut(note: str) -> None:
-    b = budget.current()
-    if b is not None:
-        b.cut(note)
 
 
 def advise(given: dict, tol: float, scene: Scene, albedo_methods: bool = False,

@@ -1,4 +1,4 @@
-"""app/advise.py: the errors it reports are upper bounds of the albedo error it names,
+"""app/analysis/advise.py: the errors it reports are upper bounds of the albedo error it names,
 checked against E computed apart — by tests/reference.albedo_brute_force (adaptive
 cubature of f·cos over the hemisphere) at single points, and by the quadrature on a
 grid 3-4× finer than the advice's — and its choices follow from those errors."""
