@@ -1,5 +1,5 @@
 """The speed-against-accuracy view: each albedo method over a range of budgets, its
-error against a tight reference versus evaluations and seconds (integrate/tradeoff.py)."""
+error against a tight reference versus evaluations and seconds (app/analysis/tradeoff.py)."""
 from __future__ import annotations
 
 from typing import Annotated, Literal, Optional

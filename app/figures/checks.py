@@ -1,7 +1,7 @@
 """The identity checks as a table: each identity, its computed value next to the value
 it must have, the difference, the numerical error and whether it holds.
 
-No physics here: the rows come from ``app.checks`` (columns: lists of equal length).
+No physics here: the rows come from ``app.analysis.checks`` (columns: lists of equal length).
 """
 from __future__ import annotations
 

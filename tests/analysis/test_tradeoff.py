@@ -1,4 +1,4 @@
-"""The trade-off of albedo methods (app/integrate/tradeoff.py): the reference against an
+"""The trade-off of albedo methods (app/analysis/tradeoff.py): the reference against an
 independent brute force, the quadrature converging, Monte Carlo errors within their
 standard errors, the points ordered by cost, and the time budget honoured."""
 from __future__ import annotations
