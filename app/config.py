@@ -53,6 +53,12 @@ class Settings:
     #: bytes of a request body: BRDF_MAX_BODY_BYTES (413 above it, before any parsing): a
     #: full batch of four full-precision lists is ~21 MB
     max_body_bytes: int = 24 * 1024 * 1024
+    #: bytes of one uploaded measured data set (POST /api/v1/datasets; one MERL .binary
+    #: is 34 992 012 bytes, plus multipart overhead): BRDF_MAX_UPLOAD_BYTES
+    max_upload_bytes: int = 36_000_000
+    #: bytes of uploaded data sets kept in memory (least recently used dropped first):
+    #: BRDF_MAX_DATASETS_BYTES
+    max_datasets_bytes: int = 256 * 1024 * 1024
     #: seconds a browser or CDN may reuse a GET /api/v1 response: BRDF_CACHE_MAX_AGE
     cache_max_age: int = 3600
     #: origins allowed to GET cross-origin (embedding): BRDF_CORS_ORIGINS, comma-separated

@@ -75,7 +75,7 @@ def parameter_handler(exc: ParameterError) -> Response:
 
 @_safe(lambda exc: 503)
 def busy_handler(exc: Busy) -> Response:
-    loc = ["server", exc.what] if exc.what else ["server"]
+    loc = ["query", exc.what or "server"]
     return _respond(503, _detail(loc, exc.message, "busy"),
                     headers={"Retry-After": str(exc.retry_after), "Cache-Control": "no-store"})
 

@@ -16,6 +16,8 @@ GUARD_RESPONSES = {
     "414": "Query string above BRDF_MAX_QUERY_BYTES",
     "422": "A parameter out of its range, unknown, repeated, or above a size limit; "
            "the message names it and what it allows",
+    "503": "Valid, but the server cannot answer now (a table still building, a queue "
+           "full): retry after the Retry-After header's seconds",
 }
 
 

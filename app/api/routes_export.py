@@ -43,7 +43,7 @@ _CSV_EXAMPLE = ("# view = ndf\n# phi_deg = 0\n# ndf = ggx\n# alpha = 0.3\ntheta_
 _PNG_NOTE = "PNG bytes: width·scale × height·scale pixels, RGBA."
 _UNAVAILABLE = {"description": "No Chromium on the server: the message says what to install",
                 "content": {"application/json": {"example": {"detail": [{
-                    "loc": ["server", "image export"], "type": "busy",
+                    "loc": ["query", "image export"], "type": "busy",
                     "msg": "No Chromium found. Server-side image export needs a Chromium "
                            "browser: install it (Debian/Ubuntu: apt-get install chromium; …)"}]}}}}
 

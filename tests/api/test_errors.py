@@ -105,7 +105,7 @@ def test_busy_is_503_with_retry_after():
     r = client.get("/api/v1/raise-for-test")
     assert r.status_code == 503 and r.headers["retry-after"] == "7"
     (e,) = detail(r)
-    assert "being built" in e["msg"] and "table" in e["loc"]
+    assert "being built" in e["msg"] and e["loc"] == ["query", "table"] and e["type"] == "busy"
     assert r.headers["cache-control"] == "no-store"
 
 

@@ -112,9 +112,12 @@ class RequestGuard:
                                       f"{k} given {counts[k]} times; give it once "
                                       "(only list parameters may repeat)", "duplicate_parameter")
                     return
+        limit_name = self._body_limit(scope)
+        limit = getattr(s, limit_name)
         length = Headers(scope=scope).get("content-length")
-        if length is not None and length.isdigit() and int(length) > s.max_body_bytes:
-            await _send_error(send, 413, ["body"], self._body_message(int(length)), "body_too_large")
+        if length is not None and length.isdigit() and int(length) > limit:
+            await _send_error(send, 413, ["body"], self._body_message(int(length), limit_name),
+                              "body_too_large")
             return
         if length is None and scope["method"] in ("POST", "PUT", "PATCH"):
             # Chunked: read up to the limit before the route sees any of it (the route's
@@ -124,8 +127,8 @@ class RequestGuard:
                 message = await receive()
                 messages.append(message)
                 received += len(message.get("body", b""))
-                if received > s.max_body_bytes:
-                    await _send_error(send, 413, ["body"], self._body_message(received),
+                if received > limit:
+                    await _send_error(send, 413, ["body"], self._body_message(received, limit_name),
                                       "body_too_large")
                     return
                 if message["type"] != "http.request" or not message.get("more_body", False):
@@ -166,6 +169,13 @@ class RequestGuard:
         with budget.limit(s.max_seconds) as request_budget:
             await self.app(scope, receive, send_fixed)
 
-    def _body_message(self, size: int) -> str:
+    def _body_limit(self, scope) -> str:
+        """The Settings field that limits this operation's body: ``x-body-limit`` of the
+        operation (an upload route's own limit), else ``max_body_bytes``."""
+        op = self._operation(scope)
+        name = op.get("x-body-limit") if op else None
+        return name if isinstance(name, str) and hasattr(self.settings, name) else "max_body_bytes"
+
+    def _body_message(self, size: int, limit_name: str) -> str:
         return (f"the request body has {size} bytes or more; the limit is "
-                f"{self.settings.max_body_bytes} (setting BRDF_MAX_BODY_BYTES)")
+                f"{getattr(self.settings, limit_name)} (setting BRDF_{limit_name.upper()})")
