@@ -4,21 +4,19 @@ from __future__ import annotations
 
 import re
 import threading
-from contextlib import contextmanager
 from typing import Annotated, Literal, Optional
 
 import numpy as np
-from fastapi import APIRouter, HTTPException, Path, Query, Request, Response
+from fastapi import APIRouter, Path, Query, Request, Response
 from pydantic import Field
 from starlette.concurrency import run_in_threadpool
 
 from ..datasets import formats, summary, tabulate
 from ..datasets.store import DatasetStore, content_id
-from ..errors import Busy, ParameterError, TooLarge
+from ..errors import ParameterError, TooLarge
 from ..model import make_spec
 from . import schemas
 from .encode import json_response
-from .errors import ParamError
 
 router = APIRouter(prefix="/api/v1")
 
@@ -46,19 +44,6 @@ def store(request: Request) -> DatasetStore:
             request.app.state.datasets = DatasetStore(
                 _setting(request, "max_datasets_bytes", DEFAULT_MAX_DATASETS_BYTES))
         return request.app.state.datasets
-
-
-@contextmanager
-def http_errors():
-    """app.errors' ParameterError → the API's 4xx, Busy → 503 with Retry-After (until
-    app/api maps them everywhere)."""
-    try:
-        yield
-    except ParameterError as exc:
-        raise ParamError(exc.param, exc.message, status_code=exc.status, loc=exc.loc) from None
-    except Busy as exc:
-        raise HTTPException(503, [{"loc": ["query"], "msg": exc.message, "type": "busy"}],
-                            headers={"Retry-After": str(exc.retry_after)}) from None
 
 
 async def read_upload(request: Request, limit: int) -> bytes:
@@ -119,15 +104,14 @@ _FORMAT = Literal[tuple(formats.FORMATS)]
                          "recently used going first.")
 async def upload(request: Request, format: Annotated[Optional[_FORMAT], Query(
         description="insist on a format instead of detecting it")] = None) -> Response:
-    with http_errors():
-        content = await read_upload(request, _setting(request, "max_upload_bytes",
-                                                      DEFAULT_MAX_UPLOAD_BYTES))
-        data = await run_in_threadpool(formats.load, content, format)
-        data_id = content_id(data.format, content)
-        datasets = store(request)
-        if data_id not in datasets:
-            datasets.put(data_id, data, await run_in_threadpool(summary.summarize, data))
-        _, info = datasets.get(data_id)
+    content = await read_upload(request, _setting(request, "max_upload_bytes",
+                                                  DEFAULT_MAX_UPLOAD_BYTES))
+    data = await run_in_threadpool(formats.load, content, format)
+    data_id = content_id(data.format, content)
+    datasets = store(request)
+    if data_id not in datasets:
+        datasets.put(data_id, data, await run_in_threadpool(summary.summarize, data))
+    _, info = datasets.get(data_id)
     return json_response({"id": data_id, "format": data.format, "summary": info}, status_code=201)
 
 
@@ -135,8 +119,7 @@ async def upload(request: Request, format: Annotated[Optional[_FORMAT], Query(
             responses={200: {"content": {"application/json": {"example": _ANSWER}}}, 404: {"description": "No data set has this id"},
                        410: {"description": "The data set has expired (evicted or deleted)"}})
 def dataset(request: Request, data_id: DataId) -> Response:
-    with http_errors():
-        data, info = store(request).get(data_id, "data_id", "path")
+    data, info = store(request).get(data_id, "data_id", "path")
     return json_response({"id": data_id, "format": data.format, "summary": info})
 
 
@@ -144,8 +127,7 @@ def dataset(request: Request, data_id: DataId) -> Response:
                responses={404: {"description": "No data set has this id"},
                           410: {"description": "The data set has already expired"}})
 def delete_dataset(request: Request, data_id: DataId) -> Response:
-    with http_errors():
-        store(request).delete(data_id)
+    store(request).delete(data_id)
     return Response(status_code=204)
 
 
@@ -165,8 +147,7 @@ class SamplesExportQuery(schemas.ModelQuery):
                                             "about how long it takes"}})
 def export_merl(q: Annotated[schemas.ModelQuery, Query()]) -> Response:
     spec = make_spec(**schemas.model_values(q))
-    with http_errors():
-        content = tabulate.merl_bytes(spec.brdf())
+    content = tabulate.merl_bytes(spec.brdf())
     return Response(content, media_type="application/octet-stream",
                     headers={"content-disposition": 'attachment; filename="model.binary"'})
 

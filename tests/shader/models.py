@@ -3,7 +3,8 @@ that the model accepts, each Fresnel, both λ(φ), anisotropy, two lobes, Kulla-
 and the shape parameters at their special points."""
 from __future__ import annotations
 
-from app.model import ModelError, make_spec
+from app.errors import ParameterError
+from app.model import make_spec
 from app.physics.g2 import G2_FORMS
 from app.physics.masking import MASKINGS
 from app.physics.ndf import NDFS
@@ -12,7 +13,7 @@ from app.physics.ndf import NDFS
 def _accepted(params: dict) -> bool:
     try:
         make_spec(**params)
-    except ModelError:
+    except ParameterError:
         return False
     return True
 
