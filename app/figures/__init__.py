@@ -19,9 +19,9 @@ from .maps import g2_figure
 # without parsing, and encoded in time linear in the size (pio.to_json on lists took
 # 1.1 s for the 3-D lobe at 250k points, 0.26 s as typed arrays). float32 keeps 7
 # digits: figures are for display (hover shows 4); the data routes carry float64.
-# Shorter arrays stay readable lists. Measured: 3-D lobe 46 × 91 360 kB → 95 kB,
+# Shorter arrays (a handful of guide points) stay readable lists. Measured: 3-D lobe 46 × 91 360 kB → 95 kB,
 # lit sphere 845 kB → 320 kB.
-TYPED_ARRAY_MIN = 1024
+TYPED_ARRAY_MIN = 64
 
 
 def _typed_array(a: np.ndarray):

@@ -8,6 +8,7 @@ from __future__ import annotations
 import math
 
 from .style import base_layout, model_title
+from .titles import option_label
 
 #: Cell fills: light tints of the palette's blue (holds) and vermilion (does not hold),
 #: grey where the row does not apply. The ✓/✗ glyphs carry the same information for
@@ -78,9 +79,8 @@ def checks_figure(data: dict, spec: dict) -> dict:
         holds.append("✓" if ok is True else "✗" if ok is False else "n/a")
         fill.append(FILL_HOLDS if ok is True else FILL_FAILS if ok is False else FILL_NA)
     cells = [identity, value, expected, difference, error, holds]
-    # option names without "_": the page's panel heading reads it as a subscript
-    title = (f"Identity checks — {model_title(spec)}, {spec['masking'].replace('_', '-')} "
-             f"masking, {spec['g2'].replace('_', '-')} G2"
+    title = (f"Identity checks — {model_title(spec)} (Λ {option_label('masking', spec['masking'])}, "
+             f"G2 {option_label('g2', spec['g2']).lower()})"
              f"<br><span style='font-size:12px'>v at θ={data['theta_deg']:g}°, φ={data['phi_deg']:g}° "
              f"(μ={data['mu']:.4g}); holds: |difference| ≤ error + {data['hold_tolerance']:g}; "
              f"{data['total_evaluations']} evaluations, {data['total_seconds']:.3f} s</span>")

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .style import PALETTE, axis, base_layout, gaps, log_axis, model_title
+from .titles import option_label
 
 # How many decades below the peak a log axis shows.
 D_DECADES = 10
@@ -46,7 +47,7 @@ def g1_figure(data: dict, spec: dict) -> dict:
              "hovertemplate": "θ=%{x:.2f}°<br>error=%{y:.3g}<extra></extra>"}]
         right = axis("G1 − G1 exact", overlaying="y", side="right", showgrid=False,
                      range=[-span, span], zeroline=True, zerolinecolor="#bbb", exponentformat="power")
-        title = f"G1 ({spec['masking']}) against exact Smith — {model_title(spec)}"
+        title = f"G1 ({option_label('masking', spec['masking'])}) against exact Smith — {model_title(spec)}"
     else:
         traces.append({"type": "scatter", "mode": "lines", "name": "Λ(θ_v) (right axis, log)",
                        "x": theta, "y": gaps(data["Lambda"]), "yaxis": "y2",
@@ -76,7 +77,26 @@ def _method_text(data: dict) -> str:
     return "quadrature, bar = error bound"
 
 
-def albedo_figure(data: dict, spec: dict) -> dict:
+#: Margin of a fitted albedo axis beyond the data, as a fraction of the data's span, and the
+#: smallest span shown (E constant to 1e-6 still gets an axis one can read).
+ALBEDO_PAD = 0.08
+ALBEDO_MIN_SPAN = 0.02
+
+
+def albedo_y_range(lows, highs, y_range: str = "fit") -> list[float]:
+    """"unit": 0 to 1 (1.05, or above the largest E + error); "fit": the data's own span
+    (E ± error, E_single, E_avg) with ALBEDO_PAD either side, so F₀ = 0.04 is not
+    squashed into the bottom fifth of a 0-1 axis."""
+    lo, hi = float(np.min(lows)), float(np.max(highs))
+    if y_range == "unit":
+        return [0.0, max(1.05, hi + 0.03)]
+    span = max(hi - lo, ALBEDO_MIN_SPAN)
+    mid = 0.5 * (lo + hi)
+    return [max(0.0, mid - span * (0.5 + ALBEDO_PAD)), mid + span * (0.5 + ALBEDO_PAD)]
+
+
+def albedo_figure(data: dict, spec: dict, y_range: str = "fit") -> dict:
+    """E(μ) with its error band; ``y_range`` "fit" (the data's span) or "unit" (0-1)."""
     mu = np.asarray(data["mu"])
     E, err = np.asarray(data["E"]), np.asarray(data["E_error"])
     chosen = " (auto)" if data.get("requested_method") == "auto" else ""
@@ -109,12 +129,15 @@ def albedo_figure(data: dict, spec: dict) -> dict:
             "text": "E > 1: this model is not energy-conserving (k_d + specular exceeds 1)",
             "xref": "paper", "yref": "paper", "x": 0.5, "y": 1.0, "showarrow": False,
             "font": {"color": "#B00020", "size": 12}, "bgcolor": "rgba(255,255,255,0.85)"})
-    top = max(1.05, float(np.max(E + err)) + 0.03)
+    shown = [E - err, [data["E_avg"]]] + ([data["E_single"]] if compensated else [])
+    tops = [E + err, [data["E_avg"]]] + ([data["E_single"]] if compensated else [])
+    y_axis_range = albedo_y_range(np.concatenate([np.ravel(x) for x in shown]),
+                                  np.concatenate([np.ravel(x) for x in tops]), y_range)
     return {
         "data": traces,
         "layout": base_layout(
             f"Directional albedo E(μ) — {model_title(spec)}",
             xaxis=axis("μ = cos θ_v", range=[0, 1], dtick=0.1),
-            yaxis=axis("E (fraction of energy reflected)", range=[0, top]),
+            yaxis=axis("E (fraction of energy reflected)", range=y_axis_range),
             annotations=annotations),
     }

@@ -4,15 +4,12 @@ from __future__ import annotations
 import numpy as np
 
 from .style import PALETTE, axis, base_layout
-
-# The parameters a Fresnel choice may carry, in the order a title lists them.
-FRESNEL_PARAMS = ("f0", "f90", "fresnel_p", "ior", "k")
-
+from .titles import fresnel_text
 
 def fresnel_title(spec: dict) -> str:
-    params = ", ".join(f"{name}={spec[name]:g}" for name in FRESNEL_PARAMS
-                       if spec.get(name) is not None)
-    return f"Fresnel F(θ_d) — {spec['fresnel']}" + (f" ({params})" if params else "")
+    """"Fresnel F(θ_d) — Schlick F₀=0.04 F₉₀=1 p=5": the form and all its parameters
+    (what the figure shows), the NDF left out (F does not depend on it)."""
+    return f"Fresnel F(θ_d) — {fresnel_text(spec)}"
 
 
 def fresnel_figure(data: dict, spec: dict) -> dict:

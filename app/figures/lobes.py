@@ -95,7 +95,8 @@ def lobe3d_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: float,
     return {
         "data": traces,
         "layout": base_layout(
-            f"3D lobe {'(log radius, 6 decades)' if log else 'f(l, v)'} — {model_title(spec)}",
+            f"3D lobe {'(log radius, 6 decades)' if log else 'f(l, v)'} — {model_title(spec)}, "
+            f"θ_i={theta_i_deg:g}°, φ_i={phi_i_deg:g}°",
             scene={"aspectmode": "data", "xaxis": {"title": {"text": "x (t)"}},
                    "yaxis": {"title": {"text": "y (b)"}}, "zaxis": {"title": {"text": "z (n)"}},
                    "camera": {"eye": {"x": 1.4, "y": -1.4, "z": 0.9}}},

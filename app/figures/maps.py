@@ -4,17 +4,22 @@ from __future__ import annotations
 import numpy as np
 
 from .style import axis, base_layout, gaps, model_title
+from .titles import option_label as _option_label
+
 
 # Cividis: sequential, perceptually uniform and readable with colour-vision deficiency
 # (Nuñez, Anderton, Renslow 2018, PLoS ONE 13(7): e0199239).
 SEQUENTIAL = "Cividis"
 
 
+def _g2_label(name: str) -> str:
+    return _option_label("g2", name)
+
+
 def g2_title(spec: dict, phi_deg: float) -> str:
-    g2 = spec["g2"]
-    lam = spec.get("lambda_phi")
-    form = f"{g2}, λ(φ)={lam}" if lam else g2
-    return f"G2(θ_l, θ_v) — {model_title(spec)}, {form}, φ={phi_deg:g}°"
+    # the G2 form is named even where it is the default: it is what the map shows
+    form = _g2_label(spec["g2"]).lower()
+    return f"G2(θ_l, θ_v), {form} — {model_title(spec)}, φ={phi_deg:g}°"
 
 
 def g2_figure(data: dict, spec: dict, phi_deg: float) -> dict:

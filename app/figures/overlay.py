@@ -51,10 +51,21 @@ def _merge_ranges(layouts: list[dict], path: tuple[str, ...]) -> None:
         target["range"] = [min(r[0] for r in ranges), max(r[1] for r in ranges)]
 
 
-def overlay(figures: list[dict], labels: list[str], title: str, param: str = "vary") -> dict:
-    """One figure with the curves of ``figures`` (label k belongs to figure k).
-    Figures that are not curves are refused with a ParameterError naming ``param``
-    (the request's parameter that asked for the overlay)."""
+def comparison_title(figures: list[dict], labels: list[str]) -> str:
+    """A heading for the compared curves: what the first figure shows (its title up to
+    " — ") and the labels, "f(l, v) in the plane of incidence — GGX α=0.2 vs Beckmann α=0.2"."""
+    title = figures[0].get("layout", {}).get("title") or {}
+    text = title.get("text", "") if isinstance(title, dict) else str(title)
+    head = text.split(" — ")[0].split("<br>")[0]
+    return f"{head} — {' vs '.join(labels)}" if head else " vs ".join(labels)
+
+
+def overlay(figures: list[dict], labels: list[str], title: str | None = None,
+            param: str = "vary") -> dict:
+    """One figure with the curves of ``figures`` (label k belongs to figure k), headed
+    ``title`` or, by default, :func:`comparison_title`. Figures that are not curves are
+    refused with a ParameterError naming ``param`` (the request's parameter that asked
+    for the overlay)."""
     if not figures or len(figures) != len(labels):
         raise ValueError("one label per figure")
     for fig in figures:
@@ -96,7 +107,8 @@ def overlay(figures: list[dict], labels: list[str], title: str, param: str = "va
     if "polar" in layouts[0]:
         _merge_ranges(layouts, ("polar", "radialaxis"))
     layout = layouts[0]
-    layout["title"] = {**(layout.get("title") or {}), "text": title}
+    layout["title"] = {**(layout.get("title") or {}),
+                       "text": title if title is not None else comparison_title(figures, labels)}
     layout["showlegend"] = True
     annotations = []
     for lay in layouts:

@@ -3,6 +3,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from .titles import model_title  # noqa: F401  (every builder's title names the model)
+
 # Okabe & Ito 2008, "Color Universal Design": distinguishable by colour-blind readers.
 PALETTE = ["#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#000000"]
 DIRECTION_COLORS = {"normal": "#555555", "incident": "#E69F00", "mirror": "#009E73"}
@@ -36,18 +38,11 @@ def gaps(values) -> np.ndarray:
     return np.where(np.isfinite(v), v, np.nan)
 
 
-def model_title(spec_values: dict) -> str:
-    v = spec_values
-    a = f"α={v['alpha']:g}" if v.get("alpha_y") is None else f"α=({v['alpha']:g}, {v['alpha_y']:g})"
-    if "alpha_p" in v:
-        a += f" (α_p={v['alpha_p']:.4g})"
-    return f"{v['ndf']} {a}"
-
-
 def log_axis(title: str, values, decades: float, **extra) -> dict:
-    """A log axis, one labelled tick per decade, spanning at most ``decades`` below the
-    largest finite positive value (a Beckmann tail underflows to 1e-300; nobody wants
-    to see that), and at least one decade either side of a constant curve."""
+    """A log axis spanning at most ``decades`` below the largest finite positive value (a
+    Beckmann tail underflows to 1e-300; nobody wants to see that), at least one decade
+    either side of a constant curve, and labelled ticks enough to read it: every digit
+    within 1.5 decades, 1-2-5 within LOG_TICKS_125_DECADES, one a decade beyond."""
     v = np.asarray(values, dtype=float)
     v = v[np.isfinite(v) & (v > 0)]
     out = axis(title, type="log", dtick=1, exponentformat="power", **extra)
@@ -56,4 +51,19 @@ def log_axis(title: str, values, decades: float, **extra) -> dict:
         if hi - lo < 1.0:
             lo, hi = lo - 1.0, hi + 1.0
         out["range"] = [max(lo, hi - decades), hi + 0.15]
+        out["dtick"] = log_dtick(out["range"][1] - out["range"][0])
     return out
+
+
+#: Up to this many decades a log axis labels 2 and 5 between the powers of ten.
+LOG_TICKS_125_DECADES = 3.5
+
+
+def log_dtick(span_decades: float):
+    """Plotly's log-axis tick rule for a span: "D1" labels every digit, "D2" 2 and 5,
+    n a power of ten every n decades (about 4-12 labels on any span)."""
+    if span_decades <= 1.5:
+        return "D1"
+    if span_decades <= LOG_TICKS_125_DECADES:
+        return "D2"
+    return max(1, int(np.ceil(span_decades / 10)))

@@ -64,7 +64,7 @@ def test_figure_is_a_table_naming_the_model(client):
     header = [h.replace("<b>", "").replace("</b>", "") for h in fig["data"][0]["header"]["values"]]
     assert header == ["identity", "value", "expected", "difference", "error", "holds"]
     assert fig["data"][0]["cells"]["values"][5][:4] == ["✓"] * 4
-    assert "beckmann" in fig["layout"]["title"]["text"]
+    assert "Beckmann" in fig["layout"]["title"]["text"]
 
 
 def test_csv_names_the_rows(client):

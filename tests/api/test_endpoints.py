@@ -155,7 +155,7 @@ def test_albedo_includes_diffuse_and_flags_non_conservation(client):
 def test_figures_are_plotly_json(client, kind):
     fig = get(client, f"/api/v1/figures/{kind}?ndf=beckmann&alpha=0.2")
     assert fig["data"] and fig["layout"]["title"]["text"]
-    assert "beckmann" in fig["layout"]["title"]["text"]
+    assert "Beckmann" in fig["layout"]["title"]["text"]
 
 
 def test_lobe_figure_draws_the_three_directions(client):

@@ -79,7 +79,7 @@ def test_g2_figure_is_a_heatmap(client):
     assert trace["colorbar"]["title"]["text"] == "G2"
     assert (trace["zmin"], trace["zmax"]) == (0.0, 1.0)
     assert plotly_array(trace["z"]).shape == (5, 5)
-    assert "height_direction_correlated" in fig["layout"]["title"]["text"]
+    assert "height-direction-correlated" in fig["layout"]["title"]["text"]
     assert "degrees" in fig["layout"]["xaxis"]["title"]["text"]
 
 
@@ -155,9 +155,9 @@ def test_fresnel_figure(client):
     lo, hi = fig["layout"]["yaxis2"]["range"]          # error axis: 0 at mid-height
     err = get(client, "/api/v1/fresnel?n=11")["F_error"]
     assert lo == -hi and hi >= max(abs(e) for e in err) > 0
-    assert "schlick" in fig["layout"]["title"]["text"]
+    assert "Schlick F₀=0.04" in fig["layout"]["title"]["text"]
     fig = get(client, "/api/v1/figures/fresnel?n=11&fresnel=conductor")
-    assert len(fig["data"]) == 1 and "conductor" in fig["layout"]["title"]["text"]
+    assert len(fig["data"]) == 1 and "Conductor η=" in fig["layout"]["title"]["text"]
 
 
 @pytest.mark.parametrize("query, param, needle", [
