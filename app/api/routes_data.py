@@ -1,17 +1,20 @@
 """Data sets (upload, summary, delete), fits of models to them, and models exported as
-data. The work is in app/datasets and app/fit; this file reads bodies and maps errors."""
+data. The work is in app/datasets and app/fit; this file reads bodies and answers."""
 from __future__ import annotations
 
 import re
 import threading
-from typing import Annotated, Literal, Optional
+from typing import Annotated, Any, Literal, Optional
 
 import numpy as np
-from fastapi import APIRouter, Path, Query, Request, Response
-from pydantic import Field
+from fastapi import APIRouter, Body, Path, Query, Request, Response
+from pydantic import BaseModel, ConfigDict, Field
 from starlette.concurrency import run_in_threadpool
 
-from ..datasets import formats, summary, tabulate
+from ..datasets import compare, formats, summary, tabulate
+from ..fit import run as fitting
+from ..fit.problem import MEASURES
+from ..integrate import budget
 from ..datasets.store import DatasetStore, content_id
 from ..errors import ParameterError, TooLarge
 from ..model import make_spec
@@ -20,10 +23,6 @@ from .encode import json_response
 
 router = APIRouter(prefix="/api/v1")
 
-#: defaults of the two settings until app/config.py has them: one MERL file (34 992 012
-#: bytes) with room for a multipart envelope; seven MERL tables in memory
-DEFAULT_MAX_UPLOAD_BYTES = 36_000_000
-DEFAULT_MAX_DATASETS_BYTES = 256 * 1024 * 1024
 _STORE_LOCK = threading.Lock()
 DataId = Annotated[str, Path(pattern=r"^[0-9a-f]{32}$", description="a data set's id (32 hex digits)",
                              examples=["3e071955855cb1a4a828bf3b009a1d2b"])]
@@ -33,16 +32,12 @@ _ANSWER = {"id": "1a2c1ba1124b3d9ca4d4913bf23ac299", "format": "samples_csv", "s
     "reciprocity": {"max_relative_error": None, "pairs": 0}, "albedo": {"mu": [], "E": {"f": []}}}}
 
 
-def _setting(request: Request, name: str, default: int) -> int:
-    return getattr(request.app.state.settings, name, default)
-
-
 def store(request: Request) -> DatasetStore:
     """The app's data-set store, made on first use."""
     with _STORE_LOCK:
         if not hasattr(request.app.state, "datasets"):
             request.app.state.datasets = DatasetStore(
-                _setting(request, "max_datasets_bytes", DEFAULT_MAX_DATASETS_BYTES))
+                request.app.state.settings.max_datasets_bytes)
         return request.app.state.datasets
 
 
@@ -84,7 +79,7 @@ def multipart_file(body: bytes, content_type: str) -> bytes:
     raise ParameterError("file", "the multipart body has no part named \"file\"", loc="body")
 
 
-_UPLOAD_BODY = {"requestBody": {"required": True, "content": {
+_UPLOAD_BODY = {"x-body-limit": "max_upload_bytes", "requestBody": {"required": True, "content": {
     "multipart/form-data": {"schema": {"type": "object", "required": ["file"], "properties": {
         "file": {"type": "string", "format": "binary"}}}},
     "application/octet-stream": {"schema": {"type": "string", "format": "binary"}},
@@ -104,8 +99,7 @@ _FORMAT = Literal[tuple(formats.FORMATS)]
                          "recently used going first.")
 async def upload(request: Request, format: Annotated[Optional[_FORMAT], Query(
         description="insist on a format instead of detecting it")] = None) -> Response:
-    content = await read_upload(request, _setting(request, "max_upload_bytes",
-                                                  DEFAULT_MAX_UPLOAD_BYTES))
+    content = await read_upload(request, request.app.state.settings.max_upload_bytes)
     data = await run_in_threadpool(formats.load, content, format)
     data_id = content_id(data.format, content)
     datasets = store(request)
@@ -129,6 +123,24 @@ def dataset(request: Request, data_id: DataId) -> Response:
 def delete_dataset(request: Request, data_id: DataId) -> Response:
     store(request).delete(data_id)
     return Response(status_code=204)
+
+
+class DifferenceQuery(schemas.ModelQuery):
+    channel: Optional[Literal["r", "g", "b", "luminance", "f", "D", "G1", "F"]] = Field(
+        None, description="r, g, b or luminance (the default) of RGB data; D, G1 or F of term data")
+    max_points: int = Field(5000, ge=1, le=50_000, description=(
+        "points compared at most: a fixed-seed random subset of larger data sets"))
+
+
+@router.get("/datasets/{data_id}/difference", tags=["datasets"],
+            summary="Model − data at the data's points, and the largest relative error with where",
+            description="relative_error = (data − model)/model where the model is positive; "
+                        "max_relative_error is the largest in magnitude, `where` its angles.")
+def difference(request: Request, data_id: DataId, q: Annotated[DifferenceQuery, Query()]) -> Response:
+    spec = make_spec(**schemas.model_values(q))
+    data, _ = store(request).get(data_id, "data_id", "path")
+    result = compare.difference(data, spec.brdf(), q.channel, q.max_points)
+    return json_response({"id": data_id, "model": fitting.as_model(spec.values), **result})
 
 
 class SamplesExportQuery(schemas.ModelQuery):
@@ -161,3 +173,46 @@ def export_samples(q: Annotated[SamplesExportQuery, Query()]) -> Response:
                                 np.arange(q.n_phi) * 360.0 / q.n_phi)
     return Response(text, media_type="text/csv",
                     headers={"content-disposition": 'attachment; filename="model.csv"'})
+
+
+class FitBody(BaseModel):
+    """A fit: which data, which model family with which parameters fixed, which free."""
+    model_config = ConfigDict(extra="forbid", allow_inf_nan=False)
+    data: str = Field(pattern=r"^[0-9a-f]{32}$", description="the data set's id")
+    model: dict[str, Any] = Field(default_factory=dict, description=(
+        "the model family and its fixed parameters, as every endpoint takes them; the free "
+        "ones start from the values given here (or their defaults)"))
+    free: list[str] = Field(min_length=1, max_length=12, description="parameters to fit")
+    measure: Literal[MEASURES] = Field("log", description="; ".join(
+        f"{k}: {v}" for k, v in fitting.FAVOURS.items()))
+    channel: Optional[Literal["r", "g", "b", "luminance", "f", "D", "G1", "F"]] = Field(
+        None, description="r, g, b or luminance (the default) of RGB data; D, G1 or F of term data")
+    fit_all: bool = Field(False, description="fit every NDF with the rest of the model and rank "
+                                             "them by residual")
+    seconds: float = Field(5.0, gt=0.0, le=60.0, description=(
+        "time budget of one model's fit (fit_all: of all of them together), within the "
+        "request's own (BRDF_MAX_SECONDS); a fit stopped by it answers the best point reached"))
+    max_points: int = Field(fitting.MAX_POINTS, ge=10, le=200_000, description=(
+        "measured points used at most: a fixed-seed random subset of larger data sets"))
+
+
+#: of the request's time budget, the part a fit may take: the rest encodes the answer
+FIT_SHARE = 0.8
+
+
+@router.post("/fit", tags=["datasets"], summary="Fit a model to a data set (least squares)",
+             description="Answers the fitted parameters with standard errors from the Jacobian "
+                         "at the optimum, the residual, evaluations and seconds, and `model`: the "
+                         "whole fitted model, to send to any endpoint as it is.")
+def fit(request: Request, body: Annotated[FitBody, Body(openapi_examples={"GGX to a MERL file": {
+        "summary": "α, F0 and kd of GGX, red channel, log measure",
+        "value": {"data": "3e071955855cb1a4a828bf3b009a1d2b", "model": {"ndf": "ggx", "alpha": 0.3},
+                  "free": ["alpha", "f0", "kd"], "measure": "log", "channel": "r"}}})]) -> Response:
+    seconds = body.seconds
+    request_budget = budget.current()
+    if request_budget is not None:
+        seconds = min(seconds, FIT_SHARE * (request_budget.seconds - request_budget.elapsed()))
+    data, _ = store(request).get(body.data)
+    run = fitting.fit_all if body.fit_all else fitting.fit
+    result = run(data, body.model, body.free, body.measure, body.channel, seconds, body.max_points)
+    return json_response({"data": body.data, **result})

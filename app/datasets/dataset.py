@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import ParameterError
+from ..physics.masking import G1
 from ..physics.vectors import direction_deg
 from ..quantities import rusinkiewicz_directions
 from . import merl
@@ -18,6 +19,22 @@ from . import merl
 #: Rec. 709 / sRGB luminance weights of linear R, G, B (ITU-R BT.709)
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 CHANNELS = ("r", "g", "b", "luminance")
+
+
+def angles_deg(w: np.ndarray):
+    """(θ, φ) in degrees of directions (..., 3); φ in [0°, 360°)."""
+    theta = np.rad2deg(np.arccos(np.clip(w[..., 2], -1.0, 1.0)))
+    return theta, np.mod(np.rad2deg(np.arctan2(w[..., 1], w[..., 0])), 360.0)
+
+
+def term_of_model(brdf, term: str, theta_deg: np.ndarray) -> np.ndarray:
+    """D, G1 or F of a model against θ (degrees, azimuth 0): what a term CSV holds."""
+    w = direction_deg(theta_deg, 0.0)
+    if term == "D":
+        return brdf.ndf.D(w)
+    if term == "G1":
+        return G1(w[..., 2], brdf.masking.mu_Lambda(brdf.ndf, w))
+    return brdf.fresnel.F(w[..., 2])
 
 
 def select(values: np.ndarray, channels: tuple[str, ...], channel: str | None) -> np.ndarray:

@@ -16,7 +16,7 @@ from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
 from scipy.spatial import ConvexHull, QhullError
 
 from . import merl
-from .dataset import BrdfData, TermData, select
+from .dataset import BrdfData, TermData, angles_deg, select
 
 #: cosines μ_v of the view directions at which E is given for a MERL table
 MU = np.round(np.linspace(0.1, 1.0, 10), 6)
@@ -103,15 +103,10 @@ def _keys(theta, phi) -> np.ndarray:
     return np.round(np.column_stack([theta, np.mod(phi, 360.0) * (theta > 0)]), 6)
 
 
-def _angles(w: np.ndarray):
-    theta = np.rad2deg(np.arccos(np.clip(w[:, 2], -1.0, 1.0)))
-    return theta, np.rad2deg(np.arctan2(w[:, 1], w[:, 0]))
-
-
 def _swapped_pairs(data: BrdfData, isotropic: bool) -> list:
     """(a, b) index pairs where sample b is sample a with l and v exchanged; with
     ``isotropic``, up to a rotation about n (keys (θ_i, θ_o, φ_o − φ_i))."""
-    (ti, pi), (to, po) = _angles(data.l), _angles(data.v)
+    (ti, pi), (to, po) = angles_deg(data.l), angles_deg(data.v)
     if isotropic:
         dphi = np.mod(po - pi, 360.0) * (ti > 0) * (to > 0)
         key = np.round(np.column_stack([ti, to, dphi]), 6)
@@ -138,8 +133,8 @@ def _reciprocity_samples(data: BrdfData) -> dict:
     scale = np.maximum(fa, fb)
     rel = np.abs(fa - fb) / np.where(scale > 0, scale, 1.0)
     c, k = np.unravel_index(int(np.argmax(rel)), rel.shape)
-    ti, pi = _angles(data.l[a[k]][None])
-    to, po = _angles(data.v[a[k]][None])
+    ti, pi = angles_deg(data.l[a[k]][None])
+    to, po = angles_deg(data.v[a[k]][None])
     return {"max_relative_error": float(rel[c, k]), "pairs": len(pairs),
             "where": {"channel": data.channels[c], **{name: round(float(x[0]), 6) for name, x in (
                 ("theta_i_deg", ti), ("phi_i_deg", pi), ("theta_o_deg", to), ("phi_o_deg", po))}},
@@ -149,7 +144,7 @@ def _reciprocity_samples(data: BrdfData) -> dict:
 def _groups(fixed: np.ndarray, moving: np.ndarray) -> list:
     """[(μ of the fixed direction, sample indices)] of the fixed directions whose samples
     of the moving one cover enough of the projected hemisphere."""
-    groups, inverse = np.unique(_keys(*_angles(fixed)), axis=0, return_inverse=True)
+    groups, inverse = np.unique(_keys(*angles_deg(fixed)), axis=0, return_inverse=True)
     inverse = inverse.ravel()
     usable = []
     for g in range(len(groups)):

@@ -3,36 +3,19 @@ naming what is wrong for every bad upload."""
 import asyncio
 import io
 import os
-import warnings
 import zipfile
 
 import numpy as np
 import pytest
-
-with warnings.catch_warnings():
-    warnings.simplefilter("ignore", DeprecationWarning)
-    from fastapi.testclient import TestClient
+from fastapi.testclient import TestClient
 
 from app.datasets import merl
 from app.datasets.store import DatasetStore
 from app.main import create_app
-from tests.budget import settings_for_tests
 
 from . import known
 
-#: room for one MERL file in the request guard's body limit
-SETTINGS = settings_for_tests(max_body_bytes=40_000_000)
-CSV = b"theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,f\n30,0,30,180,1.5\n45,0,20,90,0.25\n"
-
-
-@pytest.fixture(scope="module")
-def app():
-    return create_app(SETTINGS)
-
-
-@pytest.fixture(scope="module")
-def client(app):
-    return TestClient(app)
+from .conftest import CSV, SETTINGS
 
 
 def detail(response):
@@ -138,7 +121,7 @@ def test_a_chunked_upload_stops_at_the_limit(app):
     status, body, pulled = _asgi_post(app, [(b"content-type", b"application/octet-stream"),
                                             (b"transfer-encoding", b"chunked")])
     assert status == 413 and b"BRDF_MAX_" in body
-    assert pulled <= SETTINGS.max_body_bytes + (1 << 20)
+    assert pulled <= SETTINGS.max_upload_bytes + (1 << 20)
 
 
 def test_the_store_is_bounded_and_says_when_an_id_expired():

@@ -1,0 +1,115 @@
+"""A fit request: data set + model family + free parameters → the fitted model, and
+``fit_all``: the same fit for every NDF, ranked by residual."""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from ..datasets.dataset import BrdfData, TermData
+from ..errors import ParameterError
+from ..model import make_spec
+from ..physics.ndf import NDFS
+from .problem import make_problem
+from .solve import solve
+
+#: measured points a fit uses at most: a fixed-seed random subset of a larger data set
+#: (a MERL table has ~1.1 M measured cells). 25 000 points fit GGX's three parameters in
+#: well under a second on one core (BENCHMARKS.md, bench/fit.py)
+MAX_POINTS = 25_000
+FAVOURS = {"log": "every decade alike: the lobe's shape, tails as much as the peak",
+           "relative": "like log, but an overshoot costs more: a model that stays under faint data",
+           "cosine": "f·cos θ_l, the reflected radiance: the bright peak, grazing light little"}
+
+
+def points(data, channel: str | None, max_points: int) -> tuple[dict, str]:
+    """The problem's data arguments and a note of what was used."""
+    if isinstance(data, TermData):
+        term = channel or next(iter(data.terms))
+        if term not in data.terms:
+            raise ParameterError("channel", f"this data set holds {', '.join(data.terms)}; got "
+                                            f"{channel!r}", loc="body")
+        if data.axis != "theta_deg":
+            raise ParameterError("data", "fits to E(μ) are not offered: fit the BRDF data it "
+                                         "was integrated from", loc="body")
+        return ({"target": data.terms[term], "term": term, "angle_deg": data.x},
+                f"all {data.count} rows of {term}(θ)")
+    l, v, f, note = data.points(channel, max_points)
+    return {"target": f, "l": l, "v": v}, note
+
+
+def fit(data, model: dict, free: list[str], measure: str, channel: str | None,
+        seconds: float, max_points: int = MAX_POINTS) -> dict:
+    arguments, note = points(data, channel, max_points)
+    problem = make_problem(model, free, measure, **arguments)
+    usable = np.isfinite(problem.residual(problem.start))
+    if not usable.all():   # the model diverges there (both directions grazing)
+        problem = make_problem(model, free, measure, **_subset(arguments, usable))
+        note += f"; {int((~usable).sum())} where the model diverges left out"
+    out = solve(problem, seconds)
+    fitted = problem.spec(out["x"]).values
+    names = [p.name for p in problem.free]
+    stderr = out["stderr"]
+    return {
+        "params": dict(zip(names, out["x"].tolist())),
+        "stderr": None if stderr is None else dict(zip(names, stderr.tolist())),
+        "residual": float(np.sqrt(np.mean(out["r"] ** 2))),
+        "evaluations": out["evaluations"], "seconds": out["seconds"],
+        "converged": out["converged"], "message": out["message"], "at_bound": out["at_bound"],
+        "model": as_model(fitted),
+        "measure": {"name": measure, "favours": FAVOURS[measure],
+                    "residual": "root mean square of the measure's residual over the points"},
+        "points": {"count": int(out["r"].size), "note": note},
+    }
+
+
+#: values make_spec adds for display (Blinn-Phong's α_p): not parameters
+DERIVED = {"alpha_p"}
+
+
+def as_model(values: dict) -> dict:
+    """A validated model's values as every endpoint takes them back (no display-only or
+    absent values)."""
+    return {k: v for k, v in values.items() if v is not None and k not in DERIVED}
+
+
+def _subset(arguments: dict, keep: np.ndarray) -> dict:
+    return {k: (v[keep] if isinstance(v, np.ndarray) else v) for k, v in arguments.items()}
+
+
+def fit_all(data, model: dict, free: list[str], measure: str, channel: str | None,
+            seconds: float, max_points: int = MAX_POINTS) -> dict:
+    """The fit for every NDF of the registry with the rest of ``model`` (each NDF's own
+    shape parameters at their defaults unless freed), ranked by residual; the time budget
+    shared out between the NDFs still to fit."""
+    if not isinstance(data, BrdfData):
+        raise ParameterError("fit_all", "fit_all ranks NDFs against BRDF data", loc="body")
+    ranking, skipped = [], []
+    deadline = time.perf_counter() + seconds
+    names = list(NDFS)
+    for k, ndf in enumerate(names):
+        trial = {key: v for key, v in model.items() if key not in _shape_names()} | {"ndf": ndf}
+        try:
+            make_spec(**trial)
+        except ParameterError as exc:
+            skipped.append({"ndf": ndf, "reason": exc.message})
+            continue
+        share = max(0.0, deadline - time.perf_counter()) / (len(names) - k)
+        own_free = [n for n in free if n not in _shape_names() or n in _shape_names(ndf)]
+        try:
+            result = fit(data, trial, own_free, measure, channel, share, max_points)
+        except ParameterError as exc:
+            skipped.append({"ndf": ndf, "reason": exc.message})
+            continue
+        ranking.append({"ndf": ndf, **result})
+    ranking.sort(key=lambda item: item["residual"])
+    if not ranking:
+        raise ParameterError("fit_all", "no NDF could be fitted: " + "; ".join(
+            f"{s['ndf']}: {s['reason']}" for s in skipped), loc="body")
+    return {**ranking[0], "ranking": ranking, "skipped": skipped}
+
+
+def _shape_names(ndf: str | None = None) -> set[str]:
+    from ..model import choice_params
+    chosen = [ndf] if ndf else list(NDFS)
+    return {p.name for name in chosen for p in choice_params("ndf", name)}
