@@ -19,6 +19,7 @@ from .api.routes import router
 from .api.routes_data import router as data_router
 from .api.routes_export import router as export_router
 from .api.routes_shader import router as shader_router
+from .api.routes_lut import router as lut_router
 from .config import Settings
 
 STATIC_DIR = Path(os.environ.get("BRDF_STATIC_DIR", Path(__file__).resolve().parent.parent / "static"))
@@ -61,6 +62,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(export_router)
     app.include_router(shader_router)
     app.include_router(data_router)
+    app.include_router(lut_router)
 
     @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
     def plotly_js():

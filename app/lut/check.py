@@ -14,19 +14,23 @@ import numpy as np
 
 from ..errors import ParameterError
 from . import png
+from .build import SIZE_MAX, SIZE_MIN
 
 #: a rearrangement is reported when its max error is this many times below the as-given one
 DIAGNOSIS_RATIO = 4.0
 
 
-def parse(body: bytes, content_type: str, n: int, channels: int, dims: int) -> np.ndarray:
-    """The uploaded values as floats [rows][columns][channels] (or [rows][channels])."""
-    shape = (n,) * dims + (channels,)
+def parse(body: bytes, content_type: str, channels: int, dims: int) -> np.ndarray:
+    """The uploaded values as floats [rows][columns][channels] (or [rows][channels]): a
+    PNG (8 or 16 bits; RG tables in R and G) or JSON ``{"values": [i][j][c]}``."""
     if body.startswith(png.SIGNATURE) or content_type.startswith("image/png"):
         try:
             samples, bits = png.read(body)
         except png.PngError as exc:
             raise ParameterError("body", f"malformed PNG: {exc}", loc="body") from None
+        if samples.shape[-1] < channels:
+            raise ParameterError("body", f"the PNG has {samples.shape[-1]} channel(s); this kind has {channels}",
+                                 loc="body")
         values = samples[..., :channels] / float(2 ** bits - 1)
         if dims == 1 and values.shape[0] == 1:
             values = values[0]
@@ -35,13 +39,16 @@ def parse(body: bytes, content_type: str, n: int, channels: int, dims: int) -> n
             data = json.loads(body)
             values = np.asarray(data["values"] if isinstance(data, dict) else data, dtype=float)
         except (ValueError, KeyError, TypeError):
-            raise ParameterError("body", "the body must be a PNG or JSON {\"values\": [i][j][c]} of numbers",
+            raise ParameterError("body", 'the body must be a PNG or JSON {"values": [i][j][c]} of numbers',
                                  loc="body") from None
         if values.ndim == dims:           # one channel given without its own axis
             values = values[..., None]
-    if values.shape != shape:
-        raise ParameterError("body", f"the uploaded LUT has shape {list(values.shape)}; this kind at size={n} "
-                                     f"has {list(shape)} ([rows][columns][channels])", loc="body")
+    n = values.shape[0] if values.ndim else 0
+    shape = (n,) * dims + (channels,)
+    if values.shape != shape or not SIZE_MIN <= n <= SIZE_MAX:
+        raise ParameterError("body", f"the uploaded LUT has shape {list(values.shape)}; this kind needs "
+                                     f"{['n'] * dims + [channels]} with n in [{SIZE_MIN}, {SIZE_MAX}] "
+                                     "([rows][columns][channels])", loc="body")
     if not np.all(np.isfinite(values)):
         raise ParameterError("body", "the uploaded LUT holds non-finite values", loc="body")
     return values

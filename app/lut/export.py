@@ -57,12 +57,13 @@ def render(fmt: str, values: np.ndarray, meta: dict) -> bytes:
     if fmt in ("c", "glsl", "hlsl"):
         return _source(fmt, values, meta, lines).encode()
     if fmt == "f16":
+        if q != "float16":
+            raise ParameterError("format", f"format=f16 stores float16: give quantisation=float16, not {q}")
         buf = io.BytesIO()
         side = {k: meta[k] for k in ("kind", "model_query", "channels", "orientation", "usage")}
         side.update({"dtype": "float16", "byte_order": "little", "shape": list(values.shape),
                      "layout": "row-major, axes[0] slowest, channel fastest",
-                     "axes": [{"name": a["name"], "values": list(map(float, a["values"]))} for a in meta["axes"]],
-                     "stored_quantisation": "float16 (the raw file is always float16)"})
+                     "axes": [{"name": a["name"], "values": list(map(float, a["values"]))} for a in meta["axes"]]})
         with zipfile.ZipFile(buf, "w", zipfile.ZIP_DEFLATED) as z:
             z.writestr("lut.f16", values.astype("<f2").tobytes())
             z.writestr("lut.json", json.dumps(side, indent=1))

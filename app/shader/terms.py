@@ -110,10 +110,12 @@ def mu_Lambda(k: int, ndf, masking: str) -> tuple[list, list, list]:
         result = "sel(s > 0.0, 0.5 * s * exp(-a * a) * bracket, 0.0)"
     elif form == "walter":
         doc = ("Walter 2007's rational fit of Beckmann's Λ (eq. 27, constants of MATH.md's errata), times μ:\n"
-               "s (1 − 1.259a + 0.396a²)/(3.535 + 2.181a) for a = μ/s < 1.6, else 0.")
+               "s (1 − 1.259a + 0.396a²)/(3.535 + 2.181a) for a = μ/s < 1.6, else 0; the numerator, negative\n"
+               "just below 1.6, is taken as 0 there.")
         consts.append(Const("WALTER_A_MAX", WALTER_A_MAX, "Λ = 0 from here on (exact Λ < 3.4e-3 there)"))
         body.append(("float", "a", "mu / s"))
-        result = "sel(and_(s > 0.0, a < WALTER_A_MAX), s * (1.0 - 1.259 * a + 0.396 * a * a) / (3.535 + 2.181 * a), 0.0)"
+        result = ("sel(and_(s > 0.0, a < WALTER_A_MAX), s * max(1.0 - 1.259 * a + 0.396 * a * a, 0.0)"
+                  " / (3.535 + 2.181 * a), 0.0)")
     elif form in ("karis", "schlick_ibl", "schlick_direct"):
         k_expr = "0.5 * alpha_phi" if form != "schlick_direct" else \
             "(sqrt(alpha_phi) + 1.0) * (sqrt(alpha_phi) + 1.0) / 8.0"

@@ -1,0 +1,128 @@
+"""GET /api/v1/lut (a LUT with its error, or one of its files) and POST /api/v1/lut/check
+(an uploaded LUT's error map against the reference)."""
+from __future__ import annotations
+
+from typing import Annotated, Literal
+
+from fastapi import APIRouter, Query, Request, Response
+from pydantic import Field
+from starlette.concurrency import run_in_threadpool
+
+from ..errors import ParameterError, TooLarge
+from ..lut import build, check, export
+from ..lut.table import KINDS, QUANTISATIONS, make, orientation
+from ..model import make_spec
+from ..shader.generate import model_query
+from . import schemas
+from .encode import json_response
+from .errors import ParamError
+
+router = APIRouter(prefix="/api/v1")
+
+#: bytes an uploaded LUT may have: a 256² RG table as 16-bit PNG is ~0.4 MB, as JSON ~3 MB
+UPLOAD_MAX_BYTES = 4 * 1024 * 1024
+TWO_AXES = ["split_sum", "dfg_filament", "kc_E"]
+
+
+class LutQuery(schemas.ModelQuery):
+    kind: Annotated[Literal[tuple(KINDS)], Field(
+        description="split_sum: (scale, bias) of F0 (Karis 2013); dfg_filament: Filament's (x, y) with "
+                    "multiple-scattering compensation; kc_E: E(μ, α); kc_E_avg: E_avg(α). Single "
+                    "scattering of the model's NDF, masking and G2 (exact Smith); its Fresnel is factored out")]
+    size: Annotated[int, Field(ge=build.SIZE_MIN, le=build.SIZE_MAX,
+                               description=f"texels per axis, [{build.SIZE_MIN}, {build.SIZE_MAX}]")] = 32
+    mu_axis: Annotated[Literal[build.MU_AXES], Field(
+        description="mu: columns are μ = cos θ_v; sqrt_mu: columns are √μ (denser at grazing)",
+        json_schema_extra=schemas.applies_to(kind=TWO_AXES))] = "mu"
+    roughness_axis: Annotated[Literal[build.ROUGHNESS_AXES], Field(
+        description="roughness: rows are r, α = r²; alpha: rows are α")] = "roughness"
+    quantisation: Annotated[Literal[tuple(QUANTISATIONS)], Field(
+        description="how the values are stored: unorm8, unorm16, float16, float32")] = "unorm16"
+
+
+class LutFileQuery(LutQuery):
+    format: Annotated[Literal[export.FORMATS], Field(
+        description="json (values and error), png (unorm8/16; RG tables in R and G), csv, c (header), "
+                    "glsl, hlsl (array literals), f16 (zip: raw little-endian float16 + JSON side-car)")] = "json"
+    per_texel: Annotated[bool, Field(description="json: include the per-texel error maps")] = True
+
+
+def _http(exc: ParameterError) -> ParamError:
+    return ParamError(exc.param, exc.message, status_code=exc.status, loc=exc.loc)
+
+
+def _lut(q: LutQuery):
+    spec = make_spec(**schemas.model_values(q))
+    try:
+        key = build.LobeKey.of(spec.brdf())
+        return spec, make(q.kind, key, q.size, q.mu_axis, q.roughness_axis)
+    except ParameterError as exc:
+        raise _http(exc) from None
+
+
+def _meta(spec, lut, q: LutQuery, errors: dict) -> dict:
+    return {"kind": q.kind, "model_query": _lobe_query(spec), "axes": lut.axes, "channels": list(lut.channels),
+            "orientation": orientation(lut.dims), "usage": KINDS[q.kind][1], "quantisation": q.quantisation,
+            "lookup_max": errors["lookup"]["max"].tolist()}
+
+
+def _lobe_query(spec) -> str:
+    keep = ("ndf", "masking", "g2", "lambda_phi", "gamma", "p")
+    return "&".join(part for part in model_query(spec).split("&") if part.split("=")[0] in keep)
+
+
+@router.get("/lut", tags=["code"], summary="A lookup table users ship (split sum, DFG, Kulla-Conty) with its error",
+            description="Texel centres on both axes; every answer carries its error against the converged "
+                        "integral: of the table, after quantisation, and after bilinear lookup.")
+def lut(q: Annotated[LutFileQuery, Query()]) -> Response:
+    schemas.applies_where_given(q)
+    spec, table = _lut(q)
+    errors = table.errors(q.quantisation)
+    meta = _meta(spec, table, q, errors)
+    if q.format != "json":
+        try:
+            body = export.render(q.format, errors["values"], meta)
+        except ParameterError as exc:
+            raise _http(exc) from None
+        name = f"{q.kind}_{q.size}_{q.quantisation}.{export.EXTENSIONS[q.format]}"
+        return Response(body, media_type=export.MEDIA[q.format],
+                        headers={"Content-Disposition": f'attachment; filename="{name}"'})
+    error = {"reference": f"adaptive Gauss quadrature of E(μ) (tol {build.LUT_TOL:g}), its bound added",
+             "step": errors["step"]}
+    for part in ("table", "quantised", "lookup"):
+        entry = {"max": dict(zip(table.channels, errors[part]["max"].tolist())),
+                 "max_overall": float(errors[part]["max"].max())}
+        if q.per_texel:
+            entry["per_texel"] = errors[part]["per_texel"]
+        if part == "lookup":
+            entry["offsets"] = errors[part]["offsets"]
+        error[part] = entry
+    return json_response({**{k: v for k, v in meta.items() if k != "lookup_max"}, "model": meta["model_query"],
+                          "size": q.size, "values": errors["values"], "error": error,
+                          "build": {"seconds": table.seconds, "evaluations": table.evaluations}})
+
+
+@router.post("/lut/check", tags=["code"], summary="An uploaded LUT against the reference: error map, flips",
+             description=f"Body: a PNG (8/16-bit; RG tables in R, G) or JSON {{\"values\": [i][j][c]}}, at most "
+                         f"{UPLOAD_MAX_BYTES} bytes; its size is read from it. The query says what it should be "
+                         "(kind, axes, model). The answer names a flip, transpose, channel swap or 0–255 "
+                         "storage that fits much better than the table as given.")
+async def lut_check(request: Request, q: Annotated[LutQuery, Query()]) -> Response:
+    body = await request.body()
+    if len(body) > UPLOAD_MAX_BYTES:
+        raise _http(TooLarge("body", f"the upload has {len(body)} bytes; the limit is {UPLOAD_MAX_BYTES}",
+                             loc="body"))
+
+    def work():
+        dims = 1 if q.kind == "kc_E_avg" else 2
+        try:
+            values = check.parse(body, request.headers.get("content-type", ""), len(KINDS[q.kind][0]), dims)
+        except ParameterError as exc:
+            raise _http(exc) from None
+        q.size = values.shape[0]
+        spec, table = _lut(q)
+        result = check.compare(values, table.table, table.bound[(slice(None, None, 2),) * dims], dims)
+        return {"kind": q.kind, "model": _lobe_query(spec), "size": q.size, "axes": table.axes,
+                "channels": list(table.channels), "orientation": orientation(dims), **result}
+
+    return json_response(await run_in_threadpool(work))
