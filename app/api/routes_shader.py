@@ -6,13 +6,20 @@ from __future__ import annotations
 
 from typing import Annotated, Literal
 
+import numpy as np
+
 from fastapi import APIRouter, Query, Response
 from pydantic import Field
 
+from .. import figures
 from ..model import make_spec
+from ..shader import conventions
+from ..shader.conventions_figure import conventions_figure
 from ..shader.dsl import LANGS
 from ..shader.generate import generate
 from . import schemas
+from .encode import json_response
+from .errors import ParamError
 
 router = APIRouter(prefix="/api/v1")
 
@@ -35,3 +42,53 @@ def code(q: Annotated[CodeQuery, Query()]) -> Response:
     spec = make_spec(**schemas.model_values(q))
     return Response(generate(spec, q.lang), media_type="text/plain; charset=utf-8",
                     headers={"Content-Disposition": f'inline; filename="brdf.{EXTENSIONS[q.lang]}"'})
+
+
+# Checked here rather than by the schema: the model's own `roughness` is [0.01, 1], and the
+# shared validation message would name that range; an engine's roughness may be 0.
+Roughness = Annotated[float, Field(description="the roughness value an artist typed, [0, 1]", examples=[0.5])]
+Anisotropy = Annotated[float, Field(description="anisotropy, [0, 1] (the maps that have one)")]
+
+
+def _unit(name: str, x: float) -> float:
+    if not 0.0 <= x <= 1.0:
+        raise ParamError(name, f"{name} must be a number in [0, 1]; got {x!r}")
+    return x
+
+
+@router.get("/conventions", tags=["code"], summary="The α each ecosystem means by one roughness value",
+            description="[{ecosystem, alpha, alpha_y, note, (k)}]: Disney, glTF, Filament, UE4 (D, and the "
+                        "Schlick-GGX k of its G for direct and image-based light), pbrt-v3, pbrt-v4, Blender "
+                        "Principled, OpenPBR; α as that engine computes it, even outside [1e-4, 1] (said in "
+                        "the note).")
+def conventions_route(roughness: Roughness = 0.5, anisotropy: Anisotropy = 0.0) -> Response:
+    return json_response(conventions.table(_unit("roughness", roughness), _unit("anisotropy", anisotropy)))
+
+
+@router.get("/figures/conventions", tags=["figures"], summary="Plotly figure: the α of each ecosystem and its lobe")
+def conventions_figure_route(roughness: Roughness = 0.5, anisotropy: Anisotropy = 0.0) -> Response:
+    figure = conventions_figure(_unit("roughness", roughness), _unit("anisotropy", anisotropy))
+    return Response(figures.to_json(figure), media_type="application/json")
+
+
+class ConsistencyQuery(schemas.ModelQuery):
+    alpha_G: Annotated[float, Field(ge=1e-4, le=1.0, description="the α the model's G (masking) was "
+                                    "evaluated with, [1e-4, 1]; D uses the model's alpha")]
+    n: Annotated[int, Field(ge=2, le=65, description="μ_k = k/(n−1), k = 0..n−1")] = 17
+
+
+@router.get("/conventions/check", tags=["code"], summary="A model whose D and G use different α: the albedo error",
+            description="The bug class of mixed conventions (D at α = r², G at another α): E(μ) and E_avg "
+                        "with G at alpha_G against the consistent model, F as configured.")
+def conventions_check(q: Annotated[ConsistencyQuery, Query()]) -> Response:
+    spec = make_spec(**schemas.model_values(q))
+    brdf = spec.brdf()
+    if not brdf.ndf.isotropic or getattr(brdf, "multiscatter", None) is not None or brdf.lobe2 is not None:
+        raise ParamError("alpha_G", "the check is for one isotropic lobe without compensation "
+                                    "(no alpha_y, alpha2 or multiscatter)")
+    mu = np.linspace(0.0, 1.0, q.n)
+    out = conventions.consistency(brdf, q.alpha_G, mu)
+    out["flag"] = None if out["consistent"] else (
+        f"D uses α = {out['alpha_D']:.4g} but G uses α = {q.alpha_G:.4g}: E_avg changes by "
+        f"{out['E_avg_difference']:+.3g} (E by up to {out['max_E_difference']:.3g})")
+    return json_response(out)
