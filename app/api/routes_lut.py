@@ -8,14 +8,13 @@ from fastapi import APIRouter, Query, Request, Response
 from pydantic import Field
 from starlette.concurrency import run_in_threadpool
 
-from ..errors import ParameterError, TooLarge
+from ..errors import TooLarge
 from ..lut import build, check, export
 from ..lut.table import KINDS, QUANTISATIONS, make, orientation
 from ..model import make_spec
 from ..shader.generate import model_query
 from . import schemas
 from .encode import json_response
-from .errors import ParamError
 
 router = APIRouter(prefix="/api/v1")
 
@@ -47,17 +46,9 @@ class LutFileQuery(LutQuery):
     per_texel: Annotated[bool, Field(description="json: include the per-texel error maps")] = True
 
 
-def _http(exc: ParameterError) -> ParamError:
-    return ParamError(exc.param, exc.message, status_code=exc.status, loc=exc.loc)
-
-
 def _lut(q: LutQuery):
     spec = make_spec(**schemas.model_values(q))
-    try:
-        key = build.LobeKey.of(spec.brdf())
-        return spec, make(q.kind, key, q.size, q.mu_axis, q.roughness_axis)
-    except ParameterError as exc:
-        raise _http(exc) from None
+    return spec, make(q.kind, build.LobeKey.of(spec.brdf()), q.size, q.mu_axis, q.roughness_axis)
 
 
 def _meta(spec, lut, q: LutQuery, errors: dict) -> dict:
@@ -80,10 +71,7 @@ def lut(q: Annotated[LutFileQuery, Query()]) -> Response:
     errors = table.errors(q.quantisation)
     meta = _meta(spec, table, q, errors)
     if q.format != "json":
-        try:
-            body = export.render(q.format, errors["values"], meta)
-        except ParameterError as exc:
-            raise _http(exc) from None
+        body = export.render(q.format, errors["values"], meta)
         name = f"{q.kind}_{q.size}_{q.quantisation}.{export.EXTENSIONS[q.format]}"
         return Response(body, media_type=export.MEDIA[q.format],
                         headers={"Content-Disposition": f'attachment; filename="{name}"'})
@@ -110,15 +98,11 @@ def lut(q: Annotated[LutFileQuery, Query()]) -> Response:
 async def lut_check(request: Request, q: Annotated[LutQuery, Query()]) -> Response:
     body = await request.body()
     if len(body) > UPLOAD_MAX_BYTES:
-        raise _http(TooLarge("body", f"the upload has {len(body)} bytes; the limit is {UPLOAD_MAX_BYTES}",
-                             loc="body"))
+        raise TooLarge("body", f"the upload has {len(body)} bytes; the limit is {UPLOAD_MAX_BYTES}", loc="body")
 
     def work():
         dims = 1 if q.kind == "kc_E_avg" else 2
-        try:
-            values = check.parse(body, request.headers.get("content-type", ""), len(KINDS[q.kind][0]), dims)
-        except ParameterError as exc:
-            raise _http(exc) from None
+        values = check.parse(body, request.headers.get("content-type", ""), len(KINDS[q.kind][0]), dims)
         q.size = values.shape[0]
         spec, table = _lut(q)
         result = check.compare(values, table.table, table.bound[(slice(None, None, 2),) * dims], dims)

@@ -12,6 +12,7 @@ from fastapi import APIRouter, Query, Response
 from pydantic import Field
 
 from .. import figures
+from ..errors import ParameterError
 from ..model import make_spec
 from ..shader import conventions
 from ..shader.conventions_figure import conventions_figure
@@ -19,7 +20,6 @@ from ..shader.dsl import LANGS
 from ..shader.generate import generate
 from . import schemas
 from .encode import json_response
-from .errors import ParamError
 
 router = APIRouter(prefix="/api/v1")
 
@@ -52,7 +52,7 @@ Anisotropy = Annotated[float, Field(description="anisotropy, [0, 1] (the maps th
 
 def _unit(name: str, x: float) -> float:
     if not 0.0 <= x <= 1.0:
-        raise ParamError(name, f"{name} must be a number in [0, 1]; got {x!r}")
+        raise ParameterError(name, f"{name} must be a number in [0, 1]; got {x!r}")
     return x
 
 
@@ -84,7 +84,7 @@ def conventions_check(q: Annotated[ConsistencyQuery, Query()]) -> Response:
     spec = make_spec(**schemas.model_values(q))
     brdf = spec.brdf()
     if not brdf.ndf.isotropic or getattr(brdf, "multiscatter", None) is not None or brdf.lobe2 is not None:
-        raise ParamError("alpha_G", "the check is for one isotropic lobe without compensation "
+        raise ParameterError("alpha_G", "the check is for one isotropic lobe without compensation "
                                     "(no alpha_y, alpha2 or multiscatter)")
     mu = np.linspace(0.0, 1.0, q.n)
     out = conventions.consistency(brdf, q.alpha_G, mu)
