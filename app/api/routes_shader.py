@@ -11,7 +11,8 @@ import numpy as np
 from fastapi import APIRouter, Query, Response
 from pydantic import Field
 
-from .. import figures
+from .. import figures, materials
+from ..integrate.albedo import albedo_average
 from ..errors import ParameterError
 from ..model import make_spec
 from ..shader import conventions
@@ -92,3 +93,29 @@ def conventions_check(q: Annotated[ConsistencyQuery, Query()]) -> Response:
         f"D uses α = {out['alpha_D']:.4g} but G uses α = {q.alpha_G:.4g}: E_avg changes by "
         f"{out['E_avg_difference']:+.3g} (E by up to {out['max_E_difference']:.3g})")
     return json_response(out)
+
+
+@router.get("/materials", tags=["code"], summary="Measured materials: RGB complex index of metals, index of dielectrics",
+            description="physicallybased.info (CC0): name, slug (the value of `material`), kind, n and k per linear-sRGB "
+                        "channel (conductors) or ior (dielectrics), F₀ per channel, F82 and edge tints.")
+def materials_route() -> Response:
+    return json_response(materials.listing())
+
+
+class MaterialFresnelQuery(schemas.ModelQuery):
+    material_name: Annotated[str, Field(alias="material", description="a slug from /api/v1/materials, e.g. gold")]
+    n: Annotated[int, Field(ge=2, le=721, description="angles θ = 0..90°, both ends")] = 91
+
+
+@router.get("/materials/fresnel", tags=["code"],
+            summary="A material's exact RGB Fresnel beside Schlick, F82-tint and Gulbrandsen, with their errors",
+            description="Per channel: F(θ) of each form, its error against the exact one, and E_avg of the "
+                        "configured model's lobe with each form (adaptive quadrature; bounds given).")
+def material_fresnel_route(q: Annotated[MaterialFresnelQuery, Query()]) -> Response:
+    spec = make_spec(**schemas.model_values(q))
+    brdf = spec.brdf()
+    lobe = brdf.single() if hasattr(brdf, "single") else brdf
+    if not lobe.ndf.isotropic:
+        raise ParameterError("alpha_y", "the E_avg comparison is for isotropic roughness (no alpha_y)")
+    return json_response(materials.comparison(q.material_name, lobe.lobes()[0][1], q.n,
+                                              lambda b: albedo_average(b, tol=1e-5)))

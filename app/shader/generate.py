@@ -8,9 +8,10 @@ frame n = +z. The terms are those of app/physics (terms.py, embed.py).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 
 from .. import __version__
-from ..integrate.compensation import KullaConty
+from ..integrate.compensation import KullaConty, kulla_conty
 from ..model import ModelSpec
 from . import embed, terms
 from .dsl import Const, Fn, Program
@@ -31,13 +32,11 @@ def model_query(spec: ModelSpec) -> str:
                     for k, v in spec.values.items() if v is not None and k not in derived)
 
 
-def fresnel_channels(fresnel) -> list[dict]:
-    """Each RGB channel's Fresnel parameters (equal channels for a scalar Fresnel)."""
-    per = getattr(fresnel, "channels", None)
-    if per is not None:
-        return per
-    values = {p.name: getattr(fresnel, p.name) for p in fresnel.params}
-    return [values, values, values]
+def fresnel_channels(fresnel) -> tuple[str, list[dict]]:
+    """The registry name of each channel's Fresnel and each channel's parameters (equal
+    channels for a scalar Fresnel; a material's three exact ones otherwise)."""
+    per = getattr(fresnel, "channels", None) or [fresnel] * 3
+    return per[0].name, [{p.name: getattr(ch, p.name) for p in ch.params} for ch in per]
 
 
 def program(spec: ModelSpec) -> Program:
@@ -59,7 +58,8 @@ def program(spec: ModelSpec) -> Program:
         tables.extend(t)
         fns.extend(f)
 
-    add(terms.fresnel(fresnel_channels(brdf.fresnel), brdf.fresnel.name))
+    name, channels = fresnel_channels(brdf.fresnel)
+    add(terms.fresnel(channels, name))
     if g2.needs_phi:
         fns.append(terms.lambda_phi(_lambda_phi_name(single)))
     for k, (weight, lobe) in enumerate(lobes, start=1):
@@ -73,7 +73,7 @@ def program(spec: ModelSpec) -> Program:
             consts.extend(c)
             tables.extend(t)
             fns.append(f)
-            scale = _channel_scales(ms, k - 1)
+            scale = _channel_scales(single, ms, k - 1)
             consts += [Const(f"MS{k}_{ch}", s, f"Kulla-Conty scale of lobe {k}, channel {ch}: "
                              "w F_ms/(π(1 − E_avg))") for ch, s in zip("RGB", scale)]
             consts.append(Const(f"E_AVG_{k}", term.E_avg, f"E_avg of lobe {k} (F = 1), of the table itself"))
@@ -89,11 +89,12 @@ def _lambda_phi_name(brdf) -> str:
     return DEFAULT_LAMBDA_PHI
 
 
-def _channel_scales(ms: KullaConty, i: int) -> list[float]:
-    per = getattr(ms, "channel_scales", None)
-    if per is not None:
-        return list(per[i])
-    return [ms.lobes[i].scale] * 3
+def _channel_scales(single, ms: KullaConty, i: int) -> list[float]:
+    """Kulla-Conty's scale of lobe i per channel: F_ms depends on each channel's F̄."""
+    per = getattr(single.fresnel, "channels", None)
+    if per is None:
+        return [ms.lobes[i].scale] * 3
+    return [kulla_conty(replace(single, fresnel=ch)).lobes[i].scale for ch in per]
 
 
 def _unique(consts: list[Const]) -> list[Const]:
