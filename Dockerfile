@@ -19,13 +19,12 @@ ENV PYTHONDONTWRITEBYTECODE=1 \
     NUMBA_CACHE_DIR=/tmp/numba-cache
 
 WORKDIR /srv
-COPY pyproject.toml README.md ./
+COPY pyproject.toml setup.py README.md ./
 COPY app ./app
 COPY static ./static
-# Editable: the app serves static/ from beside its package directory. Everything under
-# /srv stays owned by root, so the user that runs the server cannot change it; the
-# compiled fast path (numba) caches to /tmp.
-RUN pip install -e '.[fast]' \
+# A regular install: the page ships inside the package (app/static). The user that runs
+# the server cannot change what is installed; the compiled fast path (numba) caches to /tmp.
+RUN pip install '.[fast]' && rm -rf /srv/* \
  && useradd --create-home --uid 10001 --shell /usr/sbin/nologin explorer
 USER explorer
 # Compile the fast path into the image's numba cache (owned by the user that reads it):

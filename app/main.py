@@ -2,7 +2,6 @@
 from __future__ import annotations
 
 import logging
-import os
 from contextlib import asynccontextmanager
 from pathlib import Path
 
@@ -21,8 +20,9 @@ from .api.routes_export import router as export_router
 from .api.routes_shader import router as shader_router
 from .api.routes_lut import router as lut_router
 from .config import Settings
+from .resources import static_dir
 
-STATIC_DIR = Path(os.environ.get("BRDF_STATIC_DIR", Path(__file__).resolve().parent.parent / "static"))
+STATIC_DIR = static_dir()
 PLOTLY_JS = Path(plotly.__file__).resolve().parent / "package_data" / "plotly.min.js"
 #: Swagger UI 5 (reads OpenAPI 3.1, which FastAPI writes), vendored by fastapi-offline
 SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
