@@ -96,6 +96,10 @@ def conventions_check(q: Annotated[ConsistencyQuery, Query()]) -> Response:
 
 
 @router.get("/materials", tags=["code"], summary="Measured materials: RGB complex index of metals, index of dielectrics",
+            responses={200: {"content": {"application/json": {"example": {
+                "source": "physicallybased.info …", "license": "CC0 1.0 Universal …",
+                "materials": [{"name": "Gold", "slug": "gold", "kind": "conductor", "n": [0, 0.3516, 1.8589],
+                               "k": [6.594, 2.0814, 1.4963], "f0": [1.0, 0.7887, 0.4286]}]}}}}},
             description="physicallybased.info (CC0): name, slug (the value of `material`), kind, n and k per linear-sRGB "
                         "channel (conductors) or ior (dielectrics), F₀ per channel, F82 and edge tints.")
 def materials_route() -> Response:
