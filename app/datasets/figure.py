@@ -1,0 +1,76 @@
+"""A data set drawn with a model: the data as its own trace on the model's figure (curves,
+the 3-D lobe), the data's own image (the slice, the lit sphere), or the relative error
+(data − model)/model one toggle away, titled with its largest value and where.
+
+The data's trace is drawn by the view's own figure function from the data's arrays, so
+it shares the view's axes, scales and conventions; only its style changes here.
+"""
+from __future__ import annotations
+
+import numpy as np
+
+from ..figures.style import axis, base_layout, gaps
+
+#: the data trace's colour: black markers read against every palette colour of a model
+DATA_COLOR = "#000000"
+#: traces that become markers (curves) and the image types that are drawn on their own
+CURVES = {"scatter", "scatterpolar"}
+IMAGES = {"heatmap"}
+#: axis labels of the relative-error figure by the overlay's axis names
+LABELS = {"theta_o_deg": "θ_o (degrees; > 0 on the mirror side)", "theta_deg": "θ (degrees)",
+          "mu": "μ = cos θ_v", "theta_h_deg": "θ_h (degrees)", "theta_d_deg": "θ_d (degrees)",
+          "phi_deg": "φ_v (degrees)", "x": "x (sphere radii)", "y": "y (sphere radii)"}
+
+
+def where_text(result: dict) -> str:
+    """"largest +7.0 % at θ_o = 62°" (or that nothing could be compared)."""
+    if result["max_relative_error"] is None:
+        return "no point where both the data and a positive model value exist"
+    at = ", ".join(f"{name} = {value:.3g}" for name, value in result["where"].items())
+    return f"largest {100 * result['max_relative_error']:+.2f} % at {at}"
+
+
+def with_data(model_figure: dict, data_figure: dict, result: dict, label: str) -> dict:
+    """The model's figure with the data's main trace added (curves: markers; a surface:
+    translucent), or — for an image — the data's own figure, retitled."""
+    trace = dict(data_figure["data"][0])
+    kind = trace.get("type", "scatter")
+    title = f"{label} — {where_text(result)} (data − model)/model"
+    if kind in IMAGES:
+        layout = dict(data_figure["layout"], title={"text": f"Data {label} — {where_text(result)}"})
+        return {"data": data_figure["data"], "layout": layout}
+    trace.update(name=f"data {label}", showlegend=True)
+    for key in ("fill", "fillcolor", "line"):
+        trace.pop(key, None)
+    if kind in CURVES:
+        trace.update(mode="markers", marker={"color": DATA_COLOR, "size": 5, "symbol": "circle-open"})
+        if result.get("data_error") is not None and kind == "scatter":
+            trace["error_y"] = {"type": "data", "array": result["data_error"], "visible": True,
+                                "thickness": 1, "color": DATA_COLOR}
+    else:   # a surface: the data's, translucent and grey, through the model's
+        trace.update(opacity=0.45, colorscale="Greys", showscale=False)
+    out = {"data": [*model_figure["data"], trace], "layout": dict(model_figure["layout"])}
+    out["layout"]["title"] = {"text": title}
+    return out
+
+
+def relative_error(result: dict, label: str) -> dict:
+    """(data − model)/model in per cent on the overlay's axes: a curve, or an image with
+    a diverging scale centred on 0."""
+    names = list(result["axes"])
+    values = 100.0 * gaps(result["relative_error"])
+    title = f"(data − model)/model, {label} — {where_text(result)}"
+    if len(names) == 1:
+        x = result["axes"][names[0]]
+        trace = {"type": "scatter", "mode": "lines+markers", "x": x, "y": values,
+                 "name": "(data − model)/model (%)", "marker": {"size": 4, "color": DATA_COLOR},
+                 "line": {"color": DATA_COLOR, "width": 1}}
+        return {"data": [trace], "layout": base_layout(
+            title, xaxis=axis(LABELS.get(names[0], names[0])), yaxis=axis("relative error (%)"))}
+    rows, columns = names
+    limit = float(np.nanmax(np.abs(values))) if np.isfinite(values).any() else 1.0
+    trace = {"type": "heatmap", "x": result["axes"][columns], "y": result["axes"][rows], "z": values,
+             "colorscale": "RdBu", "zmid": 0.0, "zmin": -limit, "zmax": limit, "hoverongaps": False,
+             "colorbar": {"title": {"text": "%"}, "thickness": 14}}
+    return {"data": [trace], "layout": base_layout(
+        title, xaxis=axis(LABELS.get(columns, columns)), yaxis=axis(LABELS.get(rows, rows)))}
