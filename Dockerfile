@@ -23,13 +23,15 @@ COPY pyproject.toml setup.py README.md ./
 COPY app ./app
 COPY static ./static
 # A regular install: the page ships inside the package (app/static). The user that runs
-# the server cannot change what is installed; the compiled fast path (numba) caches to /tmp.
-RUN pip install '.[fast]' && rm -rf /srv/* \
+# the server cannot change what is installed; the compiled loops (app/kernels, numba)
+# live in BRDF_KERNEL_DIR.
+RUN pip install . && rm -rf /srv/* \
  && useradd --create-home --uid 10001 --shell /usr/sbin/nologin explorer
 USER explorer
-# Compile the fast path into the image's numba cache (owned by the user that reads it):
-# a container then starts in ~1 s instead of compiling for ~12 s (app/warmup.py).
-RUN python -c "from app.warmup import warm_up; print(f'fast path compiled in {warm_up():.1f} s')"
+ENV BRDF_KERNEL_DIR=/home/explorer/kernels
+# Compile the server's first models into the image (owned by the user that reads them):
+# a container then loads them in seconds instead of compiling them in the background.
+RUN python -c "from app import kernels; from app.main import default_models; [kernels.compile_now(b) for b in default_models()]"
 
 EXPOSE 8000
 # Healthy when /api/v1/health answers 200 within 2 s (urlopen raises on any other

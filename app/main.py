@@ -12,7 +12,7 @@ from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
-from . import __version__, warmup
+from . import __version__, kernels
 from .api import errors, http, openapi
 from .api.routes import router
 from .api.routes_data import router as data_router
@@ -20,6 +20,8 @@ from .api.routes_export import router as export_router
 from .api.routes_shader import router as shader_router
 from .api.routes_lut import router as lut_router
 from .config import Settings
+from .model import make_spec
+from .physics.ndf import NDFS
 from .resources import static_dir
 
 STATIC_DIR = static_dir()
@@ -30,15 +32,25 @@ SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 
 @asynccontextmanager
 async def lifespan(app: FastAPI):
-    # Before the first connection: compile the kernels (app/warmup.py says why), and
-    # index the OpenAPI document, which the request guard reads to know each
+    # The compiled loops load (or compile, on an empty numba cache) in a background
+    # thread while requests take the numpy path; the log says when each is ready.
+    # Index the OpenAPI document, which the request guard reads to know each
     # operation's parameters (~1 s to build: it was the first request's latency).
-    seconds = await run_in_threadpool(warmup.warm_up)
+    kernels.start(default_models())
     await run_in_threadpool(openapi.operations, app)
-    # uvicorn configures its own loggers only: this line shows beside its start-up lines
     logging.getLogger("uvicorn.error").info(
-        "fast path ready in %.1f s (compiled, or loaded from numba's cache)", seconds)
+        "compiled loops: %s", "loading in the background; numpy answers until each is ready"
+        if kernels.ENABLED else "off (numba absent or BRDF_FAST=0): numpy answers")
     yield
+
+
+def default_models() -> list:
+    """The models whose loops the server loads first: the page's default, then every
+    NDF with the default options, with F = 1 (the tables' basis) and smith_numeric."""
+    first = [make_spec().brdf(), make_spec(fresnel="none").brdf()]
+    per_ndf = [make_spec(ndf=n, **extra).brdf() for n in NDFS
+               for extra in ({}, {"fresnel": "none"}, {"fresnel": "none", "masking": "smith_numeric"})]
+    return first + per_ndf
 
 
 def create_app(settings: Settings | None = None) -> FastAPI:
@@ -55,9 +67,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.state.settings = settings or Settings.from_env()
     errors.install(app)
     openapi.install(app)
-    # warm_up=: the kernels' hook, run before a request's budget opens if the lifespan
-    # did not run (a test client)
-    http.install(app, app.state.settings, STATIC_DIR, warm_up=warmup)
+    http.install(app, app.state.settings, STATIC_DIR)
     app.include_router(router)
     app.include_router(export_router)
     app.include_router(shader_router)

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from . import kernels
 from .adaptive import ladder, peak, refine_curve, refine_grid
 from .integrate.methods import albedo_by
 from .physics.brdf import BRDF
@@ -20,7 +21,7 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want) -
     l = direction_deg(theta_i_deg, phi_i_deg)
     v = direction_deg(theta_o_deg, phi_o_deg)
     l, v = np.broadcast_arrays(l, v)
-    return brdf.evaluate(l, v, want)
+    return {"f": kernels.f(brdf, l, v)} if tuple(want) == ("f",) else brdf.evaluate(l, v, want)
 
 
 def _width_deg(brdf: BRDF) -> float:

@@ -1,23 +1,43 @@
-"""E(μ, α) table: size against measured error and build time (issue 4's "table at
-≤ 1e-5"). For each size n×n, builds the F = 1 table of one NDF (default GGX,
-height-correlated Smith) and reports its error three ways: the build's own reported
-bound, the largest deviation it saw at its check points, and an independent dense
-check (the quadrature at tol 1e-8 on 15 roughness values × 80 cosines the build never
-used, including μ ~ α near grazing and μ → 0 at α → 1, the hardest corner).
+"""E(μ, α) tables: size against measured error and build time, and every NDF's build.
 
-    python bench/table_sizes.py [ndf] [sizes...]      e.g.  python bench/table_sizes.py ggx 32 48 64
+    python bench/table_sizes.py [ndf] [sizes...]   e.g. python bench/table_sizes.py ggx 32 48 64
+    python bench/table_sizes.py --all [n] [rounds]  every NDF's n×n table (default 32), medians
+    python bench/table_sizes.py --first-kc           a fresh server per NDF: its first Kulla-Conty request
+
+Sizes: for each n×n, builds the F = 1 table of one NDF (height-correlated Smith) and
+reports its error three ways: the build's own reported bound, the largest deviation it
+saw at its check points, and an independent dense check (the quadrature at tol 1e-8 on
+15 roughness values × 80 cosines the build never used, including μ ~ α near grazing
+and μ → 0 at α → 1, the hardest corner).
+
+--all: the build time of each NDF's n×n table (shape parameters at their defaults,
+compiled loops loaded first), median over rounds, with its reported bound.
+
+--first-kc: for each NDF, a new server (compiled loops in their cache, no table), and
+its first GET /api/v1/albedo with multiscatter=kulla_conty (Blinn-Phong with
+masking=smith_numeric): wall time and the reported compensation_error.
 """
 from __future__ import annotations
 
+import json
 import sys
 import time
+import urllib.parse
+import urllib.request
 
 import numpy as np
 
-sys.path.insert(0, ".")
+import common  # first: puts the checkout on sys.path
+
+from app import kernels  # noqa: E402
 from app.integrate import tables  # noqa: E402
 from app.integrate.albedo import albedo  # noqa: E402
 from app.model import make_spec  # noqa: E402
+from app.physics.ndf import NDFS  # noqa: E402
+
+#: the masking of each NDF's Kulla-Conty request: Blinn-Phong's own "smith" is an
+#: approximation, so its compensation is asked with the Smith integral.
+KC_MASKING = {"blinn_phong": "smith_numeric"}
 
 
 def dense_error(table, ndf: str) -> float:
@@ -32,7 +52,48 @@ def dense_error(table, ndf: str) -> float:
     return worst
 
 
+def all_ndfs(n: int, rounds: int) -> None:
+    print(f"| NDF | {n}×{n} build s (median of {rounds}) | reported bound | evaluations |")
+    print("|---|---|---|---|")
+    for name in NDFS:
+        lobe = make_spec(ndf=name, alpha=0.3, fresnel="none", masking=KC_MASKING.get(name, "smith")).brdf()
+        kernels.compile_now(lobe)
+        key = tables.table_key(lobe)
+        times, table = [], None
+        for _ in range(rounds):
+            t0 = time.perf_counter()
+            table = tables.build(key, n, n)
+            times.append(time.perf_counter() - t0)
+        print(f"| {name} | {common.median(times):.2f} ({', '.join(f'{t:.2f}' for t in times)}) | "
+              f"{table.error:.1e} | {table.build_evaluations:.3g} |", flush=True)
+
+
+def first_kc() -> None:
+    print("| NDF | first Kulla-Conty request, s | compensation_error | table |")
+    print("|---|---|---|---|")
+    for name in NDFS:
+        query = {"ndf": name, "multiscatter": "kulla_conty", "fresnel": "none", "n": 17,
+                 "masking": KC_MASKING.get(name, "smith")}
+        with common.server() as url:
+            time.sleep(2.0)   # the server's background loading of its compiled loops
+            t0 = time.perf_counter()
+            with urllib.request.urlopen(f"{url}/api/v1/albedo?{urllib.parse.urlencode(query)}",
+                                        timeout=120) as res:
+                body = json.loads(res.read())
+            seconds = time.perf_counter() - t0
+        tables_used = body.get("tables") or body.get("table") or ""
+        print(f"| {name} | {seconds:.2f} | {body.get('compensation_error', float('nan')):.1e} | "
+              f"{tables_used} |", flush=True)
+
+
 def main() -> None:
+    if sys.argv[1:2] == ["--all"]:
+        all_ndfs(int(sys.argv[2]) if len(sys.argv) > 2 else 32,
+                 int(sys.argv[3]) if len(sys.argv) > 3 else 3)
+        return
+    if sys.argv[1:2] == ["--first-kc"]:
+        first_kc()
+        return
     ndf = sys.argv[1] if len(sys.argv) > 1 else "ggx"
     sizes = [int(x) for x in sys.argv[2:]] or [16, 32, 48, 64]
     lobe = make_spec(ndf=ndf, alpha=0.3, fresnel="none").brdf()

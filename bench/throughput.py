@@ -5,10 +5,13 @@ functions the API calls: BRDF.evaluate(l, v, ("f",)) (POST /eval, the lobe views
 albedo quadrature's reference path) and app.quantities.evaluate (angles in degrees →
 directions → BRDF.evaluate, as GET/POST /eval do). Side by side in one run:
 
-* ``fast``        BRDF.evaluate with the compiled kernel (app/physics/fast.py), 2 threads
-* ``fast_serial`` the same kernel on one thread (what each core does)
-* ``numpy``       BRDF.evaluate on the reference numpy path (fast.disabled())
-* ``quantities``  app.quantities.evaluate, degrees in (fast path)
+* ``fast``        app.kernels.f: the model's compiled loop (app/kernels), one block per core
+* ``fast_serial`` the same loop on one thread (what each core does)
+* ``numpy``       BRDF.evaluate, the reference numpy path
+* ``quantities``  app.quantities.evaluate, degrees in (compiled path)
+
+Run it as installed by the README's first command (numba is a regular dependency); the
+compiled loop is loaded (or compiled) before the timings.
 
 Directions: uniform on the upper hemisphere (μ uniform in [0, 1], φ uniform).
 """
@@ -18,9 +21,9 @@ import numpy as np
 
 import common  # first: puts the checkout on sys.path
 
-from app import quantities
+from app import kernels, quantities
+from app.kernels import kernel as kernel_module
 from app.model import make_spec
-from app.physics import fast
 
 
 def random_pairs(n: int, seed: int = 1):
@@ -38,21 +41,20 @@ def run(quick: bool = False) -> dict:
     repeat = 5 if quick else 15
     brdf = make_spec(ndf="ggx", g2="height_correlated", fresnel="schlick").brdf()
     l, v, theta, phi = random_pairs(n)
-    have_fast = fast.spec_args(brdf) is not None
+    have_fast = kernels.compile_now(brdf) is not None
 
     def numpy_path():
-        with fast.disabled():
-            brdf.evaluate(l, v, ("f",))
+        brdf.evaluate(l, v, ("f",))
 
     def serial():
-        saved, fast.PARALLEL_MIN = fast.PARALLEL_MIN, 1 << 62
+        saved, kernel_module.PARALLEL_MIN = kernel_module.PARALLEL_MIN, 1 << 62
         try:
-            brdf.evaluate(l, v, ("f",))
+            kernels.f(brdf, l, v)
         finally:
-            fast.PARALLEL_MIN = saved
+            kernel_module.PARALLEL_MIN = saved
 
     functions = {
-        "fast": lambda: brdf.evaluate(l, v, ("f",)),
+        "fast": lambda: kernels.f(brdf, l, v),
         "fast_serial": serial,
         "numpy": numpy_path,
         "quantities": lambda: quantities.evaluate(brdf, theta[0], phi[0], theta[1], phi[1], ("f",)),
@@ -70,12 +72,33 @@ def run(quick: bool = False) -> dict:
         # per second of CPU of this process: what a core does when it gets to run
         out[f"evals_per_cpu_s_{name}"] = n / common.median(cpu[name])
     out["evals_per_s"] = out.pop("evals_per_s_fast")
-    with fast.disabled():
-        ref = brdf.evaluate(l, v, ("f",))["f"]
-    got = brdf.evaluate(l, v, ("f",))["f"]
+    ref = brdf.evaluate(l, v, ("f",))["f"]
+    got = kernels.f(brdf, l, v)
     finite = np.isfinite(ref) & (ref > 0)
     out["throughput_max_rel_diff"] = float(np.max(np.abs(got[finite] - ref[finite]) / ref[finite]))
     out["throughput_speedup"] = out["evals_per_s"] / out["evals_per_s_numpy"]
+    out.update(albedo_latency(brdf, repeat=repeat))
+    return out
+
+
+def albedo_latency(brdf, repeat: int) -> dict:
+    """GET /albedo's computation at the page's n = 17 (E at 17 cosines and E_avg, tol
+    1e-5, quadrature), compiled and numpy, interleaved: median and p90 in ms."""
+    mu = np.linspace(0.0, 1.0, 17)
+
+    def compiled():
+        quantities.albedo_curve(brdf, mu, 0.0, 1e-5)
+
+    def numpy_path():
+        with kernels.disabled():
+            quantities.albedo_curve(brdf, mu, 0.0, 1e-5)
+
+    cpu: dict = {}
+    times = common.interleaved({"compiled": compiled, "numpy": numpy_path},
+                               repeat=max(repeat, 20), warmup=1, cpu=cpu)
+    out = {f"albedo17_{k}_ms_{stat}": 1e3 * f(ts) for k, ts in times.items()
+           for stat, f in (("p50", common.median), ("p90", lambda x: common.percentile(x, 90)))}
+    out.update({f"albedo17_{k}_cpu_ms_p50": 1e3 * common.median(ts) for k, ts in cpu.items()})
     return out
 
 
@@ -84,8 +107,8 @@ def report(r: dict) -> list[str]:
         f"evaluations/s (GGX, h-c G2, Schlick, float64, {r['throughput_pairs']:,} pairs; "
         f"load average {r['throughput_loadavg'][0]} → {r['throughput_loadavg'][1]})",
         "                                        wall clock    per CPU-second",
-        f"  BRDF.evaluate, compiled, 2 threads : {r['evals_per_s'] / 1e6:8.1f} M/s  {r['evals_per_cpu_s_fast'] / 1e6:8.1f} M/s",
-        f"  BRDF.evaluate, compiled, 1 thread  : {r['evals_per_s_fast_serial'] / 1e6:8.1f} M/s  "
+        f"  kernels.f, compiled, 2 threads     : {r['evals_per_s'] / 1e6:8.1f} M/s  {r['evals_per_cpu_s_fast'] / 1e6:8.1f} M/s",
+        f"  kernels.f, compiled, 1 thread      : {r['evals_per_s_fast_serial'] / 1e6:8.1f} M/s  "
         f"{r['evals_per_cpu_s_fast_serial'] / 1e6:8.1f} M/s",
         f"  BRDF.evaluate, numpy reference     : {r['evals_per_s_numpy'] / 1e6:8.1f} M/s  "
         f"{r['evals_per_cpu_s_numpy'] / 1e6:8.1f} M/s",
@@ -93,6 +116,10 @@ def report(r: dict) -> list[str]:
         f"{r['evals_per_cpu_s_quantities'] / 1e6:8.1f} M/s",
         f"  speed-up {r['throughput_speedup']:.1f}x; max relative difference to numpy "
         f"{r['throughput_max_rel_diff']:.1e}",
+        f"albedo, n = 17 + E_avg, tol 1e-5: compiled p50 {r['albedo17_compiled_ms_p50']:.1f} ms "
+        f"(p90 {r['albedo17_compiled_ms_p90']:.1f}), numpy p50 {r['albedo17_numpy_ms_p50']:.1f} ms "
+        f"(p90 {r['albedo17_numpy_ms_p90']:.1f}); CPU time p50: compiled "
+        f"{r['albedo17_compiled_cpu_ms_p50']:.1f} ms, numpy {r['albedo17_numpy_cpu_ms_p50']:.1f} ms",
     ]
 
 

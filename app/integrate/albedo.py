@@ -45,7 +45,8 @@ from ..physics.brdf import BRDF
 from ..physics.g2 import azimuth_difference
 from ..physics.numeric import where_valid
 from ..physics.gauss import gauss_legendre_01
-from . import albedo_kernel, budget
+from .. import kernels
+from . import budget
 
 # Orders (Gauss points per half of ψ, and along u); each level doubles both.
 ORDER_START = 24
@@ -134,11 +135,11 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
     # instead (_log_rule); the half-plane rows (R = ∞, at v_z = 0) keep the u-rule.
     use_log = ndf.tail_beta >= LOG_RULE_BETA
     h, dh = _log_rule(order)
-    fast_args = albedo_kernel.spec_args(brdf)
-    if fast_args is not None:   # the same integrand at the same nodes, compiled
-        return albedo_kernel.integrate(fast_args, v, cp[..., 0], sp[..., 0], U[..., 0],
-                                       V0[..., 0], head, tail, weight, h, dh, use_log,
-                                       w_psi.ravel())
+    kernel = kernels.lookup(brdf)
+    if kernel is not None:   # the same integrand at the same nodes, compiled
+        rows = kernel.albedo_rows(brdf, v, cp[..., 0], sp[..., 0], U[..., 0], V0[..., 0],
+                                  head, tail, weight, h, dh, use_log)
+        return rows @ w_psi.ravel() / (2.0 * np.pi)
     u = U * head
     one_minus_u = V0 + U * tail
     du = U * weight

@@ -66,7 +66,8 @@ from ..physics.brdf import BRDF
 from ..physics.fresnel import FRESNELS
 from ..physics.gauss import gauss_legendre_01
 from ..physics.numeric import where_valid
-from . import albedo_kernel, budget
+from .. import kernels
+from . import budget
 from .cache import complete_only
 from .albedo import albedo
 
@@ -334,6 +335,20 @@ def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = B
                    build_seconds=time.perf_counter() - t0, build_evaluations=evaluations)
 
 
+#: How long a build inside a request waits for its model's compiled loops (queued first
+#: for the background thread; loading them from numba's cache takes ~0.5 s, compiling
+#: ~5 s): the numpy build is ~10× slower, so waiting a moment pays. Outside a request
+#: (the CLI, the background table builds) the build waits for the compile.
+KERNEL_WAIT_S = 2.5
+
+
+def _compiled(lobe: BRDF) -> bool:
+    b = budget.current()
+    if b is None:
+        return kernels.compile_now(lobe) is not None
+    return kernels.wait(lobe, min(KERNEL_WAIT_S, 0.5 * (b.seconds - b.elapsed()))) is not None
+
+
 @complete_only(TABLE_CACHE_ENTRIES)
 def table_for_key(key: tuple) -> ETable:
     """The default-size table for ``key``, from a bounded cache of whole builds (one the
@@ -342,7 +357,7 @@ def table_for_key(key: tuple) -> ETable:
     gets the COARSE_TABLE_N² one if that fits (TableTooSlow otherwise)."""
     basis_p = key[-1]
     base = None if basis_p is None else table_for_key(key[:-1] + (None,))
-    if albedo_kernel.spec_args(_lobe_at(key, 0.25)) is not None:
+    if _compiled(_lobe_at(key, 0.25)):
         return build(key, TABLE_N_Y, TABLE_N_R, base=base)
     try:
         return build(key, SLOW_TABLE_N, SLOW_TABLE_N, base=base)

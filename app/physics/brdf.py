@@ -91,15 +91,13 @@ class BRDF:
         (Kulla & Conty 2017, two-lobe blend); kd/π is in both and so in the blend once.
         D is the blend of the two NDFs (itself a normalised NDF); the G terms and F are
         the first lobe's."""
-        w = self.lobe_mix
         first = replace(self, lobe2=None, lobe_mix=0.0).evaluate(l, v, want)
         blended = [q for q in ("f", "D") if q in want]
         if not blended:
             return first
         second = replace(self, ndf=self.lobe2, lobe2=None, lobe_mix=0.0).evaluate(l, v, tuple(blended))
         for q in blended:
-            first[q] = where_valid(np.isfinite(first[q]) & np.isfinite(second[q]), [first[q], second[q]],
-                                   lambda a, b: (1.0 - w) * a + w * b, np.inf)
+            first[q] = blend_lobes(self.lobe_mix, first[q], second[q])
         return first
 
     def lobes(self):
@@ -111,6 +109,12 @@ class BRDF:
 
     def f(self, l, v) -> np.ndarray:
         return self.evaluate(l, v, ("f",))["f"]
+
+
+def blend_lobes(w: float, first, second) -> np.ndarray:
+    """(1 − w) a + w b, +inf where either lobe is (both graze: a limit, not a number)."""
+    return where_valid(np.isfinite(first) & np.isfinite(second), [first, second],
+                       lambda a, b: (1.0 - w) * a + w * b, np.inf)
 
 
 @dataclass(frozen=True)
@@ -127,11 +131,16 @@ class CompensatedBRDF(BRDF):
 
     def evaluate(self, l, v, want=("f",)) -> dict[str, np.ndarray]:
         out = self.single().evaluate(l, v, want)
-        if "f" in want and self.multiscatter is not None:
-            l = np.asarray(l, dtype=float)
-            v = np.asarray(v, dtype=float)
-            mu_l, mu_v = np.broadcast_arrays(l[..., 2], v[..., 2])
-            upper = (mu_l >= 0) & (mu_v >= 0)
-            f_ms = where_valid(upper, [mu_l, mu_v], self.multiscatter, 0.0)
-            out["f"] = out["f"] + f_ms
+        if "f" in want:
+            out["f"] = out["f"] + self.multiscatter_f(l, v)
         return out
+
+    def multiscatter_f(self, l, v) -> np.ndarray:
+        """f_ms(μ_l, μ_v) where both directions are upper, else 0."""
+        l = np.asarray(l, dtype=float)
+        v = np.asarray(v, dtype=float)
+        mu_l, mu_v = np.broadcast_arrays(l[..., 2], v[..., 2])
+        if self.multiscatter is None:
+            return np.zeros(mu_l.shape)
+        upper = (mu_l >= 0) & (mu_v >= 0)
+        return where_valid(upper, [mu_l, mu_v], self.multiscatter, 0.0)

@@ -45,7 +45,7 @@ def _visibility(den4):
 
 # ------------------------------------------------------------------------- λ(φ)
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class LambdaPhi:
     """A weight λ(φ) ∈ [0, 1) of the azimuth difference φ ∈ [0, π] (radians):
     0 at φ = 0 (l and v in the same azimuth: masking and shadowing fully correlated),
@@ -216,7 +216,7 @@ def _no_params(ndf) -> tuple:
     return ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)   # a registry entry: compared and hashed by identity
 class G2Form:
     """A G2 form. ``approximates`` names the exact form this one approximates;
     ``scalar_V(μ_l, μ_v, μΛ_l, μΛ_v, λ, p)`` is V for one point, p = kernel_params(ndf)."""

@@ -51,8 +51,5 @@ def tabulated_mu_Lambda_scalar(mu, s, p, at):
     i = int(min(max(math.floor((x - x0) / dx), 0.0), n - 1.0))
     t = x - (x0 + i * dx)
     h = ((p[c + i] * t + p[c + n + i]) * t + p[c + 2 * n + i]) * t + p[c + 3 * n + i]
-    if a < a_min:
-        h = h0 + (h_min - h0) * (a / a_min)
-    if a > a_max:
-        h = h * (a_max / max(a, a_max))
-    return s * h
+    h = h0 + (h_min - h0) * (a / a_min) if a < a_min else h
+    return s * (h * (a_max / max(a, a_max)) if a > a_max else h)

@@ -32,7 +32,7 @@ def _no_params(ndf) -> tuple:
     return ()
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)   # a registry entry: compared and hashed by identity
 class Masking:
     """How μΛ is obtained for a direction. ``applies_to`` None means every NDF.
 

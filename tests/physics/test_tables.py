@@ -3,6 +3,7 @@ not check (reference: the quadrature of albedo.py); the axis maps invert each ot
 import numpy as np
 import pytest
 
+from app import kernels
 from app.integrate import tables
 from app.integrate.albedo import albedo, albedo_average
 from app.model import make_spec
@@ -83,10 +84,11 @@ def test_schlick_basis_table_E_avg_matches_quadrature():
 
 
 def test_slow_lobe_falls_back_to_a_coarse_table_with_an_honest_bound(monkeypatch):
-    """A lobe without the compiled integrand whose SLOW_TABLE_N² table the time budget
-    refuses gets the COARSE_TABLE_N² one (refused outright here, so that the test does not
-    depend on the machine's speed); the coarse table's reported bound holds against the
-    quadrature off its nodes. GTR at a γ no other test uses: not cached."""
+    """A lobe without the compiled integrand (kernels off here, as without numba) whose
+    SLOW_TABLE_N² table the time budget refuses gets the COARSE_TABLE_N² one (refused
+    outright here, so that the test does not depend on the machine's speed); the coarse
+    table's reported bound holds against the quadrature off its nodes. GTR at a γ no
+    other test uses: not cached."""
     real = tables.build
     sizes = []
 
@@ -98,7 +100,8 @@ def test_slow_lobe_falls_back_to_a_coarse_table_with_an_honest_bound(monkeypatch
 
     monkeypatch.setattr(tables, "build", refuse_the_fine_grid)
     model = dict(ndf="gtr", gamma=1.6789, fresnel="none")
-    table = tables.table_for(make_spec(alpha=0.3, **model).brdf())
+    with kernels.disabled():
+        table = tables.table_for(make_spec(alpha=0.3, **model).brdf())
     assert sizes == [tables.SLOW_TABLE_N, tables.COARSE_TABLE_N]
     assert table.r.size == tables.COARSE_TABLE_N and table.error > 0
     rng = np.random.default_rng(4321)

@@ -52,4 +52,8 @@ class Schlick(Fresnel):
     @staticmethod
     @scalar
     def F_scalar(c, p):
-        return p[0] + (p[1] - p[0]) * (1.0 - clip_cos_scalar(c)) ** p[2]
+        x = 1.0 - clip_cos_scalar(c)
+        if p[2] == 5.0:      # Schlick's exponent by multiplication: a pow costs as much as f
+            x2 = x * x
+            return p[0] + (p[1] - p[0]) * (x2 * x2 * x)
+        return p[0] + (p[1] - p[0]) * x ** p[2]

@@ -1,0 +1,204 @@
+"""Compiled loops generated from the physics' own scalar formulas.
+
+``lookup(brdf)`` gives the compiled :class:`~.kernel.Kernel` of a model, or None — when
+numba is absent or switched off (BRDF_FAST=0), when a component has no scalar formula,
+or while its loops are still being compiled: a model asked for is queued and compiled
+by one background thread, and until then the caller takes the numpy path (BRDF.evaluate
+knows nothing of this package). :func:`start` queues the models the server expects,
+:func:`compile_now` compiles in the calling thread (tests, benchmarks, the CLI).
+The log says which path answered: one line when a model's loops are ready (compiled, or
+loaded from numba's cache, and how long it took), one when a model was first answered
+by numpy because its loops were not ready.
+"""
+from __future__ import annotations
+
+import contextlib
+import logging
+import os
+import threading
+import time
+
+import numpy as np
+
+from dataclasses import replace
+
+from ..physics.brdf import BRDF, CompensatedBRDF, blend_lobes
+from ..physics.g2 import lambda_phi_entry
+from ..physics.ndf import SlopeSpaceNDF
+from . import compose
+from .compose import Components
+from .kernel import Kernel
+
+try:   # a regular dependency; without it everything runs on numpy
+    import numba
+except ImportError:   # pragma: no cover - exercised where numba is absent
+    numba = None
+
+#: numba present and not switched off with BRDF_FAST=0 (read once, at import).
+ENABLED = numba is not None and os.environ.get("BRDF_FAST", "1") != "0"
+
+log = logging.getLogger("uvicorn.error")   # uvicorn shows its own loggers' lines
+
+_ready: dict[Components, Kernel] = {}
+_failed: dict[Components, str] = {}
+_queue: list[Components] = []
+_cv = threading.Condition()
+_worker: threading.Thread | None = None
+_told_numpy: set[Components] = set()
+_compile_locks: dict[Components, threading.Lock] = {}
+
+
+def components(brdf: BRDF) -> Components | None:
+    """The components that fix a model's loops, or None if they cannot be compiled."""
+    ndf = brdf.ndf
+    if not isinstance(ndf, SlopeSpaceNDF):
+        return None
+    if brdf.g2.isotropic_only and not ndf.isotropic:
+        return None          # numpy refuses it with its own message
+    lp = lambda_phi_entry(brdf.lambda_phi) if brdf.g2.needs_phi else None
+    if brdf.g2.needs_phi and lp is None:
+        return None          # a λ(φ) that is not registered (no scalar formula)
+    c = Components(type(ndf), brdf.masking, brdf.g2, type(brdf.fresnel), lp)
+    return c if c.complete() else None
+
+
+def lookup(brdf: BRDF) -> Kernel | None:
+    """The ready kernel of ``brdf``'s model, else None (and the model is queued)."""
+    if not ENABLED:
+        return None
+    c = components(brdf)
+    if c is None:
+        return None
+    kernel = _ready.get(c)
+    if kernel is None and c not in _failed:
+        _enqueue([c])
+        if c not in _told_numpy:
+            _told_numpy.add(c)
+            log.info("numpy path for %s: its compiled loops are not ready yet", c.label)
+    return kernel
+
+
+def compile_now(brdf: BRDF) -> Kernel | None:
+    """The kernel of ``brdf``'s model, compiled (or loaded) in this thread if needed."""
+    if not ENABLED:
+        return None
+    c = components(brdf)
+    return None if c is None else _build(c)
+
+
+def wait(brdf: BRDF, timeout: float) -> Kernel | None:
+    """The kernel of ``brdf``'s model, waiting at most ``timeout`` seconds for the
+    background thread (the model goes to the front of its queue); None if not ready by
+    then. For work that is much cheaper compiled, such as a table build."""
+    if not ENABLED or (c := components(brdf)) is None or c in _failed:
+        return None
+    if c not in _ready:
+        _enqueue([c], front=True)
+        deadline = time.monotonic() + timeout
+        with _cv:
+            while c not in _ready and c not in _failed and time.monotonic() < deadline:
+                _cv.wait(max(deadline - time.monotonic(), 0.0))
+    return _ready.get(c)
+
+
+def start(brdfs) -> None:
+    """Queue the loops of these models, in order, for the background thread."""
+    if ENABLED:
+        _enqueue([c for c in map(components, brdfs) if c is not None])
+
+
+def ready() -> list[str]:
+    return [c.label for c in _ready]
+
+
+@contextlib.contextmanager
+def disabled():
+    """Within the block :func:`lookup` gives None: every caller takes the numpy path
+    (benchmarks compare the two side by side; tests take the reference from it)."""
+    global ENABLED
+    before, ENABLED = ENABLED, False
+    try:
+        yield
+    finally:
+        ENABLED = before
+
+
+def f(brdf: BRDF, l, v) -> np.ndarray:
+    """f(l, v): the compiled loop when the model's is ready, else BRDF.evaluate; the
+    second lobe and the Kulla-Conty term as BRDF.evaluate adds them."""
+    kernel = lookup(brdf)
+    if kernel is None:
+        return brdf.evaluate(l, v, ("f",))["f"]
+    single = brdf.single() if isinstance(brdf, CompensatedBRDF) else brdf
+    first = replace(single, lobe2=None, lobe_mix=0.0)
+    out = kernel.f(first, l, v)
+    if single.lobe2 is not None and single.lobe_mix > 0:
+        out = blend_lobes(single.lobe_mix, out, kernel.f(replace(first, ndf=single.lobe2), l, v))
+    if isinstance(brdf, CompensatedBRDF):
+        out = out + brdf.multiscatter_f(l, v)
+    return out
+
+
+def _enqueue(cs: list[Components], front: bool = False) -> None:
+    global _worker
+    with _cv:
+        for c in cs:
+            if c in _ready or c in _failed:
+                continue
+            if front and c in _queue[1:]:
+                _queue.remove(c)           # the head may be compiling: leave it there
+            if c not in _queue and front:
+                _queue.insert(1 if _queue else 0, c)   # behind the one being compiled
+            elif c not in _queue:
+                _queue.append(c)
+        if _worker is None or not _worker.is_alive():
+            _worker = threading.Thread(target=_work, name="kernel-compiler", daemon=True)
+            _worker.start()
+        _cv.notify_all()
+
+
+def _work() -> None:
+    """Compile queued models one by one at a lower CPU priority than the requests."""
+    try:
+        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), 10)
+    except (AttributeError, OSError):   # not Linux: same priority
+        pass
+    while True:
+        with _cv:
+            while not _queue:
+                _cv.wait()
+            c = _queue[0]
+        _build(c)
+        with _cv:
+            if c in _queue:
+                _queue.remove(c)
+            _cv.notify_all()
+
+
+def _build(c: Components) -> Kernel | None:
+    if c in _ready:
+        return _ready[c]
+    with _cv:
+        lock = _compile_locks.setdefault(c, threading.Lock())
+    with lock:
+        if c in _ready or c in _failed:
+            return _ready.get(c)
+        t0 = time.perf_counter()
+        try:
+            module = compose.load(c)
+            kernel = Kernel(c, module)
+            kernel.warm()
+        except Exception as exc:   # a formula numba cannot compile: numpy serves it
+            with _cv:
+                _failed[c] = f"{type(exc).__name__}: {exc}"
+                _cv.notify_all()
+            log.warning("no compiled loops for %s (numpy serves it): %s", c.label, _failed[c])
+            return None
+        hits = sum(sum(k.stats.cache_hits.values()) for k in (module.f_loop, module.albedo_rows))
+        how = "loaded from numba's cache" if hits == 2 else "compiled"
+        log.info("compiled loops ready for %s: %s in %.1f s", c.label, how,
+                 time.perf_counter() - t0)
+        with _cv:
+            _ready[c] = kernel
+            _cv.notify_all()
+        return kernel

@@ -1,0 +1,102 @@
+"""A model's compiled loops, called with the model's parameters as float arrays.
+
+The loops release the GIL (``nogil``); above PARALLEL_MIN items the work is split into
+one contiguous block per core and the blocks run on a small thread pool, so no numba
+threading layer (and none of its environment) is involved.
+"""
+from __future__ import annotations
+
+import os
+from concurrent.futures import ThreadPoolExecutor
+
+import numpy as np
+
+from .compose import Components
+
+#: Below this many items (pairs, or quadrature nodes) one thread does the work: a block
+#: handed to a pool thread costs ~50 µs, ~1 000 pair evaluations.
+PARALLEL_MIN = 20_000
+WORKERS = max(1, min(os.cpu_count() or 1, 8))
+_pool = ThreadPoolExecutor(max_workers=WORKERS, thread_name_prefix="kernel")
+
+
+def inputs(*arrays, shape: tuple | None = None) -> tuple[np.ndarray, ...]:
+    """C-contiguous float64 read-only views (copies only where needed). numba compiles
+    one version per array type, and writability is part of it: with every input
+    read-only, each loop has exactly the one version the warm-up compiled."""
+    out = []
+    for a in arrays:
+        a = np.asarray(a, dtype=float)
+        if shape is not None:
+            a = np.broadcast_to(a, shape)
+        a = np.ascontiguousarray(a).view()
+        a.flags.writeable = False
+        out.append(a)
+    return tuple(out)
+
+
+def _split(loop, n: int, work: int, before: tuple, after: tuple) -> None:
+    """loop(*before, start, stop, *after) over [0, n), in one block per core on the pool
+    when the ``work`` (evaluations) makes it pay."""
+    k = min(WORKERS, n)
+    if work < PARALLEL_MIN or k < 2:
+        loop(*before, 0, n, *after)
+        return
+    edges = np.linspace(0, n, k + 1).astype(np.int64)
+    futures = [_pool.submit(loop, *before, int(a), int(b), *after)
+               for a, b in zip(edges[:-1], edges[1:]) if b > a]
+    for f in futures:
+        f.result()
+
+
+class Kernel:
+    """The loops of one :class:`Components`; parameters come from the BRDF at each call."""
+
+    def __init__(self, components: Components, module):
+        self.components = components
+        self._f_loop = module.f_loop
+        self._albedo_rows = module.albedo_rows
+
+    @staticmethod
+    def params(lobe) -> tuple[np.ndarray, ...]:
+        """(p_ndf, p_mask, p_g2, p_fresnel) of a single-lobe BRDF."""
+        ndf = lobe.ndf
+        return inputs(ndf.kernel_params(), lobe.masking.kernel_params(ndf),
+                      lobe.g2.kernel_params(ndf), lobe.fresnel.kernel_params())
+
+    def f(self, lobe, l, v) -> np.ndarray:
+        """f(l, v) of a single-lobe BRDF (no second lobe, no compensation) for l, v
+        broadcastable (..., 3)."""
+        l, v = np.broadcast_arrays(np.asarray(l, dtype=float), np.asarray(v, dtype=float))
+        shape = l.shape[:-1]
+        l2, v2 = inputs(l.reshape(-1, 3), v.reshape(-1, 3))
+        out = np.empty(l2.shape[0])
+        ndf = lobe.ndf
+        _split(self._f_loop, out.size, out.size, (l2, v2, out),
+               (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd) / np.pi, *self.params(lobe)))
+        return out.reshape(shape)
+
+    def albedo_rows(self, lobe, v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log) -> np.ndarray:
+        """Σ_u g du along each ψ of each view (n, P): the albedo integrand at the nodes of
+        albedo._integrate_order (see there for the rules' arguments)."""
+        (v,) = inputs(v)
+        cp, sp, U, V0 = inputs(cp, sp, U, V0, shape=np.shape(cp))
+        head, tail, w_u, h, dh = inputs(*(np.ravel(a) for a in (head, tail, w_u, h, dh)))
+        rows = np.empty(cp.shape)
+        ndf = lobe.ndf
+        _split(self._albedo_rows, rows.size, rows.size * tail.size,
+               (v, cp, sp, U, V0, head, tail, w_u, h, dh, bool(use_log), rows),
+               (float(ndf.alpha_x), float(ndf.alpha_y), *self.params(lobe)))
+        return rows
+
+    def warm(self) -> None:
+        """Compile (or load from numba's cache) both loops, on one point each, with the
+        argument types the calls above use."""
+        l, = inputs([[0.0, 0.0, 1.0]])
+        p, = inputs(np.zeros(1))
+        self._f_loop(l, l, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p)
+        node, = inputs([[0.5]])
+        rule, = inputs([0.5])
+        self._albedo_rows(l, node, node, node, node, rule, rule, rule, rule, rule, False,
+                          np.empty((1, 1)), 0, 0, 0.5, 0.5, p, p, p, p)
+
