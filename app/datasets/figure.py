@@ -2,8 +2,9 @@
 the 3-D lobe), the data's own image (the slice, the lit sphere), or the relative error
 (data − model)/model one toggle away, titled with its largest value and where.
 
-The data's trace is drawn by the view's own figure function from the data's arrays, so
-it shares the view's axes, scales and conventions; only its style changes here.
+Curves get the data as markers on the model's own axes; a surface or an image is drawn by
+the view's own figure function from the data's arrays, so it shares the view's scales
+and conventions.
 """
 from __future__ import annotations
 
@@ -30,28 +31,38 @@ def where_text(result: dict) -> str:
     return f"largest {100 * result['max_relative_error']:+.2f} % at {at}"
 
 
-def with_data(model_figure: dict, data_figure: dict, result: dict, label: str) -> dict:
-    """The model's figure with the data's main trace added (curves: markers; a surface:
-    translucent), or — for an image — the data's own figure, retitled."""
-    trace = dict(data_figure["data"][0])
-    kind = trace.get("type", "scatter")
-    title = f"{label} — {where_text(result)} (data − model)/model"
+def with_data(model_figure: dict, result: dict, label: str, data_figure: dict | None = None) -> dict:
+    """The model's figure with the data added as markers (curves: on the model's own axes),
+    a translucent grey surface (the 3-D lobe: ``data_figure``'s, drawn by the view from
+    the data), or — for an image — ``data_figure`` itself, retitled."""
+    kind = model_figure["data"][0].get("type", "scatter")
     if kind in IMAGES:
         layout = dict(data_figure["layout"], title={"text": f"Data {label} — {where_text(result)}"})
         return {"data": data_figure["data"], "layout": layout}
-    trace.update(name=f"data {label}", showlegend=True)
-    for key in ("fill", "fillcolor", "line"):
-        trace.pop(key, None)
-    if kind in CURVES:
-        trace.update(mode="markers", marker={"color": DATA_COLOR, "size": 5, "symbol": "circle-open"})
-        if result.get("data_error") is not None and kind == "scatter":
+    name = f"data {label}"
+    if kind == "scatterpolar":
+        (theta,) = result["axes"].values()
+        trace = {"type": "scatterpolar", "theta": theta, "r": gaps(result["data"])}
+    elif kind in CURVES:
+        (x,) = result["axes"].values()
+        trace = {"type": "scatter", "x": x, "y": gaps(result["data"])}
+        if result.get("data_error") is not None:
             trace["error_y"] = {"type": "data", "array": result["data_error"], "visible": True,
                                 "thickness": 1, "color": DATA_COLOR}
     else:   # a surface: the data's, translucent and grey, through the model's
-        trace.update(opacity=0.45, colorscale="Greys", showscale=False)
+        trace = dict(data_figure["data"][0], opacity=0.45, colorscale="Greys", showscale=False)
+    if kind in CURVES:
+        trace.update(mode="markers", marker={"color": DATA_COLOR, "size": 5, "symbol": "circle-open"})
+    trace.update(name=name, showlegend=True)
     out = {"data": [*model_figure["data"], trace], "layout": dict(model_figure["layout"])}
-    out["layout"]["title"] = {"text": title}
+    out["layout"]["title"] = {"text": f"{_text(model_figure)} · {name}: {where_text(result)} "
+                                      "(data − model)/model"}
     return out
+
+
+def _text(figure: dict) -> str:
+    title = figure.get("layout", {}).get("title")
+    return title.get("text", "") if isinstance(title, dict) else str(title or "")
 
 
 def relative_error(result: dict, label: str) -> dict:

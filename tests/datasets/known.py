@@ -41,3 +41,21 @@ def merl_bytes() -> bytes:
     from app.model import make_spec
     table = tabulate.merl_table([make_spec(**model(c)).brdf() for c in "rgb"])
     return merl.write(table)
+
+
+#: a measured-looking material: two GGX lobes (α = 0.06 and 0.3, the second weighted
+#: 0.35), a coppery Schlick F0 per channel, a little diffuse, 3 % multiplicative noise
+#: (fixed seed) and cells near grazing (θ_d > 80°) left unmeasured, as measurements are
+MEASURED_STYLE = {"ndf": "ggx", "alpha": 0.06, "alpha2": 0.3, "lobe_mix": 0.35, "kd": 0.02}
+MEASURED_F0 = {"r": 0.95, "g": 0.64, "b": 0.54}
+
+
+@functools.cache
+def measured_style_bytes() -> bytes:
+    from app.datasets import merl, tabulate
+    from app.model import make_spec
+    table = tabulate.merl_table([make_spec(**MEASURED_STYLE, f0=MEASURED_F0[c]).brdf() for c in "rgb"])
+    rng = np.random.default_rng(2003)
+    noisy = np.where(table >= 0, table * np.exp(0.03 * rng.standard_normal(table.shape)), table)
+    noisy[:, :, 80:, :] = merl.NOT_MEASURED
+    return merl.write(noisy)

@@ -104,10 +104,10 @@ def test_figures_add_the_data_and_show_the_relative_error(merl_data, brdf):
     arrays = quantities.lobe_curve(brdf, 30.0, 0.0, 91, False)
     out = overlay.lobe(merl_data, brdf, arrays, Q, "r")
     model_fig = lobe_figure(arrays, known.model("r"), 30.0)
-    data_fig = lobe_figure({**arrays, "f": out["data"]}, known.model("r"), 30.0)
-    both = figure.with_data(model_fig, data_fig, out, "(r)")
+    both = figure.with_data(model_fig, out, "(r)")
     assert len(both["data"]) == len(model_fig["data"]) + 1
     assert both["data"][-1]["name"] == "data (r)" and both["data"][-1]["mode"] == "markers"
+    np.testing.assert_array_equal(both["data"][-1]["theta"], arrays["theta_o_deg"])
     assert "largest" in both["layout"]["title"]["text"]
     error = figure.relative_error(out, "(r)")
     assert error["data"][0]["type"] == "scatter"
