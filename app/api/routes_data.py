@@ -1,6 +1,5 @@
 """Data sets (upload, summary, delete), fits of models to them, and models exported as
 data. The work is in app/datasets and app/fit; this file reads bodies and answers."""
-from __future__ import annotations
 
 import re
 import threading
@@ -8,10 +7,11 @@ from typing import Annotated, Any, Literal, Optional
 
 import numpy as np
 from fastapi import APIRouter, Body, Path, Query, Request, Response
-from pydantic import BaseModel, ConfigDict, Field
+from pydantic import BaseModel, ConfigDict, Field, create_model
 from starlette.concurrency import run_in_threadpool
 
-from ..datasets import compare, formats, summary, tabulate
+from .. import figures
+from ..datasets import compare, figure, formats, overlay, summary, tabulate
 from ..fit import run as fitting
 from ..fit.problem import MEASURES
 from ..integrate import budget
@@ -20,6 +20,7 @@ from ..errors import ParameterError, TooLarge
 from ..model import make_spec
 from . import schemas
 from .encode import json_response
+from .views import VIEWS, View
 
 router = APIRouter(prefix="/api/v1")
 
@@ -216,3 +217,66 @@ def fit(request: Request, body: Annotated[FitBody, Body(openapi_examples={"GGX t
     run = fitting.fit_all if body.fit_all else fitting.fit
     result = run(data, body.model, body.free, body.measure, body.channel, seconds, body.max_points)
     return json_response({"data": body.data, **result})
+
+
+Channel = Optional[Literal["r", "g", "b", "luminance", "f", "D", "G1", "F"]]
+
+
+def _overlay_query(view: View) -> type:
+    """The view's figure query plus the data set's channel and the difference toggle."""
+    return create_model(
+        f"{view.name.title()}DataQuery", __base__=view.figure_query,
+        channel=(Channel, Field(None, description="r, g, b or luminance (the default) of RGB data")),
+        difference=(bool, Field(False, description="draw (data − model)/model instead")))
+
+
+def _overlay(request: Request, view: View, data_id: str, q):
+    """The view run for the model, the data on its axes, and the model's figure maker."""
+    data, info = store(request).get(data_id, "data_id", "path")
+    view.check(q, request.app.state.settings)
+    spec = make_spec(**schemas.model_values(q))
+    arrays = view.compute(spec, q)
+    extra = (info,) if view.name == "albedo" else ()
+    found = overlay.OVERLAYS[view.name](data, spec.brdf(), arrays, q, q.channel, *extra)
+    default = data.channels[0] if len(data.channels) == 1 or data.kind == "term" else "luminance"
+    return spec, arrays, found, f"({q.channel or default})"
+
+
+def _overlay_data_route(view: View):
+    model = _overlay_query(view)
+
+    def route(request: Request, data_id: DataId, q: Annotated[model, Query()]) -> Response:
+        _, _, found, _ = _overlay(request, view, data_id, q)
+        return json_response(found)
+    return route
+
+
+def _overlay_figure_route(view: View):
+    model = _overlay_query(view)
+
+    def route(request: Request, data_id: DataId, q: Annotated[model, Query()]) -> Response:
+        spec, arrays, found, label = _overlay(request, view, data_id, q)
+        if q.difference:
+            return Response(figures.to_json(figure.relative_error(found, label)),
+                            media_type="application/json")
+        model_figure = view.figure(arrays, spec, q)
+        data_figure = None
+        if model_figure["data"][0].get("type") not in figure.CURVES:
+            data_figure = view.figure({**arrays, **found["axes"], found["key"]: found["data"]}, spec, q)
+        return Response(figures.to_json(figure.with_data(model_figure, found, label, data_figure)),
+                        media_type="application/json")
+    return route
+
+
+for _name in overlay.OVERLAYS:
+    _view = VIEWS[_name]
+    router.add_api_route(
+        f"/datasets/{{data_id}}/{_name}", _overlay_data_route(_view), methods=["GET"],
+        tags=["datasets"], name=f"data_overlay_{_name}",
+        summary=f"{_view.summary} — with the data set on the same axes: data, model, model − data, "
+                "the largest relative error and where")
+    router.add_api_route(
+        f"/datasets/{{data_id}}/figures/{_name}", _overlay_figure_route(_view), methods=["GET"],
+        tags=["datasets"], name=f"figure_overlay_{_name}",
+        summary=f"Plotly figure: {_view.summary} — with the data set (difference=true: "
+                "(data − model)/model)")

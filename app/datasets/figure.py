@@ -17,6 +17,9 @@ DATA_COLOR = "#000000"
 #: traces that become markers (curves) and the image types that are drawn on their own
 CURVES = {"scatter", "scatterpolar"}
 IMAGES = {"heatmap"}
+#: how "where" names the overlay's axes
+SYMBOLS = {"theta_o_deg": "θ_o", "theta_deg": "θ", "phi_deg": "φ_v", "mu": "μ", "theta_h_deg": "θ_h",
+           "theta_d_deg": "θ_d"}
 #: axis labels of the relative-error figure by the overlay's axis names
 LABELS = {"theta_o_deg": "θ_o (degrees; > 0 on the mirror side)", "theta_deg": "θ (degrees)",
           "mu": "μ = cos θ_v", "theta_h_deg": "θ_h (degrees)", "theta_d_deg": "θ_d (degrees)",
@@ -27,7 +30,8 @@ def where_text(result: dict) -> str:
     """"largest +7.0 % at θ_o = 62°" (or that nothing could be compared)."""
     if result["max_relative_error"] is None:
         return "no point where both the data and a positive model value exist"
-    at = ", ".join(f"{name} = {value:.3g}" for name, value in result["where"].items())
+    at = ", ".join(f"{SYMBOLS.get(name, name)} = {value:.3g}{'°' if name.endswith('_deg') else ''}"
+                   for name, value in result["where"].items())
     return f"largest {100 * result['max_relative_error']:+.2f} % at {at}"
 
 
@@ -37,7 +41,8 @@ def with_data(model_figure: dict, result: dict, label: str, data_figure: dict | 
     the data), or — for an image — ``data_figure`` itself, retitled."""
     kind = model_figure["data"][0].get("type", "scatter")
     if kind in IMAGES:
-        layout = dict(data_figure["layout"], title={"text": f"Data {label} — {where_text(result)}"})
+        layout = dict(data_figure["layout"], title=_retitled(data_figure, f"Data {label} — "
+                                                                          f"{where_text(result)}"))
         return {"data": data_figure["data"], "layout": layout}
     name = f"data {label}"
     if kind == "scatterpolar":
@@ -55,14 +60,20 @@ def with_data(model_figure: dict, result: dict, label: str, data_figure: dict | 
         trace.update(mode="markers", marker={"color": DATA_COLOR, "size": 5, "symbol": "circle-open"})
     trace.update(name=name, showlegend=True)
     out = {"data": [*model_figure["data"], trace], "layout": dict(model_figure["layout"])}
-    out["layout"]["title"] = {"text": f"{_text(model_figure)} · {name}: {where_text(result)} "
-                                      "(data − model)/model"}
+    out["layout"]["title"] = _retitled(model_figure, f"{_text(model_figure)}<br>{name}: "
+                                                     f"(data − model)/model {where_text(result)}")
     return out
 
 
 def _text(figure: dict) -> str:
     title = figure.get("layout", {}).get("title")
     return title.get("text", "") if isinstance(title, dict) else str(title or "")
+
+
+def _retitled(figure: dict, text: str) -> dict:
+    """The figure's title style with a new text."""
+    title = figure.get("layout", {}).get("title")
+    return {**(title if isinstance(title, dict) else {}), "text": text}
 
 
 def relative_error(result: dict, label: str) -> dict:
