@@ -1,14 +1,25 @@
-"""Slider to pixels: headless Chromium (Debian's, driven by Playwright) on the real app.
+"""Slider to pixels: headless Chromium (Debian's, driven by Playwright) on the real app,
+1400 × 900, the default page and the page with every panel shown.
 
-For each of N moves of the α slider: the time from the slider's `input` event to the
-last `plotly_afterplot` among the panels that redraw for it (every shown panel depends on
-α), taken once the page is quiet again (window.__brdf.pending() = 0). Reported: median
-and p95, for the default page and for the page with every panel shown (?show=<all>),
-at 1280 × 800 like the browser tests. Between moves the page is let go quiet, so each
-move is measured alone (the coalescing of fast moves is tested in tests/e2e).
+Single moves: for each of N moves of the α slider, the time from the slider's `input`
+event to the last finished draw (`plotly_afterplot`, or the page's own draw event where
+it declares one) among the panels in the viewport (every shown panel
+depends on α), the page let go quiet between moves. Median and p95.
+
+Sustained drag: the slider pressed (pointerdown), 60 `input` events a second for 3 s,
+then released (change, pointerup), as a hand drags it. Reported: redraws per second of
+each panel in view during the drag; the settle time (last event → the page quiet, the
+full-resolution redraw after the release included); and how promptly each input event
+was handled: the lateness of its timer (the main thread busy drawing delays it) plus the
+time its handler ran, p95 and max, against one 60 Hz frame (16.7 ms).
+
+``python bench/slider.py [--static DIR]``: DIR serves another page (e.g. an older
+checkout's: ``git archive <commit> static | tar -x -C /tmp/before``, then
+``--static /tmp/before/static``) against the same server, for a before/after table.
 """
 from __future__ import annotations
 
+import argparse
 import os
 
 import common  # first: puts the checkout on sys.path
@@ -16,163 +27,170 @@ import common  # first: puts the checkout on sys.path
 CHROMIUM = os.environ.get("BRDF_CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = ["--no-sandbox", "--disable-gpu", "--disable-background-networking",
                  "--disable-component-update", "--disable-sync", "--no-first-run"]
-VIEWPORT = {"width": 1280, "height": 800}
+VIEWPORT = {"width": 1400, "height": 900}
+DRAG_HZ, DRAG_SECONDS = 60, 3.0
 
-QUIET_JS = """() => window.__brdf && window.__brdf.pending() === 0
-    && window.__brdf.panels().filter((p) => p.visible).every((p) => p.drawn || p.error)"""
+# The plot divs in the viewport (a shown panel's plot whose box meets the window).
+IN_VIEW_JS = """() => [...document.querySelectorAll('.js-plotly-plot, .plot')].filter((d) => {
+  const r = d.getBoundingClientRect();
+  return d.offsetParent !== null && r.width > 0 && r.bottom > 0 && r.top < innerHeight
+    && r.right > 0 && r.left < innerWidth; }).map((d) => d.id)"""
 
-# Runs in the page: moves the slider, collects plotly_afterplot per plot div.
-MOVES_JS = """async ([positions, sliderId]) => {
-  const slider = document.getElementById(sliderId);
-  const events = [];
-  const hooked = new Set();
-  const hook = () => {
-    for (const d of document.querySelectorAll('.js-plotly-plot')) {
-      if (hooked.has(d) || typeof d.on !== 'function') continue;
-      hooked.add(d);
-      d.on('plotly_afterplot', () => events.push([d.id, performance.now()]));
+QUIET_JS = """(ids) => window.__brdf && window.__brdf.pending() === 0
+    && ids.every((id) => { const d = document.getElementById(id); return d && d._fullLayout; })"""
+
+# In the page: hooks the end of each draw on every plot div (the page's own event when
+# it names one: a data-only redraw fires no plotly_afterplot), and a quiet-wait helper.
+HOOK_JS = """() => {
+  window.__bench = { events: [] };
+  const name = window.__brdf.drawEvent;
+  for (const d of document.querySelectorAll('.js-plotly-plot')) {
+    if (d.__benchHooked || typeof d.on !== 'function') continue;
+    d.__benchHooked = true;
+    const hit = () => window.__bench.events.push([d.id, performance.now()]);
+    if (name) d.addEventListener(name, hit);
+    else d.on('plotly_afterplot', hit);
+  }
+  window.__bench.quiet = async (since, deadline) => {
+    const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+    for (;;) {
+      await sleep(5);
+      const ev = window.__bench.events, now = performance.now();
+      const last = ev.length ? Math.max(since, ev[ev.length - 1][1]) : since;
+      if (window.__brdf.pending() === 0 && now - last > 60) return last;
+      if (now > deadline) return NaN;
     }
   };
-  const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+}"""
+
+MOVES_JS = """async ([positions, ids]) => {
+  const slider = document.getElementById('alpha-slider');
   const out = [];
   for (const pos of positions) {
-    hook();
-    events.length = 0;
+    window.__bench.events.length = 0;
     const t0 = performance.now();
     slider.value = String(pos);
     slider.dispatchEvent(new Event('input', { bubbles: true }));
-    // quiet: nothing pending, and no afterplot for 60 ms
-    const deadline = t0 + 20000;
-    for (;;) {
-      await sleep(5);
-      const now = performance.now();
-      const last = events.length ? events[events.length - 1][1] : t0;
-      if (window.__brdf.pending() === 0 && now - last > 60) break;
-      if (now > deadline) break;
-    }
-    const after = events.filter((e) => e[1] >= t0);
-    const fetches = performance.getEntriesByType('resource')
-      .filter((e) => e.startTime >= t0 && e.name.includes('/api/v1/'))
-      .map((e) => [new URL(e.name).pathname.split('/').pop(), e.startTime - t0, e.responseEnd - t0,
-                   e.transferSize, e.decodedBodySize]);
+    await window.__bench.quiet(t0, t0 + 20000);
     const drawn = {};
-    for (const [id, t] of after) drawn[id.replace(/^plot-/, '')] = t - t0;
-    out.push({ ms: after.length ? Math.max(...after.map((e) => e[1])) - t0 : NaN,
-               panels: new Set(after.map((e) => e[0])).size, fetches, drawn });
-    performance.clearResourceTimings();
+    for (const [id, t] of window.__bench.events) if (ids.includes(id) && t >= t0) drawn[id] = t - t0;
+    const missing = ids.filter((id) => !(id in drawn));
+    out.push({ ms: missing.length ? NaN : Math.max(...Object.values(drawn)), drawn });
   }
   return out;
 }"""
 
-
-# Runs in the page: for each shown panel, its figure fetched once, then Plotly.react
-# with it (fresh objects each time, so Plotly redoes the work) — the main-thread cost
-# of drawing that panel, without the network and without the other panels.
-DRAW_JS = """async ([names, repeat]) => {
-  const out = {};
-  for (const name of names) {
-    const div = document.getElementById('plot-' + name);
-    const url = window.__brdf.url(name);
-    if (!div || !url || !div.layout) continue;
-    const text = await (await fetch(url, { headers: { Accept: 'application/json' } })).text();
-    const ts = [];
-    for (let k = 0; k < repeat; k++) {
-      const t0 = performance.now();
-      const body = JSON.parse(text);
-      await Plotly.react(div, body.data, { ...div.layout });
-      ts.push(performance.now() - t0);
-    }
-    ts.sort((a, b) => a - b);
-    out[name] = ts[Math.floor(ts.length / 2)];
+DRAG_JS = """async ([positions, ids, hz]) => {
+  const slider = document.getElementById('alpha-slider');
+  const period = 1000 / hz;
+  const sleep = (ms) => new Promise((r) => setTimeout(r, ms));
+  window.__bench.events.length = 0;
+  slider.dispatchEvent(new PointerEvent('pointerdown', { bubbles: true }));
+  const start = performance.now() + period;
+  const handled = [];
+  let prevEnd = start;
+  for (let k = 0; k < positions.length; k++) {
+    const due = start + k * period;
+    await sleep(Math.max(0, due - performance.now()));
+    // from when this event could run (its time, or the previous one's end if that was
+    // later) to the end of its handler: the main thread's other work plus its own
+    const ready = Math.max(due, prevEnd);
+    slider.value = String(positions[k]);
+    slider.dispatchEvent(new Event('input', { bubbles: true }));
+    prevEnd = performance.now();
+    handled.push(prevEnd - ready);
   }
-  return out;
+  const last = performance.now();
+  slider.dispatchEvent(new Event('change', { bubbles: true }));
+  slider.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));
+  const settled = await window.__bench.quiet(last, last + 30000);
+  const during = (id) => window.__bench.events.filter((e) => e[0] === id && e[1] >= start && e[1] <= last).length;
+  const rates = {};
+  for (const id of ids) rates[id] = during(id) / ((last - start) / 1000);
+  return { rates, settle_ms: settled - last, handled, seconds: (last - start) / 1000 };
 }"""
+
+
+def _pct(xs, q):
+    return round(common.percentile(xs, q), 1) if xs else float("nan")
 
 
 def measure(page, url: str, moves: int, first: int) -> dict:
     page.goto(url)
-    page.wait_for_function(QUIET_JS, timeout=60_000)
-    shown = page.evaluate("() => window.__brdf.panels().filter((p) => p.visible).map((p) => p.name)")
-    # α slider positions, each used once in the run (slider ticks ``first``, first + 3,
-    # ...): no response can come from the browser's HTTP cache
+    page.wait_for_function("() => window.__brdf && window.__brdf.pending() === 0", timeout=60_000)
+    ids = [i for i in page.evaluate(IN_VIEW_JS) if i.startswith("plot-")]
+    page.wait_for_function(QUIET_JS, arg=ids, timeout=60_000)
+    page.evaluate(HOOK_JS)
+    # α slider positions, each used once in the run: no answer comes from a cache
     positions = [first + 3 * i for i in range(moves + 3)]
-    page.evaluate(MOVES_JS, [positions[:3], "alpha-slider"])          # warm
-    page.wait_for_function(QUIET_JS, timeout=60_000)
-    res = page.evaluate(MOVES_JS, [positions[3:], "alpha-slider"])
+    page.evaluate(MOVES_JS, [positions[:3], ids])          # warm
+    res = page.evaluate(MOVES_JS, [positions[3:], ids])
     ms = [r["ms"] for r in res if r["ms"] == r["ms"]]
-    # per panel: median fetch start, response end and afterplot, ms after the input event
-    breakdown = {}
-    for name in shown:
-        starts = [f[1] for r in res for f in r["fetches"] if f[0] == name]
-        ends = [f[2] for r in res for f in r["fetches"] if f[0] == name]
-        drawn = [r["drawn"][name] for r in res if name in r["drawn"]]
-        wire = [f[3] for r in res for f in r["fetches"] if f[0] == name]
-        body = [f[4] for r in res for f in r["fetches"] if f[0] == name]
-        if drawn:
-            breakdown[name] = {
-                "fetch_start_ms": round(common.median(starts), 1) if starts else None,
-                "response_end_ms": round(common.median(ends), 1) if ends else None,
-                "afterplot_ms": round(common.median(drawn), 1),
-                "bytes_wire": int(common.median(wire)) if wire else None,
-                "bytes_body": int(common.median(body)) if body else None}
-    page.wait_for_function(QUIET_JS, timeout=60_000)
-    draw = page.evaluate(DRAW_JS, [shown, 7])
-    for name, ms_draw in draw.items():
-        breakdown.setdefault(name, {})["draw_alone_ms"] = round(ms_draw, 1)
-    return {"breakdown": breakdown, "draw_sum_ms": round(sum(draw.values()), 1),"median_ms": common.median(ms) if ms else float("nan"),
-            "p95_ms": common.percentile(ms, 95),
-            "moves": len(ms), "missed": len(res) - len(ms),
-            "panels_shown": shown,
-            "panels_redrawn_median": common.median([r["panels"] for r in res])}
+    per_panel = {i.removeprefix("plot-"): round(common.median([r["drawn"][i] for r in res if i in r["drawn"]]), 1)
+                 for i in ids if any(i in r["drawn"] for r in res)}
+    n = int(DRAG_HZ * DRAG_SECONDS)
+    # a drag over 2/3 of the slider and back, positions not used above
+    lo, hi = 120, 880
+    drag_pos = [round(lo + (hi - lo) * (1 - abs(1 - 2 * k / (n - 1)))) + 1 for k in range(n)]
+    drag = page.evaluate(DRAG_JS, [drag_pos, ids, DRAG_HZ])
+    handled = drag["handled"]
+    return {"median_ms": round(common.median(ms), 1) if ms else float("nan"), "p95_ms": _pct(ms, 95),
+            "moves": len(ms), "missed": len(res) - len(ms), "in_view": [i.removeprefix("plot-") for i in ids],
+            "per_panel_median_ms": per_panel,
+            "drag_redraws_per_s": {k.removeprefix("plot-"): round(v, 1) for k, v in drag["rates"].items()},
+            "drag_settle_ms": round(drag["settle_ms"], 1),
+            "drag_input_p95_ms": _pct(handled, 95), "drag_input_max_ms": round(max(handled), 1),
+            "drag_input_over_16ms": sum(h > 16.7 for h in handled), "drag_events": len(handled),
+            "drag_seconds": round(drag["seconds"], 2)}
 
 
-def run(quick: bool = False) -> dict:
+def run(quick: bool = False, static: str | None = None) -> dict:
     from playwright.sync_api import sync_playwright
     moves = 12 if quick else 50
-    out: dict = {}
-    with common.server() as base, sync_playwright() as pw:
+    out: dict = {"slider_viewport": f"{VIEWPORT['width']}x{VIEWPORT['height']}"}
+    env = {"BRDF_STATIC_DIR": static} if static else None
+    with common.server(env) as base, sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=CHROMIUM_ARGS, headless=True)
         try:
             page = browser.new_context(viewport=VIEWPORT).new_page()
             page.goto(base + "/")
-            page.wait_for_function(QUIET_JS, timeout=60_000)
+            page.wait_for_function("() => window.__brdf && window.__brdf.pending() === 0", timeout=60_000)
             every = page.evaluate("() => window.__brdf.panels().map((p) => p.name)")
-            common.log(f"  {base}: default page, then every panel ({', '.join(every)}); "
-                       f"{moves} moves each ...")
+            common.log(f"  {base}: default page, then every panel; {moves} moves and a "
+                       f"{DRAG_SECONDS:g} s drag at {DRAG_HZ} Hz each ...")
             out["slider_loadavg"] = [common.loadavg()]
             default = measure(page, base + "/", moves, first=200)
+            out["slider_loadavg"].append(common.loadavg())
             full = measure(page, base + "/?show=" + ",".join(every), moves, first=200 + 3 * (moves + 5))
             out["slider_loadavg"].append(common.loadavg())
         finally:
             browser.close()
     for key, r in (("", default), ("_all_panels", full)):
-        out[f"slider{key}_median_ms"] = r["median_ms"]
-        out[f"slider{key}_p95_ms"] = r["p95_ms"]
-        out[f"slider{key}_moves"] = r["moves"]
-        out[f"slider{key}_missed"] = r["missed"]
-        out[f"slider{key}_panels"] = r["panels_shown"]
-        out[f"slider{key}_panels_redrawn"] = r["panels_redrawn_median"]
-        out[f"slider{key}_breakdown"] = r["breakdown"]
-        out[f"slider{key}_draw_sum_ms"] = r["draw_sum_ms"]
+        for k, v in r.items():
+            out[f"slider{key}_{k}"] = v
     return out
 
 
 def report(r: dict) -> list[str]:
-    lines = ["slider → pixels (α slider input → last plotly_afterplot), headless Chromium 1280×800; "
-             f"load average {r['slider_loadavg'][0]} → {r['slider_loadavg'][-1]}"]
+    lines = [f"slider → pixels (α), headless Chromium {r['slider_viewport']}; load average "
+             + " → ".join(str(x) for x in r["slider_loadavg"])]
     for key, label in (("", "default page"), ("_all_panels", "every panel")):
-        lines.append(f"  {label:13s}: median {r[f'slider{key}_median_ms']:6.1f} ms, p95 "
-                     f"{r[f'slider{key}_p95_ms']:6.1f} ms over {r[f'slider{key}_moves']} moves; "
-                     f"{r[f'slider{key}_panels_redrawn']:g} panels redrawn per move "
-                     f"({', '.join(r[f'slider{key}_panels'])})")
-        lines.append(f"      JSON.parse + Plotly.react of every shown panel, one after another, "
-                     f"alone: {r[f'slider{key}_draw_sum_ms']} ms")
-        for name, b in r[f"slider{key}_breakdown"].items():
-            lines.append(f"      {name:8s} fetch {b.get('fetch_start_ms')}→{b.get('response_end_ms')} ms, "
-                         f"drawn at {b.get('afterplot_ms')} ms (draw alone {b.get('draw_alone_ms')} ms); "
-                         f"{b.get('bytes_body')} B ({b.get('bytes_wire')} B on the wire)")
+        g = lambda k: r[f"slider{key}_{k}"]  # noqa: E731
+        lines.append(f"  {label}: input → last panel in view redrawn: median {g('median_ms')} ms, "
+                     f"p95 {g('p95_ms')} ms over {g('moves')} moves ({g('missed')} missed); "
+                     f"in view: {', '.join(g('in_view'))}")
+        lines.append("      per panel, median ms: " + ", ".join(f"{k} {v}" for k, v in g("per_panel_median_ms").items()))
+        lines.append(f"      drag {DRAG_HZ} Hz × {DRAG_SECONDS:g} s: redraws/s "
+                     + ", ".join(f"{k} {v}" for k, v in g("drag_redraws_per_s").items())
+                     + f"; settle {g('drag_settle_ms')} ms; input handled p95 {g('drag_input_p95_ms')} ms, "
+                     f"max {g('drag_input_max_ms')} ms, {g('drag_input_over_16ms')} of {g('drag_events')} over 16.7 ms "
+                     f"(the drag took {g('drag_seconds')} s)")
     return lines
 
 
 if __name__ == "__main__":
-    print("\n".join(report(run(quick=True))))
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--quick", action="store_true", help="12 moves instead of 50")
+    ap.add_argument("--static", help="serve this static/ directory instead of the checkout's")
+    args = ap.parse_args()
+    print("\n".join(report(run(quick=args.quick, static=args.static))))

@@ -1,0 +1,98 @@
+/* DOM building, the API's error messages, the clipboard: shared by every page. */
+
+export const API = "/api/v1";
+
+export function el(tag, attrs = {}, ...kids) {
+  const e = document.createElement(tag);
+  for (const [k, v] of Object.entries(attrs)) {
+    if (v === null || v === undefined || v === false) continue;
+    if (k === "class") e.className = v;
+    else if (k === "text") e.textContent = v;
+    else e.setAttribute(k, v === true ? "" : v);
+  }
+  for (const kid of kids) if (kid) e.append(kid);
+  return e;
+}
+
+export const $ = (sel, root = document) => root.querySelector(sel);
+
+// A symbol with an index: one or two letters (θ, α, G, F0 is not one), then "_" and a
+// short index ("θ_i", "G_1", "E_avg", "α_{x,y}"). Anything longer is a name and stays
+// a name: "height_correlated", "lambda_phi", "theta_i_deg".
+const INDEXED = /(^|[^\p{L}\p{N}_])(\p{L}{1,2})_(\p{L}{1,3}|\p{N}{1,2}|\{[^}]{1,8}\})(?![\p{L}\p{N}_])/gu;
+
+/** "θ_i (incidence)" -> θ<sub>i</sub> (incidence), built from text nodes only. */
+export function richText(text) {
+  const frag = document.createDocumentFragment();
+  text = String(text).replace(/<br\s*\/?>/gi, " ").replace(/<[^>]*>/g, "");
+  let last = 0;
+  for (const m of text.matchAll(INDEXED)) {
+    const start = m.index + m[1].length;
+    frag.append(text.slice(last, start) + m[2], el("sub", { text: m[3].replace(/[{}]/g, "") }));
+    last = m.index + m[0].length;
+  }
+  frag.append(text.slice(last));
+  return frag;
+}
+
+/** FastAPI's errors: {"detail": "message"} or {"detail": [{loc, msg, ...}, ...]}. */
+export function apiMessage(body, res) {
+  const d = body && body.detail;
+  if (typeof d === "string") return d;
+  if (Array.isArray(d) && d.length) {
+    return d.map((x) => {
+      if (typeof x === "string") return x;
+      const loc = (x.loc || []).filter((k) => k !== "query" && k !== "body").join(".");
+      const msg = x.msg || JSON.stringify(x);
+      return loc && !msg.startsWith(`${loc}:`) ? `${loc}: ${msg}` : msg;
+    }).join("; ");
+  }
+  return `The server answered ${res.status} ${res.statusText || ""}`.trim() + ".";
+}
+
+export function errorLoc(body) {
+  const d = body && body.detail;
+  return Array.isArray(d) && d[0] && Array.isArray(d[0].loc) ? d[0].loc : [];
+}
+
+export function query(params) {
+  const q = new URLSearchParams();
+  for (const [k, v] of Object.entries(params)) if (v !== undefined && v !== null) q.set(k, String(v));
+  return q.toString();
+}
+
+/** GET an API path as JSON; throws with the API's own message. */
+export async function getJSON(path) {
+  const res = await fetch(`${API}${path}`, { headers: { Accept: "application/json" } });
+  const body = await res.json().catch(() => null);
+  if (!res.ok || !body) throw new Error(apiMessage(body, res));
+  return body;
+}
+
+/** Clipboard where allowed (secure context, permission); resolves true when copied. */
+export async function copyText(text) {
+  try {
+    await navigator.clipboard.writeText(text);
+    return true;
+  } catch {
+    return false;
+  }
+}
+
+/** A short confirmation on a button, then its own label again. */
+export function flash(button, text, ms = 1500) {
+  const old = button.dataset.label || button.textContent;
+  button.dataset.label = old;
+  button.textContent = text;
+  clearTimeout(button._flash);
+  button._flash = setTimeout(() => { button.textContent = old; }, ms);
+}
+
+export function saveBlob(blob, filename) {
+  const url = URL.createObjectURL(blob);
+  const a = el("a", { href: url, download: filename });
+  document.body.append(a);
+  a.click();
+  a.remove();
+  setTimeout(() => URL.revokeObjectURL(url), 10000);
+}

@@ -1,0 +1,128 @@
+/* A data-only redraw when nothing but the data moved.
+ *
+ * Plotly.react redraws a figure whole when its data change: axes, ticks, legend and
+ * margins are measured again (10–20 ms of main thread a panel). When the new answer has
+ * the same traces (same types, names, styles: only the arrays differ), the same layout,
+ * and its data fits the autoranged axes as drawn (inside the range and filling at least
+ * FILL of it), Plotly.animate with redraw: false moves the traces alone, in Plotly's
+ * next animation frame, and a newer call interrupts an older one. Anything else (a
+ * range that must change, a legend text, an image, a 3-D surface) goes through react.
+ */
+const ARRAY_KEYS = new Set(["x", "y", "r", "theta", "customdata", "text", "hovertext"]);
+const ANIMATABLE = new Set(["scatter", "scatterpolar"]);
+const FILL = 0.6;
+
+const DTYPES = { f4: Float32Array, f8: Float64Array, i1: Int8Array, u1: Uint8Array, i2: Int16Array,
+                 u2: Uint16Array, i4: Int32Array, u4: Uint32Array };
+
+/** The numbers of a trace array: a plain or typed array, or Plotly's {dtype, bdata}. */
+export function numbers(a) {
+  if (Array.isArray(a) || ArrayBuffer.isView(a)) return a;
+  if (a && typeof a.bdata === "string" && DTYPES[a.dtype]) {
+    const bin = atob(a.bdata);
+    const bytes = new Uint8Array(bin.length);
+    for (let i = 0; i < bin.length; i++) bytes[i] = bin.charCodeAt(i);
+    return new DTYPES[a.dtype](bytes.buffer);
+  }
+  return null;
+}
+
+/** A trace without its data arrays: what must not change for a data-only redraw. */
+export function traceStyle(t) {
+  const out = {};
+  for (const [k, v] of Object.entries(t)) {
+    if (ARRAY_KEYS.has(k)) continue;
+    out[k] = k === "error_y" || k === "error_x" ? { ...v, array: undefined, arrayminus: undefined } : v;
+  }
+  return JSON.stringify(out);
+}
+
+function widen(ext, ax, values, plus, minus) {
+  const vs = numbers(values);
+  if (!vs) return false;
+  const log = ax.type === "log";
+  const up = numbers(plus), down = numbers(minus) || up;
+  for (let i = 0; i < vs.length; i++) {
+    const v = vs[i];
+    if (v === null || !Number.isFinite(v)) continue;
+    for (const w of [v, up ? v + (up[i] || 0) : v, down ? v - (down[i] || 0) : v]) {
+      if (log && !(w > 0)) continue;
+      const u = log ? Math.log10(w) : w;
+      if (u < ext.lo) ext.lo = u;
+      if (u > ext.hi) ext.hi = u;
+    }
+  }
+  return true;
+}
+
+/** Does `data` fit the drawn figure's autoranged axes as they are? */
+function fitsAxes(gd, data) {
+  const fl = gd._fullLayout;
+  const extents = new Map();
+  const ext = (ax) => {
+    if (!extents.has(ax)) extents.set(ax, { lo: Infinity, hi: -Infinity });
+    return extents.get(ax);
+  };
+  for (const t of data) {
+    if ((t.type || "scatter") === "scatterpolar") {
+      const ax = fl[t.subplot || "polar"]?.radialaxis;
+      if (!ax || !widen(ext(ax), ax, t.r)) return false;
+    } else {
+      const xa = fl[`xaxis${(t.xaxis || "x").slice(1)}`], ya = fl[`yaxis${(t.yaxis || "y").slice(1)}`];
+      if (!xa || !ya || !widen(ext(xa), xa, t.x) || !widen(ext(ya), ya, t.y, t.error_y?.array, t.error_y?.arrayminus)) return false;
+    }
+  }
+  for (const [ax, { lo, hi }] of extents) {
+    if (ax.autorange !== true || !Array.isArray(ax.range) || lo > hi) continue;
+    const r0 = Math.min(...ax.range), r1 = Math.max(...ax.range);
+    if (lo < r0 || hi > r1 || hi - lo < FILL * (r1 - r0)) return false;
+  }
+  return true;
+}
+
+/** A layout's axis ranges by axis ("xaxis", "yaxis2", "polar.radialaxis"), and the
+ * layout without them (what must not change for a data-only redraw). */
+export function splitRanges(layout) {
+  const ranges = {};
+  const rest = { ...layout };
+  for (const k of Object.keys(layout)) {
+    if (/^[xy]axis\d*$/.test(k) && Array.isArray(layout[k]?.range)) {
+      ranges[k] = layout[k].range;
+      rest[k] = { ...layout[k], range: undefined };
+    } else if (/^polar\d*$/.test(k) && Array.isArray(layout[k]?.radialaxis?.range)) {
+      ranges[`${k}.radialaxis`] = layout[k].radialaxis.range;
+      rest[k] = { ...layout[k], radialaxis: { ...layout[k].radialaxis, range: undefined } };
+    }
+  }
+  return { ranges, rest: JSON.stringify(rest) };
+}
+
+/** The server's new ranges are close enough to the drawn ones to keep the axes: each
+ * inside the drawn range and spanning at least FILL of it (in the axis's own units,
+ * log10 on a log axis, as Plotly keeps them). */
+export function rangesFit(drawn, wanted) {
+  const keys = Object.keys(wanted);
+  if (keys.length !== Object.keys(drawn).length) return false;
+  return keys.every((k) => {
+    const d = drawn[k], w = wanted[k];
+    if (!d || d.length !== 2 || w.length !== 2) return false;
+    const d0 = Math.min(...d), d1 = Math.max(...d), w0 = Math.min(...w), w1 = Math.max(...w);
+    const slack = 1e-9 * (d1 - d0);
+    return w0 >= d0 - slack && w1 <= d1 + slack && w1 - w0 >= FILL * (d1 - d0);
+  });
+}
+
+/** Can `data` replace what `gd` shows by a data-only redraw? styles: the traceStyle of
+ * each trace drawn last. */
+export function canAnimate(gd, data, styles) {
+  if (!gd._fullLayout || !styles || styles.length !== data.length) return false;
+  for (let i = 0; i < data.length; i++) {
+    if (!ANIMATABLE.has(data[i].type || "scatter") || traceStyle(data[i]) !== styles[i]) return false;
+  }
+  return fitsAxes(gd, data);
+}
+
+export function animateData(gd, data) {
+  return Plotly.animate(gd, { data, traces: data.map((_, i) => i) },
+                        { mode: "immediate", transition: { duration: 0 }, frame: { duration: 0, redraw: false } });
+}

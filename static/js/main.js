@@ -1,0 +1,239 @@
+/* The explorer: boots from the API, wires state -> URL and panels, and the chrome.
+ *   controls --(input)--> state --> URL (replaceState, throttled)
+ *                               \--> every wanted panel fetches at once (scheduler)
+ */
+import { el, $, richText, getJSON, copyText, flash } from "./dom.js";
+import { setModels, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "./model.js";
+import { ctx, stateFromSearch, scheduleUrlWrite, urlPending } from "./state.js";
+import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
+import { HINTS, PANEL_ORDER } from "./views.js";
+import { Panel, panelBar, fieldApplies } from "./panels.js";
+import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows } from "./sidebar.js";
+import { Scheduler } from "./scheduler.js";
+
+const state = ctx.state;
+const scheduler = new Scheduler();
+let panels = [];
+let booting = true;
+
+function showNotices(notes) {
+  if (!notes.length && $("#notice").hidden) return;
+  const list = $("#notice-list");
+  list.textContent = "";
+  for (const n of notes) list.append(el("li", { text: n }));
+  $("#notice").hidden = !notes.length;
+}
+
+function updateErrorLine() {
+  const line = $("#error-line");
+  const errs = [...new Set(panels.filter((p) => p.error && p.shown()).map((p) => p.error))];
+  const text = errs.length ? `Error: ${errs.join(" · ")}` : "";
+  if (line.textContent !== text) line.textContent = text;
+  line.hidden = !errs.length;
+}
+scheduler.onIdle = updateErrorLine;
+
+// ------------------------------------------------------------------- pins ----
+let pinListKey = null;
+function syncPinList() {
+  const current = pinOf(state);
+  const key = state.pins.map(encodePin).join("|") + "#" + encodePin(current);
+  if (key === pinListKey) return;
+  pinListKey = key;
+  const list = $("#pin-list");
+  list.textContent = "";
+  state.pins.forEach((pin, i) => {
+    const label = pinLabel(pin);
+    const rm = el("button", { type: "button", class: "pin-remove", "aria-label": `Remove pin ${label}`,
+                              title: "Remove this pinned model", text: "×" });
+    rm.addEventListener("click", () => setPins(state.pins.filter((_, j) => j !== i)));
+    list.append(el("li", { class: samePin(pin, current) ? "pin is-current" : "pin", "data-pin": encodePin(pin) },
+      el("span", { class: "pin-label", title: encodePin(pin) }, richText(label)), rm));
+  });
+  list.hidden = !state.pins.length;
+  $("#pin-clear").disabled = !state.pins.length;
+  const full = state.pins.length >= MAX_PINS || state.pins.some((x) => samePin(x, current));
+  $("#pin-current").disabled = full;
+  for (const p of panels) if (p.pinButton) p.pinButton.disabled = full;
+}
+function setPins(pins) {
+  state.pins = pins.slice(0, MAX_PINS);
+  syncAll();
+  onStateChange();
+}
+function pinCurrent() {
+  const m = pinOf(state);
+  if (state.pins.some((x) => samePin(x, m))) return;
+  if (state.pins.length >= MAX_PINS) return showNotices([`At most ${MAX_PINS} pinned models; remove one first.`]);
+  setPins([...state.pins, m]);
+}
+// GGX, Beckmann and Blinn-Phong at the current α (Blinn-Phong's α is its Beckmann-
+// equivalent), D(θ) on a log axis: the tails side by side in one click.
+function compareTails() {
+  const alpha = isPerceptual(state) ? Number((state.roughness ** 2).toPrecision(3)) : state.alpha;
+  const pins = ["ggx", "beckmann", "blinn_phong"].filter((n) => choiceOf("ndf", n)).map((ndf) => {
+    const s = structuredClone(state);
+    s.ndf = ndf;
+    choiceDefaults(s);
+    Object.assign(s, { alpha, anisotropic: false, perceptual: false, pins: [] });
+    fixApplicability(s);
+    return pinOf(s);
+  });
+  if (ctx.locals.has("ndf.log")) state["ndf.log"] = true;
+  setPins(pins);
+}
+
+// ------------------------------------------------------------- the loop ----
+function syncLocals() {
+  for (const [key, loc] of ctx.locals) {
+    if (loc.field.type === "boolean") loc.input.checked = !!state[key];
+    else loc.input.value = String(state[key]);
+    loc.input.parentElement.hidden = !fieldApplies(loc.view, loc.field, state);
+  }
+  for (const v of ctx.views) document.getElementById(`show-${v.name}`).checked = state.show.includes(v.name);
+  $("#compare").hidden = !state.vary;
+  $("#compare-text").textContent = state.vary
+    ? `Comparing ${state.vary} = ${state.values.split(",").join(", ")} (one curve each, where a panel can overlay curves).` : "";
+}
+function syncAll() {
+  syncSidebar();
+  syncLocals();
+  syncPinList();
+}
+
+function onStateChange() {
+  // α_y or the anisotropy can make an isotropic_only choice (Hammon's G2) stop applying
+  const notes = fixApplicability(state);
+  if (notes.length) {
+    showNotices(notes);
+    syncChoices();
+  }
+  syncDerived();
+  syncPinList();
+  syncActiveRows();
+  for (const p of panels) {
+    p.section.hidden = !p.shown();
+    scheduler.touch(p);
+  }
+  scheduleUrlWrite();
+  for (const loc of ctx.locals.values()) loc.input.parentElement.hidden = !fieldApplies(loc.view, loc.field, state);
+}
+
+/** A slider held: the heavy images come coarser until it is let go. */
+function onHold(held) {
+  if (ctx.held === held) return;
+  ctx.held = held;
+  if (!held) for (const p of panels) scheduler.touch(p);
+}
+
+// Panels are fetched only when in or near the viewport.
+const inViewObserver = new IntersectionObserver((entries) => {
+  for (const e of entries) {
+    const p = panels.find((x) => x.section === e.target);
+    if (!p) continue;
+    p.inView = e.isIntersecting;
+    scheduler.touch(p);
+  }
+}, { rootMargin: "120px" });
+
+// Plots fit their boxes when the layout changes (a panel shown, the sidebar wraps).
+const resizeObserver = new ResizeObserver((entries) => {
+  for (const { target: div, contentRect: { width, height } } of entries) {
+    if (!div._fullLayout || div.offsetParent === null || width < 10 || height < 10) continue;
+    if (Math.abs(div._fullLayout.width - width) < 1 && Math.abs(div._fullLayout.height - height) < 1) continue;
+    Promise.resolve(Plotly.Plots.resize(div)).catch(() => {});
+  }
+});
+
+function report(panel) {
+  return (kind, text) => {
+    if (kind === "busy") return panel.setStatus("loading", text);
+    if (panel.status.classList.contains("loading") && !panel.inflight) panel.setStatus(null);
+    if (kind === "note" || kind === "error") showNotices([text]);
+  };
+}
+
+async function boot() {
+  let viewList;
+  try {
+    let models;
+    [models, viewList] = await Promise.all([getJSON("/models"), getJSON("/views")]);
+    setModels(models);
+  } catch (e) {
+    booting = false;
+    $("#boot-status").textContent = `Could not load the models: ${e.message}`;
+    $("#boot-status").classList.add("failed");
+    return;
+  }
+  const rank = (v) => (PANEL_ORDER.includes(v.name) ? PANEL_ORDER.indexOf(v.name) : PANEL_ORDER.length);
+  ctx.views = viewList.map((v, i) => ({ ...v, i })).sort((a, b) => rank(a) - rank(b) || a.i - b.i);
+  const box = $("#panels");
+  panels = ctx.views.map((view) => {
+    const p = new Panel(view, { onChange: onStateChange, onPin: pinCurrent, onTails: compareTails });
+    box.append(p.section);
+    return p;
+  });
+  for (const p of panels) p.report = report(p);
+  panelBar(ctx.views, (name, on) => {
+    state.show = ctx.views.map((v) => v.name).filter((n) => (n === name ? on : state.show.includes(n)));
+    onStateChange();
+    const p = panels.find((x) => x.name === name);
+    if (on) p.section.scrollIntoView({ behavior: "smooth", block: "nearest" });
+  });
+  Object.assign(ctx.defaultState, modelDefaults(), { pins: [], vary: null, values: null,
+    show: ctx.views.map((v) => v.name).filter((n) => HINTS[n]?.shown) });
+  for (const [key, loc] of ctx.locals) ctx.defaultState[key] = loc.field.default;
+  if (reg.models.version) $("#version").textContent = `v${reg.models.version}`;
+  buildSidebar({ change: onStateChange, hold: onHold, notices: showNotices, pin: pinCurrent,
+                 clearPins: () => setPins([]) });
+  const { s, notes } = stateFromSearch(location.search);
+  Object.assign(state, s);
+  showNotices(notes);
+  syncAll();
+  $("#boot-status").hidden = true;
+  for (const p of panels) {
+    resizeObserver.observe(p.div);
+    inViewObserver.observe(p.section);
+  }
+  booting = false;
+  onStateChange();
+}
+
+// --------------------------------------------------------------- chrome ----
+$("#notice-close").addEventListener("click", () => { $("#notice").hidden = true; });
+$("#compare-stop").addEventListener("click", () => {
+  state.vary = null;
+  state.values = null;
+  for (const p of panels) p.noOverlay = false;
+  syncAll();
+  onStateChange();
+});
+$("#reset").addEventListener("click", () => {
+  if (!reg.models) return;
+  Object.assign(state, structuredClone(ctx.defaultState));
+  showNotices([]);
+  syncAll();
+  onStateChange();
+});
+$("#copy-link").addEventListener("click", async () => {
+  const btn = $("#copy-link");
+  if (await copyText(location.href)) flash(btn, "Copied ✓");
+  else {
+    showNotices([`Link to this state: ${location.href}`]);
+    flash(btn, "Link below");
+  }
+});
+
+// Test and benchmark hook: the state, and what is still to fetch or draw.
+window.__brdf = {
+  drawEvent: "brdf-drawn",          // fired on a plot div after each finished draw
+  get state() { return state; },
+  get models() { return reg.models; },
+  pending: () => (booting ? 1 : 0) + urlPending() + scheduler.pending(panels),
+  panels: () => panels.map((p) => ({ name: p.name, inflight: !!p.inflight, dirty: p.dirty, drawn: p.drawn,
+                                     error: p.error, visible: p.shown(), inView: p.inView })),
+  url: (name) => panels.find((x) => x.name === name)?.url(),
+  request: (name) => panels.find((x) => x.name === name)?.request(),
+};
+
+boot();

@@ -1,0 +1,252 @@
+/* The panels: one per view of GET /api/v1/views, each with its own toggles, its
+ * figure, one sentence of what it shows, and its export buttons. A panel knows how to
+ * ask for its figure (request) and how to draw an answer (receive, draw); when to do
+ * either is the scheduler's business.
+ */
+import { API, el, $, richText, apiMessage, errorLoc, query } from "./dom.js";
+import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
+import { ctx } from "./state.js";
+import { compareModels } from "./pins.js";
+import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId } from "./views.js";
+import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
+import { canAnimate, animateData, traceStyle, splitRanges, rangesFit } from "./fastdraw.js";
+import { exportBar } from "./exports.js";
+
+const LOADING_DELAY_MS = 300;
+
+/** The view's fields a panel sets itself: toggles, menus and bounded numbers that are
+ * not geometry (the sidebar's θ_i, φ_i) nor resolution (left at the API's defaults). */
+function panelFields(view) {
+  const geometry = new Set(reg.models.geometry.map((p) => p.name));
+  const hint = hintOf(view.name);
+  const own = new Set(hint.fields || []);
+  return view.fields.filter((f) => (own.has(f.name) || fieldRole(f) !== "resolution") && !geometry.has(f.name)
+    && !(hint.slice && f.name === "phi_deg")
+    && (f.type === "boolean" || f.enum || ((f.type === "number" || f.type === "integer")
+                                           && Number.isFinite(f.minimum) && Number.isFinite(f.maximum))));
+}
+
+/** A field that matters only for some values of another (x-applies-to) is hidden, and
+ * not sent, elsewhere: the API refuses it there. */
+export function fieldApplies(viewName, f, s) {
+  const view = ctx.views.find((v) => v.name === viewName);
+  return Object.entries(f.applies_to || {}).every(([other, allowed]) => {
+    const key = localKey(viewName, other);
+    return allowed.includes(key in s ? s[key] : view?.fields.find((x) => x.name === other)?.default);
+  });
+}
+
+function localControl(view, f, onChange) {
+  const key = localKey(view.name, f.name), id = localId(view.name, f.name);
+  const set = (v) => { ctx.state[key] = v; onChange(); };
+  let input, label;
+  if (f.type === "boolean") {
+    input = el("input", { type: "checkbox", id });
+    label = el("label", { class: "toggle", for: id, title: f.description }, input, el("span", {}, richText(fieldLabel(view, f))));
+    input.addEventListener("change", () => set(input.checked));
+  } else if (f.enum) {
+    input = el("select", { id, class: "mini" });
+    for (const x of f.enum) input.append(el("option", { value: x, text: x }));
+    label = el("label", { class: "mini-field", for: id, title: f.description }, el("span", {}, richText(fieldLabel(view, f))), input);
+    input.addEventListener("change", () => set(input.value));
+  } else {
+    const integer = f.type === "integer";
+    input = el("input", { type: "number", id, class: "mini", min: f.minimum, max: f.maximum,
+                          step: integer ? 1 : "any", inputmode: integer ? "numeric" : "decimal" });
+    label = el("label", { class: "mini-field", for: id, title: f.description }, el("span", {}, richText(fieldLabel(view, f))), input);
+    input.addEventListener("input", () => {
+      const x = input.value.trim() === "" ? NaN : Number(input.value);
+      const ok = Number.isFinite(x) && x >= f.minimum && x <= f.maximum && (!integer || Number.isInteger(x));
+      input.toggleAttribute("aria-invalid", !ok);
+      if (ok) set(x);
+    });
+    input.addEventListener("change", () => { input.value = String(ctx.state[key]); input.removeAttribute("aria-invalid"); });
+  }
+  ctx.locals.set(key, { view: view.name, field: f, input });
+  return label;
+}
+
+// D, Λ/G1 and E(μ) are taken at one azimuth: the plane of incidence's when anisotropic.
+const sliceAzimuth = (s) => (isAnisotropic(s) ? { phi_deg: s.phi_i_deg } : {});
+
+/** While a slider is held, the heavy images come coarser (about half the resolution
+ * each way; the samples a quarter): full resolution follows on release. */
+function heldResolution(view) {
+  const q = {};
+  for (const f of view.fields) {
+    if (fieldRole(f) !== "resolution" || f.type !== "integer" || !Number.isFinite(f.default)) continue;
+    const factor = view.name === "samples" ? 4 : 2;
+    q[f.name] = Math.max(f.minimum ?? 2, Math.round(f.default / factor));
+  }
+  return q;
+}
+
+export class Panel {
+  constructor(view, { onChange, onPin, onTails }) {
+    this.view = view;
+    this.name = view.name;
+    this.hint = hintOf(view.name);
+    Object.assign(this, { inflight: null, dirty: false, drawing: null, drawnKey: null, inView: false,
+                          noOverlay: false, noPin: false, drawn: false, error: null, loadingTimer: 0 });
+    const hid = `h-${view.name}`;
+    this.heading = el("h2", { id: hid }, richText(viewTitle(view)));
+    this.sub = el("span", { class: "sub" });
+    this.heading.append(" ", this.sub);
+    const tools = el("div", { class: "panel-tools" }, ...panelFields(view).map((f) => localControl(view, f, onChange)));
+    this.status = el("div", { class: "panel-status", role: "status", "aria-live": "polite" });
+    this.div = el("div", { class: "plot", id: `plot-${view.name}` });
+    const caption = el("p", { class: "caption", id: `cap-${view.name}` }, richText(this.hint.caption || view.summary || ""));
+    const bar = exportBar(() => ({ kind: view.name, params: compact(this.params(ctx.state)), div: this.div,
+                                   title: viewTitle(view) }), (k, t) => this.report?.(k, t));
+    bar.classList.add("panel-export");
+    const buttons = el("div", { class: "panel-buttons" });
+    if (this.hint.pin || this.hint.tails) {
+      const pinBar = el("div", { class: "pin-bar", role: "group", "aria-label": "Compare models" });
+      if (this.hint.pin) {
+        this.pinButton = el("button", { type: "button", class: "export pin-btn", "data-action": "pin", text: "Pin",
+                                        title: "Keep the current model as a curve on every curve panel" });
+        this.pinButton.addEventListener("click", onPin);
+        pinBar.append(this.pinButton);
+      }
+      if (this.hint.tails) {
+        const tails = el("button", { type: "button", class: "export pin-btn", "data-action": "tails", text: "Compare tails",
+                                     title: "Pin GGX, Beckmann and Blinn-Phong at the current α and show D on a log scale" });
+        tails.addEventListener("click", onTails);
+        pinBar.append(tails);
+      }
+      buttons.append(pinBar);
+    }
+    buttons.append(bar);
+    this.section = el("section", { class: `panel${this.hint.wide ? " panel-wide" : ""}${this.hint.short ? " panel-short" : ""}`,
+                                   "data-panel": view.name, "aria-labelledby": hid, "aria-describedby": caption.id, hidden: true },
+      el("header", { class: "panel-head" }, this.heading, el("div", { class: "panel-actions" }, tools, buttons)),
+      el("div", { class: "plot-wrap" }, this.div, this.status), caption);
+  }
+
+  shown(s = ctx.state) { return s.show.includes(this.name); }
+  wanted() { return this.shown() && this.inView; }
+  pinned(s) { return s.pins.length > 0 && !!this.hint.pin && !this.noPin; }
+  overlaid(s) { return !!s.vary && !this.noOverlay && this.view.vary.includes(s.vary) && !this.pinned(s); }
+
+  /** The figure's parameters that are not the model's (the "view" of a POST). */
+  viewParams(s) {
+    const q = {};
+    const geometry = new Set(reg.models.geometry.map((p) => p.name));
+    for (const f of this.view.fields) if (geometry.has(f.name)) q[f.name] = s[f.name];
+    if (this.hint.slice) Object.assign(q, sliceAzimuth(s));
+    for (const [key, loc] of ctx.locals) {
+      if (loc.view === this.name && s[key] !== loc.field.default && fieldApplies(this.name, loc.field, s)) q[loc.field.name] = s[key];
+    }
+    if (this.overlaid(s)) Object.assign(q, { vary: s.vary, values: s.values });
+    return q;
+  }
+  params(s) { return { ...modelQuery(s), ...this.viewParams(s) }; }
+
+  url(s = ctx.state) {
+    const held = ctx.held && this.hint.heavy ? heldResolution(this.view) : {};
+    return `${API}/figures/${this.name}${this.overlaid(s) ? ".json" : ""}?${query({ ...this.params(s), ...held })}`;
+  }
+
+  /** {key, url, init}: key is what the panel would draw. */
+  request(s = ctx.state) {
+    const accept = { Accept: "application/json" };
+    if (this.pinned(s)) {
+      const url = `${API}/figures/${this.name}`;
+      const body = JSON.stringify({ ...compareModels(s), view: compact(this.viewParams(s)) });
+      return { key: `POST ${url} ${body}`, url,
+               init: { method: "POST", headers: { ...accept, "Content-Type": "application/json" }, body } };
+    }
+    const url = this.url(s);
+    return { key: url, url, init: { headers: accept } };
+  }
+
+  /** Plotly keeps zoom and camera while this stays the same: per panel and toggle. */
+  uirevision(s) {
+    const own = [...ctx.locals].filter(([, l]) => l.view === this.name && l.field.type === "boolean").map(([k]) => `${k}:${s[k]}`);
+    return [this.name, ...own, this.overlaid(s) ? s.vary : "", this.pinned(s) ? "pins" : ""].join("|");
+  }
+
+  receive(req, res, body) {
+    const s = ctx.state;
+    if (res.status === 422 && req.init.method === "POST" && /cannot be compared/.test(apiMessage(body, res))) {
+      this.noPin = true;                 // this figure cannot overlay models: draw it alone
+      return { retry: true };
+    }
+    if (res.status === 422 && this.overlaid(s) && errorLoc(body).includes("vary")) {
+      this.noOverlay = true;             // an image or a surface cannot overlay curves
+      return { retry: true };
+    }
+    if (!res.ok) throw new Error(apiMessage(body, res));
+    if (!body || !Array.isArray(body.data)) throw new Error("The server sent no figure.");
+    const compare = req.init.method === "POST";
+    if (compare) compactLegend(body.data);
+    const title = titleText(body.layout).split(/<br\s*\/?>/i)[0];
+    const sub = compare ? `${JSON.parse(req.init.body).models.length} models`
+      : this.overlaid(s) ? `comparing ${s.vary} = ${String(s.values).split(",").join(", ")}`
+      : title.includes(" — ") ? title.slice(title.indexOf(" — ") + 3) : "";
+    return { data: body.data, layout: fitLayout(body.layout || {}), uirevision: this.uirevision(s), sub };
+  }
+
+  /** A data-only redraw (see fastdraw.js) when only the data moved; null otherwise. */
+  quick({ data, layout, uirevision, sub }) {
+    if (!this.drawn || this.error || uirevision !== this.uirev) return null;
+    const { ranges, rest } = splitRanges(layout);
+    if (rest !== this.rest || !rangesFit(this.ranges, ranges) || !canAnimate(this.div, data, this.styles)) return null;
+    this.setSub(sub);
+    return this.drawn_(animateData(this.div, data));
+  }
+
+  setSub(sub) {
+    if (this.subText === sub) return;
+    this.subText = sub;
+    this.sub.textContent = "";
+    this.sub.append(richText(sub));
+  }
+
+  draw({ data, layout, uirevision, sub }) {
+    this.setSub(sub);
+    this.styles = data.map(traceStyle);
+    Object.assign(this, splitRanges(layout), { uirev: uirevision });
+    return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, layout, uirevision), PLOT_CONFIG));
+  }
+
+  drawn_(promise) {
+    this.drawn = true;
+    this.error = null;
+    this.setStatus(null);
+    this.section.classList.remove("empty");
+    // one event per finished draw, whichever way it was drawn (the benchmark counts them)
+    return promise.then(() => this.div.dispatchEvent(new CustomEvent("brdf-drawn")));
+  }
+
+  fail(message) {
+    this.error = message;
+    this.setStatus("error", message);
+    this.section.classList.toggle("empty", !this.drawn);
+  }
+
+  loading(on) {
+    clearTimeout(this.loadingTimer);
+    if (on) this.loadingTimer = setTimeout(() => this.setStatus("loading", "loading…"), LOADING_DELAY_MS);
+    else if (this.status.classList.contains("loading")) this.setStatus(this.error ? "error" : null, this.error || "");
+  }
+
+  setStatus(kind, text = "") {
+    this.status.className = `panel-status${kind ? ` ${kind}` : ""}`;
+    this.status.textContent = text;
+    this.section.classList.toggle("has-error", kind === "error");
+  }
+}
+
+/** The list of panels, at the top of the figures: one toggle per view. */
+export function panelBar(views, onToggle) {
+  const bar = $("#panel-bar");
+  bar.textContent = "";
+  bar.append(el("span", { class: "panel-bar-label", text: "Panels" }));
+  for (const v of views) {
+    const box = el("input", { type: "checkbox", id: `show-${v.name}`, name: `show-${v.name}` });
+    box.addEventListener("change", () => onToggle(v.name, box.checked));
+    bar.append(el("label", { class: "chip", for: `show-${v.name}`, title: hintOf(v.name).caption || v.summary },
+      box, el("span", {}, richText(viewTitle(v)))));
+  }
+}

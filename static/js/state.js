@@ -1,0 +1,136 @@
+/* THE state and its URL. One plain object is the single source of truth; the URL
+ * carries its non-default values (API names), so a link restores the page exactly.
+ * Values the API would refuse are corrected and said so; parameters the API does not
+ * know are flagged, as the API flags them.
+ */
+import { reg, subOptions, paramFor, choiceDefaults, activeParams, subApplies, fixApplicability,
+         perceptualAllowed, secondLobeAllowed, PRESENCE } from "./model.js";
+import { inRange, rangeText, clampParam } from "./sliders.js";
+import * as pinsModule from "./pins.js";   // a cycle (pins read ctx): used in functions only
+
+export const ctx = {
+  state: {},             // THE state
+  defaultState: {},
+  views: [],             // GET /api/v1/views, in panel order
+  locals: new Map(),     // state key -> {view, field, input} of the panels' own fields
+  embed: new URLSearchParams(location.search).get("embed") === "1",
+};
+
+export const TRUE_WORDS = new Set(["1", "true", "yes", "on"]);
+// Page parameters that are not the API's: which panels, a comparison, pins, embedding.
+const PAGE_PARAMS = new Set(["show", "vary", "values", "pin", "embed", "lobe3d"]);
+
+/** State -> page URL: API names, only non-default values (a presence parameter such as
+ * alpha_y always), one `pin` per pinned model. */
+export function stateToSearch(s) {
+  const q = new URLSearchParams();
+  for (const g of reg.groups) if (s[g.name] !== g.default) q.set(g.name, s[g.name]);
+  for (const g of subOptions()) if (subApplies(g.name, s) && s[g.name] !== g.default) q.set(g.name, s[g.name]);
+  for (const p of [...activeParams(s), ...reg.models.geometry]) {
+    if (PRESENCE.has(p.name) || s[p.name] !== p.default) q.set(p.name, String(s[p.name]));
+  }
+  for (const [key, loc] of ctx.locals) if (s[key] !== loc.field.default) q.set(key, String(s[key]));
+  const shown = ctx.views.filter((v) => s.show.includes(v.name)).map((v) => v.name);
+  if (shown.join(",") !== ctx.defaultState.show.join(",")) q.set("show", shown.join(",") || "none");
+  if (s.vary) {
+    q.set("vary", s.vary);
+    q.set("values", s.values);
+  }
+  for (const pin of s.pins) q.append("pin", pinsModule.encodePin(pin));
+  if (ctx.embed) q.set("embed", "1");
+  // ':' and ',' may stand as they are in a query (RFC 3986 3.4): readable pins and lists
+  const str = q.toString().replace(/%3A/gi, ":").replace(/%2C/gi, ",");
+  return str ? `?${str}` : "";
+}
+
+function readLocal(s, key, f, raw, notes) {
+  if (f.type === "boolean") s[key] = TRUE_WORDS.has(raw.toLowerCase());
+  else if (f.enum) {
+    if (f.enum.includes(raw)) s[key] = raw;
+    else notes.push(`${key}=${raw} is not one of ${f.enum.join(", ")}; using ${f.default}.`);
+  } else {
+    const x = Number(raw);
+    if (raw.trim() !== "" && Number.isFinite(x) && x >= f.minimum && x <= f.maximum) s[key] = x;
+    else notes.push(`${key}=${raw} is not a number in [${f.minimum}, ${f.maximum}]; using ${f.default}.`);
+  }
+}
+
+/** Page URL -> {s, notes}: a hand-edited link always opens a working page, and says
+ * what it changed or left out. */
+export function stateFromSearch(search) {
+  const q = new URLSearchParams(search);
+  const s = structuredClone(ctx.defaultState);
+  const notes = [];
+  const named = [...reg.groups, ...subOptions()];
+  for (const g of named) {
+    const v = q.get(g.name);
+    if (v === null) continue;
+    if (g.choices.some((c) => c.name === v)) s[g.name] = v;
+    else notes.push(`${g.name}=${v} is not one of ${g.choices.map((c) => c.name).join(", ")}; using ${g.default}.`);
+  }
+  choiceDefaults(s);
+  for (const name of reg.params.keys()) {
+    const p = paramFor(name, s);
+    const raw = q.get(p.name);
+    if (raw === null) continue;
+    const x = raw.trim() === "" ? NaN : Number(raw);
+    if (!Number.isFinite(x)) notes.push(`${p.name}=${raw} is not a number; using ${p.default}.`);
+    else if (!inRange(p, x)) {
+      s[p.name] = clampParam(p, x);
+      notes.push(`${p.name}=${raw} is outside ${rangeText(p)}; using ${s[p.name]}.`);
+    } else s[p.name] = x;
+  }
+  s.anisotropic = reg.params.has("alpha_y") && q.has("alpha_y");
+  s.perceptual = perceptualAllowed() && q.has("roughness");
+  s.secondLobe = secondLobeAllowed() && q.has("alpha2");
+  for (const [key, loc] of ctx.locals) {
+    const raw = q.get(key);
+    if (raw !== null) readLocal(s, key, loc.field, raw, notes);
+  }
+  const names = ctx.views.map((v) => v.name);
+  if (q.has("show")) {
+    const want = q.get("show").split(",").map((x) => x.trim()).filter(Boolean);
+    const unknown = want.filter((n) => n !== "none" && !names.includes(n));
+    if (unknown.length) notes.push(`show=${unknown.join(",")}: no such panel.`);
+    s.show = names.filter((n) => want.includes(n));
+  }
+  if (TRUE_WORDS.has((q.get("lobe3d") || "").toLowerCase()) && !s.show.includes("lobe3d")) {
+    s.show = names.filter((n) => n === "lobe3d" || s.show.includes(n));
+  }
+  if (q.get("vary") && q.get("values")) {
+    s.vary = q.get("vary");
+    s.values = q.get("values");
+  }
+  notes.push(...fixApplicability(s));
+  s.pins = [];
+  for (const raw of q.getAll("pin")) {
+    const { pin, note } = pinsModule.decodePin(raw);
+    if (note) notes.push(note);
+    if (pin && !s.pins.some((x) => pinsModule.samePin(x, pin)) && s.pins.length < pinsModule.MAX_PINS) s.pins.push(pin);
+  }
+  const known = new Set([...named.map((g) => g.name), ...reg.params.keys(), ...ctx.locals.keys(), ...PAGE_PARAMS]);
+  const unknown = [...new Set(q.keys())].filter((k) => !known.has(k));
+  if (unknown.length) {
+    notes.push(`Unknown parameter${unknown.length > 1 ? "s" : ""} ${unknown.map((k) => `“${k}”`).join(", ")}: `
+               + "ignored here (the API refuses it). Check the spelling against the API's parameter names.");
+  }
+  return { s, notes, unknown };
+}
+
+// URL <- state, at most once per URL_WRITE_MS (leading and trailing edge): Chrome
+// throttles replaceState past ~200 calls per 10 s.
+const URL_WRITE_MS = 120;
+let urlTimer = 0, lastUrlWrite = -Infinity;
+function writeUrl() {
+  urlTimer = 0;
+  lastUrlWrite = performance.now();
+  const search = stateToSearch(ctx.state);
+  if (search !== location.search) history.replaceState(null, "", location.pathname + search);
+}
+export function scheduleUrlWrite() {
+  if (urlTimer) return;
+  const wait = lastUrlWrite + URL_WRITE_MS - performance.now();
+  if (wait <= 0) writeUrl();
+  else urlTimer = setTimeout(writeUrl, wait);
+}
+export const urlPending = () => (urlTimer ? 1 : 0);
