@@ -113,16 +113,29 @@ export function rangesFit(drawn, wanted) {
 }
 
 /** Can `data` replace what `gd` shows by a data-only redraw? styles: the traceStyle of
- * each trace drawn last. */
+ * each trace drawn last. A plain-text legend name may change (E_avg = 0.0488 → 0.0505):
+ * its legend entry is rewritten in place. */
 export function canAnimate(gd, data, styles) {
   if (!gd._fullLayout || !styles || styles.length !== data.length) return false;
   for (let i = 0; i < data.length; i++) {
-    if (!ANIMATABLE.has(data[i].type || "scatter") || traceStyle(data[i]) !== styles[i]) return false;
+    if (!ANIMATABLE.has(data[i].type || "scatter")) return false;
+    const style = traceStyle(data[i]);
+    if (style !== styles[i] && style !== traceStyle({ ...data[i], name: JSON.parse(styles[i]).name })) return false;
+    if (style !== styles[i] && /[<&]/.test(String(data[i].name))) return false;
   }
   return fitsAxes(gd, data);
 }
 
 export function animateData(gd, data) {
+  const names = new Map(data.map((t, i) => [i, t.name]));
   return Plotly.animate(gd, { data, traces: data.map((_, i) => i) },
-                        { mode: "immediate", transition: { duration: 0 }, frame: { duration: 0, redraw: false } });
+                        { mode: "immediate", transition: { duration: 0 }, frame: { duration: 0, redraw: false } })
+    .then(() => {
+      for (const g of gd.querySelectorAll(".legend .traces")) {
+        const i = g.__data__?.[0]?.trace?.index, text = g.querySelector(".legendtext");
+        if (text && names.has(i) && names.get(i) !== undefined && text.textContent !== String(names.get(i))) {
+          text.textContent = String(names.get(i));
+        }
+      }
+    });
 }

@@ -231,7 +231,8 @@ window.__brdf = {
   get models() { return reg.models; },
   pending: () => (booting ? 1 : 0) + urlPending() + scheduler.pending(panels),
   panels: () => panels.map((p) => ({ name: p.name, inflight: !!p.inflight, dirty: p.dirty, drawn: p.drawn,
-                                     error: p.error, visible: p.shown(), inView: p.inView })),
+                                     error: p.error, visible: p.shown(), inView: p.inView,
+                                     current: p.drawnKey === p.request().key })),
   url: (name) => panels.find((x) => x.name === name)?.url(),
   request: (name) => panels.find((x) => x.name === name)?.request(),
 };

@@ -183,7 +183,7 @@ export class Panel {
     const title = titleText(body.layout).split(/<br\s*\/?>/i)[0];
     const sub = compare ? `${JSON.parse(req.init.body).models.length} models`
       : this.overlaid(s) ? `comparing ${s.vary} = ${String(s.values).split(",").join(", ")}`
-      : title.includes(" — ") ? title.slice(title.indexOf(" — ") + 3) : "";
+      : title.includes(" — ") ? title.slice(title.indexOf(" — ") + 3) : title;
     return { data: body.data, layout: fitLayout(body.layout || {}), uirevision: this.uirevision(s), sub };
   }
 
@@ -193,6 +193,7 @@ export class Panel {
     const { ranges, rest } = splitRanges(layout);
     if (rest !== this.rest || !rangesFit(this.ranges, ranges) || !canAnimate(this.div, data, this.styles)) return null;
     this.setSub(sub);
+    this.styles = data.map(traceStyle);
     return this.drawn_(animateData(this.div, data));
   }
 
@@ -220,6 +221,7 @@ export class Panel {
   }
 
   fail(message) {
+    clearTimeout(this.loadingTimer);
     this.error = message;
     this.setStatus("error", message);
     this.section.classList.toggle("empty", !this.drawn);

@@ -9,7 +9,7 @@
  */
 export const HINTS = {
   lobe: { title: "BRDF lobe", shown: true, pin: true, keys: { log: "log", cosine: "cosine" },
-          caption: "The BRDF f(l, v) in the plane of incidence: how much light from θ_i leaves towards each θ_o." },
+          caption: "f(l, v) in the plane of incidence: the light from θ_i sent towards each θ_o." },
   ndf: { title: "Normal distribution D", shown: true, slice: true, pin: true, tails: true,
          caption: "D(θ_m): how the microfacet normals are spread around the surface normal." },
   g1: { title: "Smith masking Λ and G_1", shown: true, slice: true, pin: true,
