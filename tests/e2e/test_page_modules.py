@@ -146,9 +146,13 @@ def test_headings_render_names_as_names_and_captions_say_what_each_plot_shows(pa
     names = [v["name"] for v in page.request.get(f"{base_url}/api/v1/views").json()]
     page.goto("/?show=g2,lobe")
     wait_quiet(page, ids=("plot-g2", "plot-lobe"))
-    heading = page.locator('[data-panel="g2"] h2')
-    assert "height_correlated" in heading.inner_text()
     # a subscript is an index (θ_i, G_1, E_avg), never half of a name
+    html = page.evaluate("""async () => { const { richText } = await import('/static/js/dom.js');
+        const p = document.createElement('p');
+        p.append(richText('G2 — ggx, height_correlated, lambda_phi=1, θ_i=45°, E_avg, G_1'));
+        return p.innerHTML; }""")
+    assert html == ("G2 — ggx, height_correlated, lambda_phi=1, θ<sub>i</sub>=45°, "
+                    "E<sub>avg</sub>, G<sub>1</sub>"), html
     subs = page.evaluate("() => [...document.querySelectorAll('sub')].map((s) => s.textContent)")
     assert subs and all(len(s) <= 3 for s in subs), subs
     captions = page.evaluate("""() => [...document.querySelectorAll('.panel .caption')]
