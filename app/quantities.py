@@ -141,8 +141,29 @@ def albedo_curve(brdf: BRDF, mu, phi_deg: float, tol: float, method: str = "quad
                  order: int | None = None, samples: int = 1024, seed: int = 0) -> dict:
     """E(μ) at the given cosines and E_avg over [0, 1], with errors and cost, by
     ``method`` (integrate/methods.py; quadrature by default). With Kulla-Conty
-    compensation E is single + multiple scattering and E_single is reported too."""
-    return albedo_by(brdf, mu, np.deg2rad(phi_deg), method, tol, order, samples, seed)
+    compensation E is single + multiple scattering and E_single is reported too.
+    ``energy`` says whether E exceeds 1 beyond its errors (energy_check)."""
+    data = albedo_by(brdf, mu, np.deg2rad(phi_deg), method, tol, order, samples, seed)
+    data["energy"] = energy_check(data)
+    return data
+
+
+#: Standard errors a Monte Carlo E may lie above 1 before the model is said to create
+#: energy (3σ: a false alarm at one μ in ~740).
+ENERGY_MC_SIGMAS = 3.0
+
+
+def energy_check(data: dict) -> dict:
+    """Whether E(μ) exceeds 1 by more than every error term that applies: the method's
+    (quadrature or table bound; ENERGY_MC_SIGMAS standard errors of Monte Carlo) and the
+    Kulla-Conty compensation's own error. {"creates_energy", "excess" (max E − 1),
+    "error" (the allowance at that μ)}."""
+    E = np.asarray(data["E"], dtype=float)
+    scale = ENERGY_MC_SIGMAS if str(data.get("method", "")).startswith("mc_") else 1.0
+    allowance = scale * np.asarray(data["E_error"], dtype=float) + float(data.get("compensation_error", 0.0))
+    k = int(np.argmax(E - allowance))
+    return {"creates_energy": bool(E[k] - allowance[k] > 1.0), "excess": float(np.max(E) - 1.0),
+            "error": float(allowance[k])}
 
 
 def g2_grid(brdf: BRDF, phi_deg: float, n: int) -> dict:

@@ -27,6 +27,11 @@ from ..physics.masking import MASKINGS
 from .albedo_grid import (GRID_SAFETY, N_MU, QUAD_TOL, Grid, Scene, _affords, _cut, albedo_grid,
                           is_anisotropic, model_error)
 from .cost import CHEAPER_BELOW, COST_PAIRS, COST_SECONDS_FLOOR, seconds_per_batch
+from .pointwise import F_FLOOR, N_PHI, N_THETA, POINTWISE_SAFETY, f_grid, pointwise_error
+
+#: What a cheaper model is rated by: its albedo E(μ) (energy per direction) or f itself
+#: at every pair of directions (what a point light shows; pointwise.py).
+METRICS = ("albedo", "pointwise")
 
 #: Combinations of the acceptable single choices whose error is evaluated, at most.
 MAX_COMBINATIONS = 12
@@ -95,16 +100,30 @@ def recommend_dict(given: dict, values: dict, changes: dict, f0: float) -> dict:
 
 # ----------------------------------------------------------------------- the advice ---
 
+def _measure(model: dict, scene: Scene, metric: str, name: str):
+    """The model's grid under ``metric``: E at the albedo nodes, or f at the pointwise ones."""
+    if metric == "pointwise":
+        return f_grid(model, scene, name=name)
+    return albedo_grid(model, scene, name=name)
+
+
+def _compare(ref, alt, scene: Scene, metric: str) -> dict | None:
+    return pointwise_error(ref, alt, scene) if metric == "pointwise" else model_error(ref, alt, scene)
+
+
 def _entry(kind: str, changes: dict, model: dict, err: dict | None, cost: float | None,
            tol: float, grid: Grid | None) -> dict:
+    """One row: ``max_error`` is the bound the choice is judged by, ``max_difference``
+    (= ``node_max``) the largest difference measured at the nodes."""
     out = {"kind": kind, "label": label(changes), "changes": changes, "model": model,
            "max_error": None if err is None else err["max_error"],
+           "max_difference": None if err is None else err["node_max"],
            "relative_cost": cost,
            "within_tol": err is not None and err["max_error"] <= tol,
            "cheaper": cost is not None and cost < CHEAPER_BELOW}
     if err is not None:
         out.update({k: err[k] for k in ("node_max", "quadrature_error", "worst_alpha",
-                                        "worst_theta_deg")})
+                                        "worst_theta_deg", "worst_at") if k in err})
     if grid is not None:
         out.update(evaluations=grid.evaluations, seconds=grid.seconds)
     return out
@@ -121,10 +140,12 @@ def _new_tables(current: dict, model: dict) -> int:
 
 
 def advise(given: dict, tol: float, scene: Scene, albedo_methods: bool = False,
-           spec: ModelSpec | None = None) -> dict:
+           spec: ModelSpec | None = None, metric: str = "albedo") -> dict:
     """The advice for the model ``given`` (its parameters as the request gave them;
     ``spec``: make_spec(**given) if the caller has it — with Kulla-Conty, building a
-    model builds its table unless cached)."""
+    model builds its table unless cached) under ``metric`` (METRICS)."""
+    if metric not in METRICS:
+        raise ParameterError("metric", f"metric must be one of {', '.join(METRICS)}; got {metric!r}")
     t0 = time.perf_counter()
     spec = spec or make_spec(**given)
     values = spec.values
@@ -141,41 +162,45 @@ def advise(given: dict, tol: float, scene: Scene, albedo_methods: bool = False,
         b.cut("advise: not started: setting up the model used the time budget")
         ref_grid = Grid([], [], 0, 0.0, False)
     else:
-        ref_grid = albedo_grid(given, scene, name="the current model")
+        ref_grid = _measure(given, scene, metric, "the current model")
     base_cost = seconds_per_batch(current) if ref_grid.complete else None
     grids: dict[str, Grid] = {}
     entries: list[dict] = []
     if ref_grid.complete:
-        entries = _singles(given, values, f0, ref_grid, scene, tol, base_cost, grids)
+        entries = _singles(given, values, f0, ref_grid, scene, tol, base_cost, grids, metric)
         entries += _combinations(given, values, f0, entries, ref_grid, scene, tol, base_cost,
-                                 grids)
+                                 grids, metric)
     choices = [e for e in entries if e["within_tol"] and e["cheaper"]]
     best = min(choices, key=lambda e: (e["relative_cost"], e["max_error"]), default=None)
     rec = {"recommendation": best["model"] if best else current,
            "changes": best["changes"] if best else {},
            "max_error": best["max_error"] if best else 0.0,
+           "max_difference": best["max_difference"] if best else 0.0,
            "relative_cost": best["relative_cost"] if best else 1.0}
     evaluations = ref_grid.evaluations
     if albedo_methods and ref_grid.complete:
         quad = grids[label(rec["changes"])] if best else ref_grid
-        methods = _albedo_methods(rec["recommendation"], quad, scene, tol - rec["max_error"])
+        if metric != "albedo":          # the methods are rated on E, whatever rated the model
+            quad = albedo_grid(rec["recommendation"], scene, name="the recommended model")
+        left = tol - rec["max_error"] if metric == "albedo" else tol
+        methods = _albedo_methods(rec["recommendation"], quad, scene, left)
         entries += methods["entries"]
         rec["albedo_method"] = methods["choice"]
         evaluations += methods["evaluations"]
     evaluations += sum(e.get("evaluations", 0) for e in entries)
     b = budget.current()
     complete = not (b and b.notes)
-    rows = [{"label": "current model", "max_error": 0.0, "relative_cost": 1.0,
-             "within_tol": True}] + entries
+    rows = [{"label": "current model", "max_error": 0.0, "max_difference": 0.0,
+             "relative_cost": 1.0, "within_tol": True}] + entries
     out = {**rec, "alternatives": entries, "tol": tol, "current": current,
            "range": {"alpha_min": scene.alpha_min, "alpha_max": scene.alpha_max,
                      "theta_max_deg": scene.theta_max_deg},
-           "metric": "largest |E_alt(μ) − E_ref(μ)| (directional albedo, energy per direction) "
-                     f"over the range: {GRID_SAFETY:g} × (its largest value at the nodes + the "
-                     "quadrature error bounds there) + those bounds",
-           "grid": {"alpha": len(scene.alphas()), "mu_per_alpha": N_MU, "quadrature_tol": QUAD_TOL},
+           "metric": metric, "metric_text": _metric_text(metric),
+           **({"f_floor": F_FLOOR} if metric == "pointwise" else {}),
+           "grid": _grid_text(metric, scene),
            "row_labels": "; ".join(r["label"] for r in rows),
            "max_errors": [r["max_error"] for r in rows],
+           "max_differences": [r.get("max_difference") for r in rows],
            "relative_costs": [r["relative_cost"] for r in rows],
            "within_tol": [bool(r["within_tol"]) for r in rows],
            "cost": {"pairs": COST_PAIRS, "current_seconds": base_cost,
@@ -187,7 +212,24 @@ def advise(given: dict, tol: float, scene: Scene, albedo_methods: bool = False,
     return out
 
 
-def _singles(given, values, f0, ref_grid, scene, tol, base_cost, grids: dict) -> list[dict]:
+def _metric_text(metric: str) -> str:
+    if metric == "pointwise":
+        return (f"largest |f_alt − f_ref| / max(f_ref, {F_FLOOR:.4g} sr⁻¹) over the range of α and "
+                f"both angles (the floor: 1 % of a white Lambertian f, for f near zero): "
+                f"max_difference at the nodes, max_error = {POINTWISE_SAFETY:g} × that")
+    return ("largest |E_alt(μ) − E_ref(μ)| (directional albedo, energy per direction) over the "
+            "range: max_difference at the nodes; max_error, the bound, = min(1, "
+            f"{GRID_SAFETY:g} × (max_difference + the quadrature error bounds there) + those bounds)")
+
+
+def _grid_text(metric: str, scene: Scene) -> dict:
+    if metric == "pointwise":
+        return {"alpha": len(scene.alphas()), "theta_l": N_THETA, "theta_v": N_THETA, "phi": N_PHI}
+    return {"alpha": len(scene.alphas()), "mu_per_alpha": N_MU, "quadrature_tol": QUAD_TOL}
+
+
+def _singles(given, values, f0, ref_grid, scene, tol, base_cost, grids: dict,
+             metric: str = "albedo") -> list[dict]:
     """Every single simpler choice: its error over the range and its relative cost."""
     entries, last = [], ref_grid.seconds
     for changes in single_changes(values):
@@ -203,16 +245,16 @@ def _singles(given, values, f0, ref_grid, scene, tol, base_cost, grids: dict) ->
             make_spec(**model)
         except ParameterError:
             continue                      # this choice does not combine with the model
-        grid = albedo_grid(model, scene, name=label(changes))
+        grid = _measure(model, scene, metric, label(changes))
         last, grids[label(changes)] = max(last, grid.seconds), grid
         cost = seconds_per_batch(model) / base_cost if grid.complete else None
-        entries.append(_entry("single", changes, model, model_error(ref_grid, grid, scene),
+        entries.append(_entry("single", changes, model, _compare(ref_grid, grid, scene, metric),
                               cost, tol, grid))
     return entries
 
 
 def _combinations(given, values, f0, entries, ref_grid, scene, tol, base_cost,
-                  grids: dict) -> list[dict]:
+                  grids: dict, metric: str = "albedo") -> list[dict]:
     """Products of the acceptable single choices (at most one per option), two or more
     changes at once, tried cheapest first (their error measured directly: errors of
     separate choices do not add); stops at the first within tol, which is the cheapest."""
@@ -247,9 +289,10 @@ def _combinations(given, values, f0, entries, ref_grid, scene, tol, base_cost,
             _cut(f"advise: combination {label(changes)} not evaluated (no time left)")
             out.append(_entry("combination", changes, model, None, cost, tol, None))
             continue
-        grid = albedo_grid(model, scene, name=label(changes))
+        grid = _measure(model, scene, metric, label(changes))
         last, grids[label(changes)] = max(last, grid.seconds), grid
-        e = _entry("combination", changes, model, model_error(ref_grid, grid, scene), cost, tol, grid)
+        e = _entry("combination", changes, model, _compare(ref_grid, grid, scene, metric), cost,
+                   tol, grid)
         out.append(e)
         if e["within_tol"]:
             break

@@ -121,7 +121,8 @@ def model_error(ref: Grid, alt: Grid, scene: Scene) -> dict | None:
         if d[i] > worst:
             worst, where = float(d[i]), (float(alpha), float(np.degrees(np.arccos(scene.mu(alpha)[i]))))
         quad = max(quad, float(np.max(ea + er)))
-    return {"max_error": GRID_SAFETY * (worst + quad) + quad, "node_max": worst,
+    # an albedo difference cannot exceed 1 (both E lie in [0, 1]): the bound says no more
+    return {"max_error": min(1.0, GRID_SAFETY * (worst + quad) + quad), "node_max": worst,
             "quadrature_error": quad, "worst_alpha": where[0], "worst_theta_deg": where[1]}
 
 

@@ -3,7 +3,7 @@ angles), their albedo error and measured cost, and the cheapest within a toleran
 (app/advise.py)."""
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 from pydantic import Field
 
@@ -28,6 +28,10 @@ class AdviseQuery(schemas.ModelQuery):
         "largest roughness α the scene uses; ≥ alpha_min"))] = 1.0
     theta_max_deg: Annotated[float, Field(ge=0.0, le=90.0, description=(
         "largest polar angle of view and light in the scene, degrees, [0, 90]"))] = 90.0
+    metric: Annotated[Literal["albedo", "pointwise"], Field(description=(
+        "albedo: the largest absolute error of E(μ), energy per direction; pointwise: the "
+        "largest relative error of f itself over the range of α and both angles, with a "
+        "floor for f near zero that the answer states (metric_text)"))] = "albedo"
     albedo_methods: Annotated[bool, Field(description=(
         "also rate the albedo methods (table, Monte Carlo) against the quadrature for the "
         "recommended model; a table's first build takes seconds"))] = False
@@ -46,10 +50,10 @@ def _check_advise(q: AdviseQuery, s: Settings):
 
 
 @complete_only(RESULT_CACHE_ENTRIES, complete=lambda data: data["complete"])
-def _cached(given: Keyed, tol: float, scene: Scene, albedo_methods: bool) -> dict:
+def _cached(given: Keyed, tol: float, scene: Scene, albedo_methods: bool, metric: str) -> dict:
     """``given.value``: (the request's model parameters, the spec built from them)."""
     model, spec = given.value
-    return advise(model, tol, scene, albedo_methods, spec)
+    return advise(model, tol, scene, albedo_methods, spec, metric)
 
 
 def _compute(spec, q: AdviseQuery) -> dict:
@@ -58,7 +62,7 @@ def _compute(spec, q: AdviseQuery) -> dict:
     given = schemas.model_values(q)
     scene = Scene(q.alpha_min, q.alpha_max, q.theta_max_deg)
     return dict(_cached(Keyed((given, spec), tuple(sorted(given.items()))), q.tol, scene,
-                        q.albedo_methods))
+                        q.albedo_methods, q.metric))
 
 
 register(View(

@@ -45,11 +45,14 @@ def advise_figure(data: dict, spec: dict) -> dict:
     columns = [
         [r["label"] for r in rows],
         [kinds.get(r.get("kind"), "") for r in rows],
+        [_number(r.get("max_difference"), ".2g") for r in rows],
         [_number(r["max_error"], ".2g") for r in rows],
         [_number(r["relative_cost"], ".3g") + ("" if r["relative_cost"] is None else "×") for r in rows],
         ["—" if r["max_error"] is None else "✓" if r["within_tol"] else "✗" for r in rows],
         where,
     ]
+    pointwise = data.get("metric") == "pointwise"
+    measured = "max |Δf|/f measured" if pointwise else "max |ΔE| measured"
     rng = data["range"]
     rec = data["changes"]
     said = (", ".join(f"{k}={v}" for k, v in rec.items()) if rec else "keep the current model")
@@ -60,15 +63,18 @@ def advise_figure(data: dict, spec: dict) -> dict:
     model = ", ".join([spec["ndf"], spec["masking"], spec["g2"], spec["fresnel"]]
                       + (["Kulla-Conty"] if spec.get("multiscatter") == "kulla_conty" else []))
     # the recommendation first: a page heading shows the title's first lines only
-    title = (f"Recommended: {said} (error ≤ {data['max_error']:.2g}, "
+    what = "relative error of f" if pointwise else "albedo error"
+    title = (f"Recommended: {said} ({what} {data.get('max_difference', data['max_error']):.2g} "
+             f"measured, ≤ {data['max_error']:.2g} bound, "
              f"cost {data['relative_cost']:.3g}×)"
              + ("" if data.get("complete", True) else " — incomplete (time budget)")
              + f"<br>Cheaper choices than {model} over α ∈ [{rng['alpha_min']:g}, "
              f"{rng['alpha_max']:g}], θ ≤ {rng['theta_max_deg']:g}°, tol {data['tol']:g}")
     table = {
         "type": "table",
-        "columnwidth": [3.2, 1.6, 1.2, 1.1, 0.9, 1.7],
-        "header": {"values": ["choice", "kind", "max |ΔE|", "relative cost", "≤ tol", "largest at"],
+        "columnwidth": [3.0, 1.5, 1.2, 1.0, 1.1, 0.7, 1.7],
+        "header": {"values": ["choice", "kind", measured, "bound", "relative cost", "≤ tol",
+                              "largest at"],
                    "fill": {"color": HEADER_FILL}, "align": "left", "height": ROW_HEIGHT,
                    "font": {"size": 12}},
         "cells": {"values": columns, "fill": {"color": [fills] * len(columns)}, "align": "left",
@@ -76,8 +82,12 @@ def advise_figure(data: dict, spec: dict) -> dict:
     }
     layout = base_layout(title, margin={"l": 20, "r": 20, "t": 80, "b": 20})
     layout["annotations"] = [{
-        "text": "max |ΔE|: largest error of the directional albedo E(μ) over the range, an upper "
-                "bound; cost: CPU time of f (models) or of E (albedo methods) over the current",
+        "text": ((f"measured: the largest relative error of f at the nodes (floor "
+                  f"{data.get('f_floor', 0.0):.2g}/sr for f near zero); bound: a safety factor "
+                  "times it, what tol is checked against") if pointwise else
+                 "measured: the largest |ΔE| of the directional albedo E(μ) at the nodes; bound: "
+                 "what holds over the whole range (≤ 1), what tol is checked against")
+                + "; cost: CPU time of f (models) or of E (albedo methods) over the current",
         "xref": "paper", "yref": "paper", "x": 0, "y": 0, "yanchor": "top", "showarrow": False,
         "font": {"size": 10, "color": "#555"}}]
     return {"data": [table], "layout": layout}

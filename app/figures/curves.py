@@ -124,9 +124,11 @@ def albedo_figure(data: dict, spec: dict, y_range: str = "fit") -> dict:
                    "x": [0, 1], "y": [data["E_avg"]] * 2,
                    "line": {"color": PALETTE[2], "width": 1.5, "dash": "dot"}, "hoverinfo": "skip"})
     annotations = []
-    if np.max(E - err) > 1.0:
+    energy = data.get("energy") or {}
+    if energy.get("creates_energy"):
         annotations.append({
-            "text": "E > 1: this model is not energy-conserving (k_d + specular exceeds 1)",
+            "text": f"E > 1 by {energy['excess']:.2g}, beyond its error {energy['error']:.1g}: "
+                    "this model is not energy-conserving (k_d + specular exceeds 1)",
             "xref": "paper", "yref": "paper", "x": 0.5, "y": 1.0, "showarrow": False,
             "font": {"color": "#B00020", "size": 12}, "bgcolor": "rgba(255,255,255,0.85)"})
     shown = [E - err, [data["E_avg"]]] + ([data["E_single"]] if compensated else [])

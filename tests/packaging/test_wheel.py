@@ -1,6 +1,9 @@
 """The wheel ships the page: built from a copy of the source, installed into a fresh venv
 (dependencies from the system's site-packages, the package itself only from the wheel),
-served from another directory; /, a static module, the gallery and a figure answer."""
+served from another directory; /, a static module, the gallery and a figure answer.
+
+This directory has no __init__.py: as a package pytest would import it as ``packaging``,
+the name of the library pip and kaleido import."""
 import os
 import shutil
 import socket
