@@ -40,6 +40,12 @@ class MeasuredBRDF:
         f = select(values, self.data.channels, self.channel)
         return {"f": np.where((values >= 0).all(axis=0), f, np.nan)}
 
+    def at_deg(self, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg) -> np.ndarray:
+        """f at direction pairs given in degrees, broadcast together."""
+        l, v = np.broadcast_arrays(direction_deg(theta_i_deg, phi_i_deg),
+                                   direction_deg(theta_o_deg, phi_o_deg))
+        return self.evaluate(l, v)["f"]
+
 
 def _stats(model, data, axes: dict) -> dict:
     """model − data and (data − model)/model where both exist and the model is positive."""
@@ -92,7 +98,7 @@ def lobe(data, brdf, arrays: dict, q, channel) -> dict:
         model = evaluate(brdf, q.theta_i_deg, q.phi_i_deg, np.abs(theta_o), phi_o, ("f",))["f"]
         values = sampled
     else:
-        values = evaluate(source, q.theta_i_deg, q.phi_i_deg, np.abs(theta_o), phi_o, ("f",))["f"]
+        values = source.at_deg(q.theta_i_deg, q.phi_i_deg, np.abs(theta_o), phi_o)
     if key == "f_cos":
         mu_o = direction_deg(np.abs(theta_o), 0.0)[..., 2]
         values = values * mu_o
@@ -104,8 +110,8 @@ def lobe(data, brdf, arrays: dict, q, channel) -> dict:
 def lobe3d(data, brdf, arrays: dict, q, channel) -> dict:
     _table(data, "lobe3d")
     theta, phi = np.asarray(arrays["theta_deg"]), np.asarray(arrays["phi_deg"])
-    values = evaluate(MeasuredBRDF(data, channel), q.theta_i_deg, q.phi_i_deg, theta[:, None],
-                      phi[None, :], ("f",))["f"]
+    values = MeasuredBRDF(data, channel).at_deg(q.theta_i_deg, q.phi_i_deg, theta[:, None],
+                                                phi[None, :])
     return _result("f", {"theta_deg": theta, "phi_deg": phi}, values, arrays["f"],
                    "the table interpolated at the view's nodes",
                    {"theta_deg": theta[:, None], "phi_deg": phi[None, :]})
