@@ -6,6 +6,7 @@ degrees (API units) and are converted here, once.
 from __future__ import annotations
 
 import numpy as np
+from scipy import optimize
 
 from . import kernels
 from .adaptive import ladder, peak, refine_curve, refine_grid
@@ -192,6 +193,26 @@ def fresnel_curve(brdf: BRDF, n: int) -> dict:
     return out
 
 
+def sphere_radiance(brdf: BRDF, x, y, light) -> np.ndarray:
+    """L_o/E = f(l, v)·⟨n·l⟩ at image points (x, y) inside the unit disk (lit_sphere's
+    camera frame)."""
+    normal = np.stack([x, y, np.sqrt(np.maximum(1.0 - x * x - y * y, 0.0))], axis=-1)
+    t = np.array([1.0, 0.0, 0.0]) - normal[:, :1] * normal
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    frame = np.stack([t, np.cross(normal, t), normal], axis=-2)            # rows: t, b, n
+    l, v = frame @ light, frame @ np.array([0.0, 0.0, 1.0])
+    mu_l = l[:, 2]
+    lit = mu_l > 0.0
+    value = np.zeros(mu_l.shape)
+    if lit.any():
+        value[lit] = brdf.evaluate(l[lit], v[lit], ("f",))["f"] * mu_l[lit]
+    return value
+
+
+#: Sub-pixels per side, at most, of a pixel around the highlight (its mean is taken).
+SPHERE_SUB_MAX = 256
+
+
 def lit_sphere(brdf: BRDF, theta_i_deg: float, phi_i_deg: float, n: int) -> dict:
     """A sphere lit by one directional light, seen by an orthographic viewer along +z:
     radiance per unit irradiance L_o/E = f(l, v)·⟨n·l⟩ (1/sr) at n×n pixel centres
@@ -200,29 +221,37 @@ def lit_sphere(brdf: BRDF, theta_i_deg: float, phi_i_deg: float, n: int) -> dict
     Camera frame: v = +z; the light's polar angle θ_i is measured from v, its azimuth
     φ_i in the image plane from +x. At each pixel the surface normal is
     n = (x, y, √(1−x²−y²)) and the tangent t is +x projected onto the tangent plane
-    (the direction of α_x; it is undefined only at n = ±x, on the silhouette, which
-    no pixel centre reaches). Local directions are (·t, ·b, ·n), b = n × t.
-    """
+    (the direction of α_x). Local directions are (·t, ·b, ·n), b = n × t.
+
+    The highlight (where n = h) is narrower than a pixel at small α and falls between
+    pixel centres: the 3×3 pixels around it hold their mean over a sub-grid of spacing
+    ≤ α/2 (at most SPHERE_SUB_MAX² points each), what a camera pixel records. ``peak``
+    gives the brightest pixel against the located maximum of L_o/E (a point value: at
+    small α no pixel mean reaches it)."""
     centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
     y, x = np.meshgrid(centres[::-1], centres, indexing="ij")   # row 0 at the top
     on = x * x + y * y < 1.0
-    normal = np.stack([x[on], y[on], np.sqrt(1.0 - x[on] ** 2 - y[on] ** 2)], axis=-1)
-    ex = np.array([1.0, 0.0, 0.0])
-    t = ex - normal[:, :1] * normal
-    t /= np.linalg.norm(t, axis=-1, keepdims=True)
-    b = np.cross(normal, t)
-    frame = np.stack([t, b, normal], axis=-2)            # rows: t, b, n
     light = direction_deg(theta_i_deg, phi_i_deg)
-    view = np.array([0.0, 0.0, 1.0])
-    l, v = frame @ light, frame @ view
-    mu_l = l[:, 2]
-    lit = mu_l > 0.0
-    value = np.zeros(mu_l.shape)
-    if lit.any():
-        value[lit] = brdf.evaluate(l[lit], v[lit], ("f",))["f"] * mu_l[lit]
     radiance = np.full(x.shape, np.nan)
-    radiance[on] = value
-    return {"y": centres[::-1], "x": centres, "radiance": radiance}
+    radiance[on] = sphere_radiance(brdf, x[on], y[on], light)
+    h = light + np.array([0.0, 0.0, 1.0])
+    h /= np.linalg.norm(h)
+    pixel = 2.0 / n
+    k = int(min(SPHERE_SUB_MAX, max(1, np.ceil(2.0 * pixel / np.deg2rad(_width_deg(brdf) / 2)))))
+    near = on & (np.abs(x - h[0]) < 1.5 * pixel) & (np.abs(y - h[1]) < 1.5 * pixel)
+    offsets = (np.arange(k) + 0.5) / k * pixel - pixel / 2
+    for i, j in zip(*np.nonzero(near)):
+        sx, sy = np.meshgrid(x[i, j] + offsets, y[i, j] + offsets)
+        inside = sx * sx + sy * sy < 1.0
+        values = np.zeros(sx.shape)
+        values[inside] = sphere_radiance(brdf, sx[inside], sy[inside], light)
+        radiance[i, j] = values.mean()
+    res = optimize.minimize(lambda p: -sphere_radiance(brdf, p[:1], p[1:], light)[0], h[:2],
+                            method="Nelder-Mead", options={"xatol": 1e-9, "fatol": 0.0})
+    located = (float(res.x[0]), float(res.x[1]), float(-res.fun)) if -res.fun > 0 else None
+    return {"y": centres[::-1], "x": centres, "radiance": radiance,
+            "peak": peak(radiance, located, "radiance", "x", "y"),
+            "supersampled": {"pixels": int(near.sum()), "per_side": k}}
 
 
 def rusinkiewicz_directions(theta_h_deg, phi_h_deg, theta_d_deg, phi_d_deg):

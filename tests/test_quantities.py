@@ -127,3 +127,42 @@ def test_slice_resolves_the_highlight(alpha):
     assert np.nanmax(row) >= 0.99 * at_mirror
     theta_h = np.asarray(data["theta_h_deg"])
     assert np.sum(theta_h < np.rad2deg(alpha)) >= 3      # the highlight has a shape, not one column
+
+
+def _sphere_point_radiance(brdf, x, y, theta_i, phi_i):
+    """f·cos θ_l at image points of the orthographic sphere (v = +z, t = +x projected)."""
+    n = np.stack([x, y, np.sqrt(1 - x * x - y * y)], -1)
+    t = np.array([1.0, 0, 0]) - n[:, :1] * n
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    b = np.cross(n, t)
+    light = direction(theta_i, phi_i)
+    l = np.stack([t @ light, np.einsum("ij,j->i", b, light), n @ light], -1)
+    v = np.stack([t[:, 2], b[:, 2], n[:, 2]], -1)
+    return brdf.evaluate(l, v, ("f",))["f"] * np.maximum(l[:, 2], 0)
+
+
+@pytest.mark.parametrize("alpha", [1e-4, 1e-3])
+def test_sphere_pixels_hold_the_highlight(alpha):
+    """At small α the highlight is far narrower than a pixel: the pixels around it must
+    carry its energy (their mean radiance × area = the integral of L_o/E over them),
+    not miss it between pixel centres."""
+    brdf, n, ti, pi = make_spec(alpha=alpha).brdf(), 161, 40.3, 20.0
+    data = quantities.lit_sphere(brdf, ti, pi, n)
+    h = direction(ti, pi) + np.array([0, 0, 1.0])
+    h /= np.linalg.norm(h)
+    pixel = 2.0 / n
+    x, y = np.meshgrid(data["x"], data["y"])
+    block = (np.abs(x - h[0]) < 1.5 * pixel) & (np.abs(y - h[1]) < 1.5 * pixel)
+    drawn = np.nansum(np.asarray(data["radiance"])[block]) * pixel ** 2
+    # the integral over the block's extent, dense (spacing α/8) in a window of ±40 α
+    # around the highlight, where all but ~(1/40)² of GGX's energy lies
+    w, step = 40 * alpha, alpha / 8
+    fine = np.arange(-w, w, step) + step / 2
+    gx, gy = np.meshgrid(h[0] + fine, h[1] + fine)
+    xs, ys = x[block], y[block]
+    inside = np.zeros(gx.shape, bool)
+    for cx, cy in zip(xs, ys):
+        inside |= (np.abs(gx - cx) <= pixel / 2) & (np.abs(gy - cy) <= pixel / 2)
+    expected = _sphere_point_radiance(brdf, gx[inside], gy[inside], ti, pi).sum() * step ** 2
+    assert drawn == pytest.approx(expected, rel=0.05)
+    assert data["peak"]["radiance_true_max"] >= np.nanmax(data["radiance"])
