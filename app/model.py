@@ -13,14 +13,15 @@ import numpy as np
 from .errors import ParameterError
 from .integrate.compensation import MULTISCATTERS, compensated
 from .physics.brdf import BRDF
+from .physics.diffuse import DIFFUSES
 from .physics.fresnel import FRESNELS
 from .physics.g2 import DEFAULT_LAMBDA_PHI, G2_FORMS, LAMBDA_PHIS
 from .physics.masking import MASKINGS
 from .physics.ndf import ALPHA, ALPHA_Y, NDFS
 from .physics.params import Param
 
-KD = Param("kd", "k_d (Lambertian weight)", 0.0, 1.0, 0.0,
-           "Weight of a Lambertian term kd/π added to the specular lobe.")
+KD = Param("kd", "k_d (diffuse weight)", 0.0, 1.0, 0.0,
+           "Weight ρ of the diffuse term added to the specular lobe (kd/π for Lambert).")
 ROUGHNESS = Param("roughness", "r (perceptual roughness)", 0.01, 1.0, 0.5477225575051661,
                   "Perceptual roughness r, α = r² (Burley 2012): the other way to give α. "
                   "Not together with alpha/alpha_y.")
@@ -43,6 +44,7 @@ OPTIONS = {
     "g2": ("Masking-shadowing G2", G2_FORMS, "height_correlated"),
     "fresnel": ("Fresnel F", FRESNELS, "schlick"),
     "multiscatter": ("Multiple scattering", MULTISCATTERS, "none"),
+    "diffuse": ("Diffuse f_d", DIFFUSES, "lambert"),
 }
 
 
@@ -104,10 +106,22 @@ class ModelSpec:
         lambda_phi = LAMBDA_PHIS[v["lambda_phi"]].fn if v.get("lambda_phi") else None
         brdf = BRDF(ndf_class(v["alpha"], v.get("alpha_y"), **shape), MASKINGS[v["masking"]],
                     G2_FORMS[v["g2"]], FRESNELS[v["fresnel"]](**fresnel_values), v.get("kd", 0.0),
-                    lambda_phi=lambda_phi, lobe2=lobe2, lobe_mix=v.get("lobe_mix", 0.0))
+                    lambda_phi=lambda_phi, lobe2=lobe2, lobe_mix=v.get("lobe_mix", 0.0),
+                    diffuse=_diffuse(v))
         if v.get("multiscatter") == "kulla_conty":
             return compensated(brdf)
         return brdf
+
+
+def _diffuse(v: dict):
+    """The diffuse model of ``v``, None for Lambert (the BRDF's own kd/π). Burley and
+    Hammon take the specular roughness: α = √(α_x α_y), the isotropic α of equal area."""
+    name = v.get("diffuse", "lambert")
+    if name == "lambert":
+        return None
+    alpha = float(np.sqrt(v["alpha"] * (v.get("alpha_y") or v["alpha"])))
+    return DIFFUSES[name](alpha=alpha, **{p.name: v[p.name] for p in choice_params("diffuse", name)
+                                          if v.get(p.name) is not None})
 
 
 def make_spec(**given) -> ModelSpec:
@@ -152,7 +166,7 @@ def make_spec(**given) -> ModelSpec:
             raise ParameterError(name, f"{name} applies only with {' or '.join(owners[name])}")
         _check_range(owners[name][chosen[0]], x)
         values[name] = float(x)
-    for option in ("ndf", "fresnel"):
+    for option in ("ndf", "fresnel", "diffuse"):
         for p in choice_params(option, values[option]):
             values.setdefault(p.name, p.default)
     spec = ModelSpec(values)

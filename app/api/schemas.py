@@ -119,10 +119,11 @@ class EvalQuery(ModelQuery):
     phi_i_deg: PhiList = [0.0]
     theta_o_deg: ThetaList = [45.0]
     phi_o_deg: PhiList = [180.0]
-    quantities: Annotated[list[Literal["f", "D", "G1_i", "G1_o", "G2", "F"]],
+    quantities: Annotated[list[Literal["f", "f_diffuse", "D", "G1_i", "G1_o", "G2", "F"]],
                           BeforeValidator(_split_commas),
-                          Field(description="which quantities to return; default all")] = \
-        ["f", "D", "G1_i", "G1_o", "G2", "F"]
+                          Field(description="which quantities to return; default all "
+                                            "(f_diffuse: the diffuse term of f)")] = \
+        ["f", "f_diffuse", "D", "G1_i", "G1_o", "G2", "F"]
 
 
 class CurveQuery(ModelQuery):

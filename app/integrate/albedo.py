@@ -284,13 +284,15 @@ def albedo(brdf: BRDF, mu, phi: float = 0.0, tol: float = DEFAULT_TOL,
     scalar, or one tolerance per μ).
     """
     lobes = brdf.lobes()
-    if len(lobes) > 1 or brdf.kd:
-        # E is linear in f: a weighted sum over specular lobes, plus kd exactly
-        # (∫ (kd/π) μ_l dl = kd).
+    if len(lobes) > 1 or brdf.kd or brdf.diffuse is not None:
+        # E is linear in f: a weighted sum over specular lobes, plus the diffuse term's
+        # own albedo (kd exactly for Lambert: ∫ (kd/π) μ_l dl = kd).
         parts = [(w, albedo(lobe, mu, phi, tol, order)) for w, lobe in lobes]
         first = parts[0][1]
-        return AlbedoResult(first.mu, sum(w * r.E for w, r in parts) + brdf.kd,
-                            sum(w * r.E_error for w, r in parts), np.max([r.order for _, r in parts], axis=0),
+        E_d, E_d_error = brdf.diffuse_albedo(first.mu)
+        return AlbedoResult(first.mu, sum(w * r.E for w, r in parts) + E_d,
+                            sum(w * r.E_error for w, r in parts) + E_d_error,
+                            np.max([r.order for _, r in parts], axis=0),
                             sum(r.evaluations for _, r in parts), sum(r.seconds for _, r in parts))
     t0 = time.perf_counter()
     mu = np.atleast_1d(np.asarray(mu, dtype=float))

@@ -375,15 +375,16 @@ def table_for(lobe: BRDF, basis_p: float | None = None) -> ETable:
 
 
 def tabulated_albedo(brdf: BRDF, mu) -> tuple[np.ndarray, float, list[ETable]]:
-    """E(μ) of a BRDF from tables: Σ_lobes w (F₀ E₁ + (F₉₀ − F₀) E_S) + kd, for F = 1 or
-    generalised Schlick (E is linear in f and in F). Returns (E, error bound, tables).
+    """E(μ) of a BRDF from tables: Σ_lobes w (F₀ E₁ + (F₉₀ − F₀) E_S) + E_d (the diffuse
+    term's albedo, kd for Lambert), for F = 1 or generalised Schlick (E is linear in f and in F). Returns (E, error bound, tables).
     Raises ValueError for other Fresnel forms and anisotropic roughness."""
     parts = brdf.fresnel.schlick_basis()
     if parts is None:
         raise ValueError(f"method=table needs a Fresnel on the Schlick basis (none or schlick: E "
                          f"is tabulated per basis function); got fresnel={brdf.fresnel.name}")
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
-    E, error, tables = np.full(mu.shape, float(brdf.kd)), 0.0, []
+    E, error = brdf.diffuse_albedo(mu)
+    tables = []
     for w, lobe in brdf.lobes():
         for c, basis in parts:
             if c == 0:

@@ -1,7 +1,9 @@
 """The single-bounce microfacet BRDF plus a Lambertian term.
 
-f(l, v) = kd/π + D(h) F(v·h) G2(l, v) / (4 |n·l| |n·v|), h = (l+v)/‖l+v‖, F of the
-angle between v and h, no cosine in f (Walter et al. 2007, eq. 20).
+f(l, v) = f_d + D(h) F(v·h) G2(l, v) / (4 |n·l| |n·v|), h = (l+v)/‖l+v‖, F of the
+angle between v and h, no cosine in f (Walter et al. 2007, eq. 20). The diffuse term f_d
+is kd/π (Lambert) unless ``diffuse`` names another model of app/physics/diffuse/, which
+then takes ρ = kd.
 
 Reflection only: f = 0 unless both l and v are in the closed upper hemisphere.
 Where l = −v the specular term is 0. Where both graze, the height-correlated specular
@@ -18,6 +20,7 @@ from typing import Callable
 
 import numpy as np
 
+from .diffuse import Diffuse
 from .fresnel import Fresnel
 from .g2 import G2Form, azimuth_difference
 from .masking import G1, Masking
@@ -25,7 +28,7 @@ from .ndf import NDF
 from .numeric import on_mask, where_valid
 from .vectors import dot, half_vector
 
-QUANTITIES = ("f", "D", "G1_i", "G1_o", "G2", "F")
+QUANTITIES = ("f", "f_diffuse", "D", "G1_i", "G1_o", "G2", "F")
 
 
 @dataclass(frozen=True)
@@ -38,6 +41,7 @@ class BRDF:
     lambda_phi: Callable | None = None  # λ(φ) for the direction-correlated G2 forms
     lobe2: NDF | None = None            # second specular lobe (same NDF, its own α)
     lobe_mix: float = 0.0               # its weight w
+    diffuse: Diffuse | None = None      # None: Lambert kd/π
 
     def evaluate(self, l, v, want=("f",)) -> dict[str, np.ndarray]:
         """The requested quantities (a subset of :data:`QUANTITIES`) at direction pairs.
@@ -69,10 +73,14 @@ class BRDF:
             G2, V = self.g2.G2_and_V(np.maximum(mu_l, 0.0), np.maximum(mu_v, 0.0), ml_l, ml_v,
                                      phi=phi, ndf=self.ndf, lambda_phi=self.lambda_phi)
             G2 = np.where(upper & h_exists, G2, 0.0)
+        if "f" in want or "f_diffuse" in want:
+            f_diffuse = self._f_diffuse(l, v, upper)
+        if "f_diffuse" in want:
+            out["f_diffuse"] = f_diffuse
         if "f" in want:
             specular = where_valid(upper & h_exists & (D * F > 0), [D, F, V],
                                    lambda d, fr, vis: d * fr * vis, 0.0)
-            out["f"] = specular + np.where(upper, self.kd / np.pi, 0.0)
+            out["f"] = specular + f_diffuse
         if "D" in want:
             out["D"] = D
         if "F" in want:
@@ -85,6 +93,26 @@ class BRDF:
         if "G1_o" in want:
             out["G1_o"] = np.where(h_exists, G1(mu_v, ml_v), 0.0)
         return out
+
+    def _f_diffuse(self, l, v, upper) -> np.ndarray:
+        """The diffuse term kd/π or diffuse.f(kd, μ_l, μ_v, l·v), 0 unless both are upper."""
+        if self.diffuse is None:
+            return np.where(upper, self.kd / np.pi, 0.0)
+        return where_valid(upper, [l[..., 2], v[..., 2], dot(l, v)],
+                           lambda a, b, c: self.diffuse.f(self.kd, a, b, c), 0.0)
+
+    def diffuse_albedo(self, mu) -> tuple[np.ndarray, float]:
+        """(E_d(μ), its error): the diffuse term's directional albedo, kd for Lambert."""
+        mu = np.atleast_1d(np.asarray(mu, dtype=float))
+        if self.diffuse is None:
+            return np.full(mu.shape, float(self.kd)), 0.0
+        return self.diffuse.albedo(self.kd, mu)
+
+    def diffuse_albedo_avg(self) -> tuple[float, float]:
+        """(E_d,avg, its error), kd for Lambert."""
+        if self.diffuse is None:
+            return float(self.kd), 0.0
+        return self.diffuse.albedo_avg(self.kd)
 
     def _evaluate_two_lobes(self, l, v, want) -> dict[str, np.ndarray]:
         """f = (1 − w) f(α) + w f(α₂), both lobes with the same NDF, masking, G2 and F
@@ -101,8 +129,9 @@ class BRDF:
         return first
 
     def lobes(self):
-        """[(weight, single-lobe BRDF without kd)]: what a linear functional (albedo) sums."""
-        single = replace(self, kd=0.0, lobe2=None, lobe_mix=0.0)
+        """[(weight, single-lobe BRDF without the diffuse term)]: what a linear functional
+        (albedo) sums; the diffuse term's albedo is :meth:`diffuse_albedo`."""
+        single = replace(self, kd=0.0, lobe2=None, lobe_mix=0.0, diffuse=None)
         if self.lobe2 is None or self.lobe_mix == 0:
             return [(1.0, single)]
         return [(1.0 - self.lobe_mix, single), (self.lobe_mix, replace(single, ndf=self.lobe2))]
