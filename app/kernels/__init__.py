@@ -50,8 +50,8 @@ _compile_locks: dict[Components, threading.Lock] = {}
 
 def components(brdf: BRDF) -> Components | None:
     """The components that fix a model's loops, or None if they cannot be compiled."""
-    if getattr(brdf, "diffuse", None) is not None:
-        return None          # a diffuse model other than Lambert's kd/π: numpy only
+    if getattr(brdf, "diffuse", None) is not None or getattr(brdf, "numpy_only", False):
+        return None          # a diffuse model other than kd/π, or the principled BRDF: numpy
     ndf = brdf.ndf
     if not isinstance(ndf, SlopeSpaceNDF):
         return None
