@@ -59,6 +59,14 @@ class Settings:
     #: bytes of uploaded data sets kept in memory (least recently used dropped first):
     #: BRDF_MAX_DATASETS_BYTES
     max_datasets_bytes: int = 256 * 1024 * 1024
+    #: bytes of memory one request's computation may hold at its peak (evaluation, Monte
+    #: Carlo and grids run in chunks to stay under it; more is refused before any work):
+    #: BRDF_MAX_REQUEST_BYTES
+    max_request_bytes: int = 1 << 30
+    #: directory of the E(μ, α) tables built at start-up and shared by workers and
+    #: restarts: BRDF_CACHE_DIR (empty: $XDG_CACHE_HOME/brdf-explorer or
+    #: ~/.cache/brdf-explorer; unwritable: tables kept in memory only)
+    cache_dir: str = ""
     #: seconds a browser or CDN may reuse a GET /api/v1 response: BRDF_CACHE_MAX_AGE
     cache_max_age: int = 3600
     #: origins allowed to GET cross-origin (embedding): BRDF_CORS_ORIGINS, comma-separated
@@ -69,7 +77,9 @@ class Settings:
         values = {}
         for f in fields(cls):
             env = "BRDF_" + f.name.upper()
-            if f.name == "cors_origins":
+            if f.name == "cache_dir":
+                values[f.name] = os.environ.get(env, "")
+            elif f.name == "cors_origins":
                 values[f.name] = _env(env, ("*",), lambda s: tuple(x.strip() for x in s.split(",") if x.strip()))
             else:
                 values[f.name] = _env(env, f.default, _non_negative(env, type(f.default)))

@@ -23,6 +23,7 @@ from .config import Settings
 from .model import make_spec
 from .physics.ndf import NDFS
 from .resources import static_dir
+from .integrate import table_store
 
 STATIC_DIR = static_dir()
 PLOTLY_JS = Path(plotly.__file__).resolve().parent / "package_data" / "plotly.min.js"
@@ -41,6 +42,14 @@ async def lifespan(app: FastAPI):
     logging.getLogger("uvicorn.error").info(
         "compiled loops: %s", "loading in the background; numpy answers until each is ready"
         if kernels.ENABLED else "off (numba absent or BRDF_FAST=0): numpy answers")
+    # The default models' E(μ, α) tables: read from the cache directory, or built there
+    # by a background thread while the server answers (app/integrate/table_store.py).
+    settings = app.state.settings
+    cache = await run_in_threadpool(
+        table_store.start, settings.cache_dir or table_store.default_directory())
+    logging.getLogger("uvicorn.error").info(
+        "E(μ, α) tables: %s%s", cache or "in memory only",
+        f", {len(table_store.building())} being built" if table_store.building() else "")
     yield
 
 

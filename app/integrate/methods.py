@@ -23,7 +23,7 @@ import time
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import Busy, ParameterError
 from ..physics.brdf import BRDF, CompensatedBRDF
 from .albedo import DEFAULT_TOL, albedo, albedo_average
 from .montecarlo import SAMPLERS, albedo_mc
@@ -83,6 +83,8 @@ def choose(brdf: BRDF, tol: float) -> tuple[str, str]:
         bound = tabulated_albedo(brdf, [0.5])[1]
     except TableTooSlow as exc:
         return "quadrature", f"the table was not built: {exc}"
+    except Busy as exc:
+        return "quadrature", f"no table yet: {exc.message}"
     except ValueError as exc:
         return "quadrature", f"no table: {exc}"
     if bound <= tol:

@@ -45,7 +45,7 @@ Its error is measured when the table is built, against the quadrature at off-gri
 (cell centres with a seeded jitter), and reported (``error``) as TABLE_ERROR_SAFETY times
 the largest deviation seen plus the largest quadrature error of the nodes.
 
-The table is cached per key (functools.lru_cache, bounded). Anisotropic roughness is not
+Whole tables are kept, persisted and built outside requests by table_store.py. Anisotropic roughness is not
 tabulated (its E depends on φ and on both α): callers refuse it.
 
 References
@@ -68,7 +68,6 @@ from ..physics.gauss import gauss_legendre_01
 from ..physics.numeric import where_valid
 from .. import kernels
 from . import budget
-from .cache import complete_only
 from .albedo import albedo
 
 #: Smallest tabulated perceptual roughness: √(1e-4), the smallest α the API takes.
@@ -111,8 +110,6 @@ def build_points(n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R) -> int:
     return n_r * n_y + min(CHECK_R + 2, n_r - 1) * (n_y - 1)
 
 
-#: Tables kept (each 56×56 floats plus a spline: a few tens of kB).
-TABLE_CACHE_ENTRIES = 16
 #: Gauss nodes per y interval of the E_avg rule (the spline is a cubic there).
 E_AVG_NODES_PER_CELL = 8
 #: The Schlick-basis table's grid is the F = 1 table's with its first SCHLICK_SPLIT_R
@@ -349,14 +346,10 @@ def _compiled(lobe: BRDF) -> bool:
     return kernels.wait(lobe, min(KERNEL_WAIT_S, 0.5 * (b.seconds - b.elapsed()))) is not None
 
 
-@complete_only(TABLE_CACHE_ENTRIES)
-def table_for_key(key: tuple) -> ETable:
-    """The default-size table for ``key``, from a bounded cache of whole builds (one the
-    request's time budget cut short is answered, with its larger bound, but not kept).
-    A lobe without the compiled integrand whose SLOW_TABLE_N² table the budget refuses
-    gets the COARSE_TABLE_N² one if that fits (TableTooSlow otherwise)."""
-    basis_p = key[-1]
-    base = None if basis_p is None else table_for_key(key[:-1] + (None,))
+def build_for_key(key: tuple, base: ETable | None = None) -> ETable:
+    """The default-size table for ``key`` (``base``: the F = 1 table of the same lobe, for
+    a Schlick basis). A lobe without the compiled integrand whose SLOW_TABLE_N² table the
+    budget refuses gets the COARSE_TABLE_N² one if that fits (TableTooSlow otherwise)."""
     if _compiled(_lobe_at(key, 0.25)):
         return build(key, TABLE_N_Y, TABLE_N_R, base=base)
     try:
@@ -365,6 +358,26 @@ def table_for_key(key: tuple) -> ETable:
         if base is not None:      # the Schlick basis takes its base's grid: no coarser one
             raise
         return build(key, COARSE_TABLE_N, COARSE_TABLE_N, base=base)
+
+
+def table_for_key(key: tuple) -> ETable:
+    """The table for ``key`` from the store (table_store.py: memory, disk, built in the
+    background or here; one the request's time budget cut short is answered, not kept)."""
+    from . import table_store   # the store builds with this module
+    return table_store.table(key)
+
+
+def _store_cache_info():
+    from . import table_store
+    return table_store.cache_info()
+
+
+def _store_cache_clear():
+    from . import table_store
+    table_store.cache_clear()
+
+
+table_for_key.cache_info, table_for_key.cache_clear = _store_cache_info, _store_cache_clear
 
 
 def table_for(lobe: BRDF, basis_p: float | None = None) -> ETable:

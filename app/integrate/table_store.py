@@ -1,0 +1,388 @@
+"""E(μ, α) tables out of the request path: built in the background, persisted, shared.
+
+A table (tables.py) takes about a second to build for the compiled lobes and 10–30 s for
+the others: too long to build inside a request on a loaded machine. The store keeps whole
+tables
+
+1. in memory, least recently used first out, bounded in bytes (MEMORY_BYTES);
+2. on disk, when :func:`start` gave it a directory (the server does: ``BRDF_CACHE_DIR``,
+   default ``<user cache>/brdf-explorer``): one ``.npz`` per table, named by a digest of
+   its key, its grid settings and the code that computes it (:func:`code_version`), so a
+   restart or a second worker reads what another built, and changed code never reads a
+   stale table. Workers share a directory through a lock file per table (one builds,
+   the others wait for its file). An unwritable directory leaves the store in memory,
+   with a log line.
+
+:func:`start` queues the default models' tables (:func:`default_keys`) for one background
+thread. A request whose table is not ready builds it in place only when its predicted
+cost (one probe E(μ) at mid roughness × the build's points) fits IN_REQUEST_SHARE of the
+time left; otherwise the table is queued and :class:`~app.errors.Busy` says which and
+when to retry (503 + Retry-After), and ``method=auto`` takes the quadrature instead.
+Outside a request (the CLI, scripts) a table is built in place, as always.
+"""
+from __future__ import annotations
+
+import fcntl
+import hashlib
+import json
+import logging
+import os
+import queue
+import threading
+import time
+from collections import OrderedDict
+from functools import _CacheInfo
+from pathlib import Path
+
+import numpy as np
+from scipy.interpolate import RectBivariateSpline
+
+from ..errors import Busy
+from . import budget, tables
+
+log = logging.getLogger("app")
+
+#: Bytes of whole tables kept in memory (a 56×56 table with its spline: ~60 kB).
+MEMORY_BYTES = 16 * 1024 * 1024
+#: Tables waiting for the background builder at most; beyond it a request is told to retry.
+QUEUE_SIZE = 16
+#: Share of the request's remaining time budget a table may be predicted to take and
+#: still be built inside the request (the prediction is from one probe: kept modest).
+IN_REQUEST_SHARE = 0.25
+#: μ values of the probe that predicts a build's cost (at α = PROBE_ALPHA).
+PROBE_POINTS = 4
+PROBE_ALPHA = 0.25
+#: Retry-After when a build's remaining time is unknown (another worker holds its lock).
+RETRY_UNKNOWN = 5
+
+_lock = threading.RLock()
+_memory: "OrderedDict[tuple, tables.ETable]" = OrderedDict()
+_stats = {"hits": 0, "misses": 0}
+_pending: dict[tuple, dict] = {}          # key -> {"predicted": s, "queued": t, "started": t|None}
+_queue: "queue.Queue[tuple]" = queue.Queue(QUEUE_SIZE)
+_state = {"directory": None, "thread": None}
+
+
+# ------------------------------------------------------------------ keys and versions
+
+def default_keys() -> list[tuple]:
+    """The tables of the default models: the default model (GGX) and Beckmann, each F = 1
+    (Kulla-Conty, method=table with fresnel=none) and its Schlick basis."""
+    from ..model import make_spec
+    keys = []
+    for values in ({}, {"ndf": "beckmann"}):
+        brdf = make_spec(**values).brdf()
+        for _, lobe in brdf.lobes():
+            keys.append(tables.table_key(lobe, None))
+            if brdf.fresnel.name == "schlick":
+                keys.append(tables.table_key(lobe, brdf.fresnel.fresnel_p))
+    return list(dict.fromkeys(keys))
+
+
+def _describe(key: tuple) -> str | None:
+    """The key as text (None when a part has no stable name: not persisted)."""
+    ndf_class, shape, masking, g2, lambda_phi, basis_p = key
+    if lambda_phi is not None and not hasattr(lambda_phi, "name"):
+        return None
+    return json.dumps([ndf_class.name, [[n, float(v).hex()] for n, v in shape], masking.name,
+                       g2.name, getattr(lambda_phi, "name", None),
+                       None if basis_p is None else float(basis_p).hex(),
+                       [tables.TABLE_N_Y, tables.TABLE_N_R, tables.SLOW_TABLE_N,
+                        tables.COARSE_TABLE_N, tables.BUILD_TOL]])
+
+
+_version: list[str] = []
+
+
+def code_version() -> str:
+    """A digest of the code a table's values depend on: the physics, the integration, the
+    compiled kernels, and the numpy and scipy versions."""
+    if not _version:
+        import scipy
+        root = Path(__file__).resolve().parent.parent
+        h = hashlib.sha256(f"numpy {np.__version__} scipy {scipy.__version__}".encode())
+        for sub in ("physics", "integrate", "kernels"):
+            for path in sorted((root / sub).rglob("*.py")):
+                h.update(path.relative_to(root).as_posix().encode())
+                h.update(path.read_bytes())
+        _version.append(h.hexdigest()[:16])
+    return _version[0]
+
+
+def _path(key: tuple) -> Path | None:
+    directory, text = _state["directory"], _describe(key)
+    if directory is None or text is None:
+        return None
+    digest = hashlib.sha256((code_version() + text).encode()).hexdigest()[:24]
+    return directory / f"table-{digest}.npz"
+
+
+# ----------------------------------------------------------------------- disk
+
+def _save(path: Path, key: tuple, t: tables.ETable) -> None:
+    tmp = path.with_suffix(f".{os.getpid()}.tmp")
+    with open(tmp, "wb") as f:
+        np.savez(f, key=np.array(_describe(key)), r=t.r, y=t.y, values=t.values,
+                 numbers=np.array([t.error, t.measured, t.node_error, t.build_seconds,
+                                   t.build_evaluations], dtype=float))
+    os.replace(tmp, path)      # readers see the whole file or none
+
+
+def _load(path: Path, key: tuple) -> tables.ETable | None:
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            if str(z["key"]) != _describe(key):
+                return None
+            r, y, values, numbers = z["r"], z["y"], z["values"], z["numbers"]
+    except (OSError, ValueError, KeyError) as exc:
+        log.warning("table cache: %s unreadable (%s); building it again", path.name, exc)
+        return None
+    base = None if key[-1] is None else table(key[:-1] + (None,))
+    spline = RectBivariateSpline(r, y, values, kx=3, ky=3, s=0)   # as built: same inputs
+    error, measured, node_error, seconds, evaluations = numbers.tolist()
+    return tables.ETable(key, r, y, values, spline, error, measured, node_error, seconds,
+                         int(evaluations), base)
+
+
+class _FileLock:
+    """An exclusive lock on ``<table>.lock`` (fcntl.flock: released if the process dies)."""
+
+    def __init__(self, path: Path):
+        self.path = path.with_suffix(".lock")
+
+    def acquire(self, blocking: bool) -> bool:
+        self.f = open(self.path, "a")
+        try:
+            fcntl.flock(self.f, fcntl.LOCK_EX | (0 if blocking else fcntl.LOCK_NB))
+            return True
+        except BlockingIOError:
+            self.f.close()
+            return False
+
+    def release(self) -> None:
+        fcntl.flock(self.f, fcntl.LOCK_UN)
+        self.f.close()
+
+
+# --------------------------------------------------------------------- memory
+
+def _nbytes(t: tables.ETable) -> int:
+    coeffs = t.spline.get_coeffs()
+    return t.values.nbytes + coeffs.nbytes + t.r.nbytes + t.y.nbytes + 2048
+
+
+def _remember(key: tuple, t: tables.ETable) -> tables.ETable:
+    with _lock:
+        _memory[key] = t
+        _memory.move_to_end(key)
+        while len(_memory) > 1 and sum(_nbytes(x) for x in _memory.values()) > MEMORY_BYTES:
+            _memory.popitem(last=False)
+    return t
+
+
+def _ready(key: tuple) -> tables.ETable | None:
+    with _lock:
+        t = _memory.get(key)
+        if t is not None:
+            _memory.move_to_end(key)
+            return t
+    path = _path(key)
+    if path is not None and path.exists():
+        t = _load(path, key)
+        if t is not None:
+            return _remember(key, t)
+    return None
+
+
+# ----------------------------------------------------------------------- build
+
+def _build(key: tuple) -> tables.ETable:
+    """Build (or, under the lock, find another worker's file), persist and remember."""
+    base = None if key[-1] is None else table(key[:-1] + (None,))
+    path = _path(key)
+    lock = None
+    if path is not None:
+        lock = _FileLock(path)
+        if not lock.acquire(blocking=budget.current() is None):
+            raise Busy(f"the {_name(key)} is being built by another worker", RETRY_UNKNOWN,
+                       what=_name(key))
+    try:
+        found = _ready(key) if path is not None else None
+        if found is not None:
+            return found
+        b = budget.current()
+        notes = len(b.notes) if b else 0
+        with _lock:
+            _stats["misses"] += 1
+        t = tables.build_for_key(key, base)
+        if b is not None and len(b.notes) > notes:
+            return t            # cut short by the request's budget: answered, not kept
+        if path is not None:
+            try:
+                _save(path, key, t)
+            except OSError as exc:
+                log.warning("table cache: cannot write %s (%s); kept in memory", path, exc)
+        return _remember(key, t)
+    finally:
+        if lock is not None:
+            lock.release()
+
+
+def _name(key: tuple) -> str:
+    ndf_class, shape, masking, g2, _, basis_p = key
+    shape_text = "".join(f", {n}={v:g}" for n, v in shape)
+    basis = "F = 1" if basis_p is None else f"Schlick basis p={basis_p:g}"
+    return (f"E(μ, α) table of ndf={ndf_class.name}{shape_text}, masking={masking.name}, "
+            f"g2={g2.name} ({basis})")
+
+
+def predict_seconds(key: tuple) -> float:
+    """Seconds a build of ``key`` is predicted to take: one probe of PROBE_POINTS E(μ) at
+    α = PROBE_ALPHA, scaled to the build's points (and the Schlick basis' base table)."""
+    lobe = tables._lobe_at(key, PROBE_ALPHA)
+    compiled = tables.albedo_kernel.spec_args(lobe) is not None
+    n = tables.TABLE_N_Y if compiled else tables.SLOW_TABLE_N
+    points = tables.build_points(n, n)
+    if key[-1] is not None:
+        points *= 1.3 + (0 if _ready(key[:-1] + (None,)) else 1)   # split cells; the base
+    mu = tables.mu_from_y(np.linspace(0.2, 0.9, PROBE_POINTS), PROBE_ALPHA)
+    t0 = time.perf_counter()
+    tables.albedo(lobe, mu, tol=tables.BUILD_TOL)
+    return (time.perf_counter() - t0) / PROBE_POINTS * points
+
+
+def _queue_build(key: tuple, predicted: float) -> dict:
+    with _lock:
+        entry = _pending.get(key)
+        if entry is None:
+            try:
+                _queue.put_nowait(key)
+            except queue.Full:
+                raise Busy(f"{QUEUE_SIZE} tables are waiting to be built; the {_name(key)} "
+                           "is not among them yet", RETRY_UNKNOWN, what=_name(key)) from None
+            entry = _pending[key] = {"predicted": predicted, "queued": time.time(), "started": None}
+            _ensure_thread()
+        return entry
+
+
+def _retry_after(key: tuple, entry: dict) -> int:
+    """Seconds until the build should be done: its own prediction left, plus those ahead."""
+    with _lock:
+        now = time.time()
+        ahead = sum(e["predicted"] for k, e in _pending.items()
+                    if k != key and e["queued"] <= entry["queued"] and e["started"] is None)
+        running = [e["predicted"] - (now - e["started"]) for e in _pending.values() if e["started"]]
+    own = entry["predicted"] if entry["started"] is None else 0.0
+    return int(np.ceil(max(1.0, own + ahead + sum(max(r, 1.0) for r in running))))
+
+
+def _worker() -> None:
+    while True:
+        key = _queue.get()
+        with _lock:
+            entry = _pending.get(key)
+            if entry is not None:
+                entry["started"] = time.time()
+        try:
+            t0 = time.perf_counter()
+            _build(key)          # a new thread has no request budget: a whole build
+            log.info("built the %s in %.1f s", _name(key), time.perf_counter() - t0)
+        except Exception:    # a build that fails must not stop the builder
+            log.exception("building the %s failed", _name(key))
+        finally:
+            with _lock:
+                _pending.pop(key, None)
+            _queue.task_done()
+
+
+def _ensure_thread() -> None:
+    with _lock:
+        if _state["thread"] is None or not _state["thread"].is_alive():
+            _state["thread"] = threading.Thread(target=_worker, name="table-builder", daemon=True)
+            _state["thread"].start()
+
+
+# ----------------------------------------------------------------------- API
+
+def table(key: tuple) -> tables.ETable:
+    """The whole table for ``key`` (module docstring); raises Busy in a request when it is
+    being built, or would take too long to build here."""
+    t = _ready(key)
+    if t is not None:
+        with _lock:
+            _stats["hits"] += 1
+        return t
+    b = budget.current()
+    if b is None:
+        return _build(key)
+    with _lock:
+        entry = _pending.get(key)
+    if entry is None:
+        predicted = predict_seconds(key)
+        if predicted <= IN_REQUEST_SHARE * (b.seconds - b.elapsed()):
+            return _build(key)
+        entry = _queue_build(key, predicted)
+    raise Busy(f"the {_name(key)} is being built (~{entry['predicted']:.0f} s, outside this "
+               "request); retry after the time given, or use method=quadrature",
+               _retry_after(key, entry), what=_name(key))
+
+
+def building() -> list[str]:
+    """The tables queued or being built, by name."""
+    with _lock:
+        return [_name(k) for k in _pending]
+
+
+def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) -> Path | None:
+    """Use ``directory`` for persisted tables (created if missing; None: memory only) and
+    queue ``keys`` (default: :func:`default_keys`) for the background builder. Returns the
+    directory in use (None when it is not writable)."""
+    _state["directory"] = None
+    if directory is not None:
+        path = Path(directory)
+        try:
+            path.mkdir(parents=True, exist_ok=True)
+            probe = path / f".write-test-{os.getpid()}"
+            probe.write_bytes(b"")
+            probe.unlink()
+            _state["directory"] = path
+        except OSError as exc:
+            log.warning("table cache: %s is not writable (%s); tables kept in memory only",
+                        path, exc)
+    for key in (default_keys() if keys is None else keys):
+        if _ready(key) is None:
+            try:
+                _queue_build(key, predict_seconds(key))
+            except Busy:
+                break
+    return _state["directory"]
+
+
+def default_directory() -> Path:
+    """``$XDG_CACHE_HOME/brdf-explorer`` (``~/.cache/brdf-explorer`` when unset)."""
+    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
+    return Path(base) / "brdf-explorer"
+
+
+def wait(timeout: float | None = None) -> bool:
+    """Block until the background builder has nothing left (tests, the CLI); False on timeout."""
+    end = None if timeout is None else time.monotonic() + timeout
+    while True:
+        with _lock:
+            if not _pending:
+                return True
+        if end is not None and time.monotonic() > end:
+            return False
+        time.sleep(0.05)
+
+
+def cache_info() -> _CacheInfo:
+    with _lock:
+        return _CacheInfo(_stats["hits"], _stats["misses"], None, len(_memory))
+
+
+def cache_clear() -> None:
+    """Forget the tables in memory (not on disk) and the counts."""
+    with _lock:
+        _memory.clear()
+        _stats.update(hits=0, misses=0)
