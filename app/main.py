@@ -23,7 +23,7 @@ from .config import Settings
 from .model import make_spec
 from .physics.ndf import NDFS
 from .resources import static_dir
-from .integrate import table_store
+from .integrate import cost, table_store
 
 STATIC_DIR = static_dir()
 PLOTLY_JS = Path(plotly.__file__).resolve().parent / "package_data" / "plotly.min.js"
@@ -74,6 +74,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
         docs_url=None, redoc_url=None,
     )
     app.state.settings = settings or Settings.from_env()
+    cost.set_memory_limit(app.state.settings.max_request_bytes)
     errors.install(app)
     openapi.install(app)
     http.install(app, app.state.settings, STATIC_DIR)

@@ -10,6 +10,7 @@ from scipy import optimize
 
 from . import kernels
 from .adaptive import ladder, peak, refine_curve, refine_grid
+from .integrate import cost
 from .integrate.methods import albedo_by
 from .physics.brdf import BRDF
 from .physics.masking import G1
@@ -24,14 +25,25 @@ from .physics.vectors import direction_deg
 EVAL_CHUNK = 65536
 
 
-def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want) -> dict:
+#: bytes a pair's temporaries take at most (measured 100–250), and bytes one returned
+#: value costs until it is sent (8 in its array, ~24 as JSON text)
+BYTES_PER_PAIR = 250
+BYTES_PER_VALUE = 32
+
+
+def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
+             param: str = "n") -> dict:
     """BRDF terms at direction pairs (i = light l, o = view v), broadcast together, in
-    chunks of EVAL_CHUNK pairs (the peak memory is the outputs plus one chunk's)."""
+    chunks of EVAL_CHUNK pairs (the peak memory is the outputs plus one chunk's). Work
+    that cannot fit the request's budgets is refused first, naming ``param``."""
+    shape = np.broadcast_shapes(*(np.shape(x) for x in (theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg)))
+    count = int(np.prod(shape))
+    cost.require_evaluations(brdf, count, count * len(want) * BYTES_PER_VALUE
+                             + min(count, EVAL_CHUNK) * BYTES_PER_PAIR, param,
+                             f"{count} BRDF evaluations")
     l = direction_deg(theta_i_deg, phi_i_deg)
     v = direction_deg(theta_o_deg, phi_o_deg)
     l, v = np.broadcast_arrays(l, v)
-    shape = l.shape[:-1]
-    count = int(np.prod(shape))
 
     def terms(l, v):
         return {"f": kernels.f(brdf, l, v)} if tuple(want) == ("f",) else brdf.evaluate(l, v, want)

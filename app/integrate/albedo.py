@@ -46,7 +46,7 @@ from ..physics.g2 import azimuth_difference
 from ..physics.numeric import where_valid
 from ..physics.gauss import gauss_legendre_01
 from .. import kernels
-from . import budget
+from . import budget, cost
 
 # Orders (Gauss points per half of ψ, and along u); each level doubles both.
 ORDER_START = 24
@@ -239,6 +239,8 @@ LOG_RULE_BETA = 0.5
 # few dozen of them live at a time. Without chunks, 257 μ values at ORDER_MAX held
 # ~11 GB (measured), now ~0.2 GB, and the time is the same or less.
 NODES_PER_CHUNK = 2 ** 19
+#: bytes of temporaries per node of a chunk (~40 float64 arrays of the chunk's shape)
+BYTES_PER_NODE = 320
 
 
 def _integrate_chunked(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
@@ -305,6 +307,10 @@ def albedo(brdf: BRDF, mu, phi: float = 0.0, tol: float = DEFAULT_TOL,
     evaluations = 0
     n = ORDER_START if order is None else int(order)
     todo = np.arange(mu.size)
+    # the first pass (orders n and 2n at every μ) is checked against the budget too
+    first = mu.size * (_cost(brdf, n) + _cost(brdf, 2 * n))
+    cost.require_evaluations(brdf, first, NODES_PER_CHUNK * BYTES_PER_NODE, "n",
+                             f"the albedo's first pass ({mu.size} μ at orders {n} and {2 * n})")
     coarse = _integrate_chunked(brdf, v[todo], n)
     evaluations += todo.size * _cost(brdf, n)
     while todo.size:

@@ -35,12 +35,14 @@ import numpy as np
 
 from ..physics.brdf import BRDF
 from ..physics.numeric import where_valid
+from . import cost
 from .sampling import SAMPLERS, Sampler
 
 #: directions evaluated at once (μ values × samples): sampling and evaluating take
 #: 80–180 bytes a direction (tracemalloc: uniform to VNDF, smith_numeric, Student-t with
 #: direction-correlated G2), so a chunk holds ≤ ~190 MB whatever the request's size.
 CHUNK_DIRECTIONS = 2 ** 20
+BYTES_PER_DIRECTION = 180
 
 
 @dataclass
@@ -77,8 +79,11 @@ def albedo_mc(brdf: BRDF, mu, phi: float = 0.0, sampler: str = "cosine", samples
         raise ValueError(f"samples={samples}: at least 2 are needed for a standard error")
     chosen = SAMPLERS[sampler]
     chosen.check(brdf)
-    t0 = time.perf_counter()
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
+    cost.require_evaluations(brdf, mu.size * samples,
+                             min(mu.size * samples, CHUNK_DIRECTIONS) * BYTES_PER_DIRECTION,
+                             "samples", f"Monte Carlo with {mu.size} μ × {samples} samples")
+    t0 = time.perf_counter()
     sin_t = np.sqrt(np.maximum(0.0, 1.0 - mu * mu))
     v = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), mu], axis=-1)
     E = np.empty_like(mu)

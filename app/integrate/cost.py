@@ -1,0 +1,100 @@
+"""What a computation will cost, known before it starts, against the request's limits.
+
+A request's work is predicted from what it asks: the number of BRDF (or integrand)
+evaluations × the seconds one evaluation of the chosen model takes, measured once per
+model family by a probe (:func:`seconds_per_evaluation`); and its memory from the values
+it must hold at once (outputs, one chunk of work). Then :func:`require`:
+
+* predicted beyond the whole time budget (BRDF_MAX_SECONDS) or the memory budget
+  (BRDF_MAX_REQUEST_BYTES): the input asks too much whatever the load — ``TooLarge``
+  (413) naming the parameter and the setting, before any work;
+* within the budget but beyond what is left of it (the request waited for a worker
+  thread, or an earlier part of it took the time): the machine is busy — ``Busy``
+  (503 + Retry-After).
+
+Outside a request there is no budget and nothing is refused.
+"""
+from __future__ import annotations
+
+import threading
+import time
+from functools import lru_cache
+
+import numpy as np
+
+from ..errors import Busy, TooLarge
+from . import budget
+from .cache import Keyed
+
+#: Evaluations of the probe that measures a model's cost per evaluation (~1–10 ms).
+PROBE_PAIRS = 4096
+#: The prediction is multiplied by this before it is compared with the time left: a
+#: probe on a warm cache underestimates a large request on a loaded machine.
+SAFETY = 1.5
+#: The memory budget of one request, set by the server at start-up (BRDF_MAX_REQUEST_BYTES).
+_memory_limit = {"bytes": 1 << 30}
+_lock = threading.Lock()
+
+
+def set_memory_limit(nbytes: int) -> None:
+    _memory_limit["bytes"] = int(nbytes)
+
+
+def memory_limit() -> int:
+    return _memory_limit["bytes"]
+
+
+def _family(brdf) -> tuple:
+    """What the cost of one evaluation depends on (not α: the same code runs)."""
+    ndf = brdf.ndf
+    shape = tuple((p.name, getattr(ndf, p.name)) for p in ndf.shape_params)
+    return (type(ndf), shape, brdf.masking.name, brdf.g2.name, brdf.fresnel.name,
+            ndf.isotropic, brdf.lobe2 is not None and brdf.lobe_mix > 0,
+            getattr(brdf, "multiscatter", None) is not None)
+
+
+@lru_cache(maxsize=256)
+def _probe(brdf_ref: Keyed) -> float:
+    brdf = brdf_ref.value
+    rng = np.random.default_rng(0)
+    cos_t = rng.uniform(0.0, 1.0, (2, PROBE_PAIRS))
+    phi = rng.uniform(0.0, 2 * np.pi, (2, PROBE_PAIRS))
+    sin_t = np.sqrt(1.0 - cos_t ** 2)
+    w = np.stack([sin_t * np.cos(phi), sin_t * np.sin(phi), cos_t], axis=-1)
+    brdf.evaluate(w[0, :8], w[1, :8], ("f",))          # imports, caches, Λ tables
+    t0 = time.perf_counter()
+    brdf.evaluate(w[0], w[1], ("f", "D", "G2"))
+    return (time.perf_counter() - t0) / PROBE_PAIRS
+
+
+def seconds_per_evaluation(brdf) -> float:
+    """Seconds of one BRDF evaluation of this model family, measured once per process."""
+    with _lock:
+        return _probe(Keyed(brdf, _family(brdf)))
+
+
+def require(seconds: float, nbytes: int, param: str, what: str) -> None:
+    """Refuse work predicted to take ``seconds`` and hold ``nbytes`` when it cannot fit
+    (module docstring). ``param`` is the request parameter that sets its size."""
+    b = budget.current()
+    if b is None:
+        return
+    if nbytes > memory_limit():
+        raise TooLarge(param, f"{what} would hold ~{nbytes / 2**20:.0f} MiB at once, above "
+                              f"BRDF_MAX_REQUEST_BYTES={memory_limit()}: ask for less")
+    predicted = SAFETY * seconds
+    if predicted > b.seconds:
+        raise TooLarge(param, f"{what} is predicted to take ~{predicted:.1f} s, beyond "
+                              f"BRDF_MAX_SECONDS={b.seconds:g}: ask for less")
+    left = b.seconds - b.elapsed()
+    if predicted > left:
+        raise Busy(f"{what} needs ~{predicted:.1f} s and this request has {max(left, 0):.1f} s "
+                   f"of BRDF_MAX_SECONDS={b.seconds:g} left (the server is busy): retry",
+                   retry_after=int(np.ceil(predicted)), what="time budget")
+
+
+def require_evaluations(brdf, evaluations: int, nbytes: int, param: str, what: str) -> None:
+    """:func:`require` for ``evaluations`` BRDF evaluations of ``brdf``."""
+    if budget.current() is None:
+        return
+    require(evaluations * seconds_per_evaluation(brdf), nbytes, param, what)
