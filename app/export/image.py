@@ -9,6 +9,11 @@ thread and each export is a coroutine submitted with ``run_coroutine_threadsafe`
 own future carries its own result (or exception), with a time limit, and kaleido's tab
 queue serialises the rendering.
 
+Exports have their own bounded queue: TABS render and WAITING wait for a tab; one more
+is refused at once (:class:`ExportQueueFull`, 503 + Retry-After) instead of holding a
+server thread that cheap requests need (100 concurrent PNGs made a /lobe wait 90 s).
+A route takes its place with ``renderer.slot()`` before it computes the figure.
+
 Without Chromium, :class:`ExportUnavailable` says what to install; the API answers 503
 and the page falls back to Plotly's in-browser export.
 """
@@ -20,12 +25,21 @@ import os
 import sys
 import threading
 import time
+from contextlib import contextmanager
+
+from ..errors import Busy
 
 from ..errors import Busy
 
 # Tabs rendering in parallel in the one browser. One: every tab is a renderer process,
 # and the service runs on small machines; requests queue for the tab.
 TABS = 1
+# Exports that may wait for a tab while TABS render; beyond them 503 at once. Four
+# places in all: a page exporting its panels together is served, 100 at once are not.
+WAITING = 3
+# Typical seconds of one export (compute and render a 1000×700 PNG, measured 0.5–2 s):
+# the Retry-After of a full queue is this × the exports ahead.
+EXPORT_SECONDS = 2
 # Seconds one figure may take inside Chromium (kaleido's own limit), and the longest a
 # request waits for its image, queueing behind others included.
 RENDER_TIMEOUT_S = 30.0
@@ -49,6 +63,15 @@ class ExportUnavailable(Busy):
         super().__init__(message, retry_after=int(START_TIMEOUT_S), what="image export")
 
 
+class ExportQueueFull(Busy):
+    """Every place of the export queue is taken: 503 + Retry-After, at once."""
+
+    def __init__(self, places: int):
+        super().__init__(f"{places} image exports are rendering or waiting for the renderer; "
+                         "retry shortly (the page's own export buttons render in your browser)",
+                         retry_after=EXPORT_SECONDS * places // TABS, what="image export queue")
+
+
 class ImageRenderer:
     """One headless Chromium, started lazily, shared by every export of this process."""
 
@@ -59,6 +82,25 @@ class ImageRenderer:
         self._loop: asyncio.AbstractEventLoop | None = None
         self._kaleido = None
         self.started_seconds: float | None = None   # how long the start took
+        self.places = TABS + WAITING
+        self._places = threading.BoundedSemaphore(self.places)
+        self._held = threading.local()
+
+    @contextmanager
+    def slot(self):
+        """A place in the export queue for the enclosed work (computing the figure and
+        rendering it), or ExportQueueFull at once; a thread that holds one already
+        (render() inside slot()) takes no second."""
+        depth = getattr(self._held, "depth", 0)
+        if depth == 0 and not self._places.acquire(blocking=False):
+            raise ExportQueueFull(self.places)
+        self._held.depth = depth + 1
+        try:
+            yield
+        finally:
+            self._held.depth = depth
+            if depth == 0:
+                self._places.release()
 
     @property
     def running(self) -> bool:
@@ -106,6 +148,10 @@ class ImageRenderer:
         if fmt not in FORMATS:
             raise ValueError(f"format must be one of {', '.join(FORMATS)}")
         opts = {"format": fmt, "width": width, "height": height, "scale": scale}
+        with self.slot():
+            return self._render(figure, opts)
+
+    def _render(self, figure: dict, opts: dict) -> bytes:
         for attempt in (1, 2):
             with self._lock:
                 if not self.running:
