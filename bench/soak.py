@@ -1,0 +1,270 @@
+"""Soak: minutes of mixed slider traffic on 2 workers, with worst cases and export bursts.
+
+    python bench/soak.py                    # 10 minutes (1 warm-up, 1 baseline, 8 mixed)
+    python bench/soak.py --minutes 2        # a short run, same phases scaled
+
+One uvicorn with 2 workers on 127.0.0.1 (a fresh table cache directory, so the start-up
+builds are part of the run). Phases:
+
+1. warm-up: slider traffic only (imports, compiles, tables); not counted;
+2. baseline: slider traffic only: the cheap-request latencies to compare with;
+3. mixed: the same slider traffic, plus every WORST_EVERY seconds one worst case of an
+   endpoint at the default limits, plus every BURST_EVERY seconds BURST PNG exports at
+   once (clients that honour Retry-After: a refused export waits and retries).
+
+Reported: status counts (every 5xx, and the 503s that said "busy" with Retry-After
+apart), cheap-request p50/p99 in the baseline and in the mixed phase and their ratio, the
+worst cases' times, and the workers' resident memory (from /proc) sampled every few
+seconds: after warm-up, at the end, and the largest. Not a test: it measures.
+"""
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import random
+import subprocess
+import sys
+import tempfile
+import threading
+import time
+from collections import Counter
+from pathlib import Path
+
+import common  # first: puts the checkout on sys.path
+import httpx
+
+SLIDER = [
+    "/api/v1/figures/lobe?theta_i_deg={t}&alpha={a}",
+    "/api/v1/figures/ndf?alpha={a}",
+    "/api/v1/figures/g1?alpha={a}",
+    "/api/v1/figures/albedo?alpha={a}",
+    "/api/v1/figures/fresnel?f0={f}",
+    "/api/v1/figures/lobe3d?alpha={a}&theta_i_deg={t}",
+    "/api/v1/figures/g2?alpha={a}",
+]
+WORST = [
+    ("GET", "/api/v1/albedo?n=257&tol=1e-7&alpha=1e-4&masking=smith_numeric&ndf=exp_power&p=0.25"),
+    ("GET", "/api/v1/albedo?n=257&tol=1e-7&alpha=1e-4&alpha_y=1"),
+    ("GET", "/api/v1/figures/lobe3d?n_theta=500&n_phi=500&masking=smith_numeric"),
+    ("GET", "/api/v1/albedo?n=32&samples=65536&method=mc_uniform&masking=smith_numeric"),
+    ("GET", "/api/v1/samples?n=200000&alpha=1e-4&alpha_y=1"),
+    ("GET", "/api/v1/figures/sphere?n=500"),
+    ("GET", "/api/v1/albedo?n=9&multiscatter=kulla_conty&ndf=student_t&gamma={g}"),
+    ("POST", "/api/v1/eval"),
+]
+WORST_EVERY = 20.0
+BURST_EVERY = 60.0
+BURST = 20
+SLIDER_CLIENTS = 3
+
+
+def _post_body() -> bytes:
+    import numpy as np
+    from app.config import Settings
+    n = Settings().max_batch
+    rng = np.random.default_rng(1)
+    return json.dumps({"masking": "smith_numeric",
+                       "theta_i_deg": rng.uniform(0, 90, n).tolist(),
+                       "theta_o_deg": rng.uniform(0, 90, n).tolist(),
+                       "phi_i_deg": rng.uniform(-360, 360, n).tolist(),
+                       "phi_o_deg": rng.uniform(-360, 360, n).tolist()}).encode()
+
+
+class Recorder:
+    def __init__(self):
+        self.lock = threading.Lock()
+        self.status: Counter = Counter()
+        self.busy = 0
+        self.cheap: dict[str, list[float]] = {"baseline": [], "mixed": []}
+        self.worst: list[dict] = []
+        self.exports: list[dict] = []
+        self.errors: list[str] = []
+
+    def count(self, r: httpx.Response, phase: str | None) -> None:
+        with self.lock:
+            if phase is not None:
+                self.status[r.status_code] += 1
+                if r.status_code == 503 and "retry-after" in r.headers:
+                    self.busy += 1
+                if r.status_code >= 500 and len(self.errors) < 20:
+                    self.errors.append(f"{r.status_code} {r.request.method} {r.request.url}: {r.text[:200]}")
+
+
+def _slider(url: str, rec: Recorder, phase: list, stop: threading.Event) -> None:
+    rnd = random.Random(threading.get_ident())
+    with httpx.Client(base_url=url, timeout=60) as c:
+        while not stop.is_set():
+            path = rnd.choice(SLIDER).format(a=f"{rnd.uniform(0.01, 1):.3f}",
+                                             t=f"{rnd.uniform(0, 89):.1f}", f=f"{rnd.uniform(0.02, 0.9):.3f}")
+            t0 = time.perf_counter()
+            try:
+                r = c.get(path)
+            except httpx.HTTPError as exc:
+                with rec.lock:
+                    rec.errors.append(f"{type(exc).__name__} {path}")
+                    rec.status["transport error"] += 1
+                continue
+            seconds = time.perf_counter() - t0
+            p = phase[0]
+            rec.count(r, None if p == "warmup" else p)
+            if r.status_code == 200 and p in rec.cheap:
+                with rec.lock:
+                    rec.cheap[p].append(seconds)
+
+
+def _worst(url: str, rec: Recorder, body: bytes, k: int) -> None:
+    method, path = WORST[k % len(WORST)]
+    path = path.format(g=f"{1.6 + 0.1 * (k // len(WORST)):.2f}")
+    with httpx.Client(base_url=url, timeout=120) as c:
+        t0 = time.perf_counter()
+        if method == "POST":
+            r = c.post(path, content=body, headers={"content-type": "application/json"})
+        else:
+            r = c.get(path)
+        seconds = time.perf_counter() - t0
+    rec.count(r, "mixed")
+    with rec.lock:
+        rec.worst.append({"request": f"{method} {path}", "status": r.status_code,
+                          "seconds": round(seconds, 2), "retry_after": r.headers.get("retry-after")})
+
+
+def _export(url: str, rec: Recorder, k: int) -> None:
+    """One PNG export by a client that honours Retry-After (at most 5 tries)."""
+    path = f"/api/v1/figures/lobe.png?alpha={0.05 + 0.01 * (k % 90):.2f}&width=800&height=500"
+    t0, tries = time.perf_counter(), 0
+    with httpx.Client(base_url=url, timeout=120) as c:
+        while True:
+            tries += 1
+            r = c.get(path)
+            rec.count(r, "mixed")
+            if r.status_code == 503 and "retry-after" in r.headers and tries < 5:
+                time.sleep(float(r.headers["retry-after"]))
+                continue
+            break
+    with rec.lock:
+        rec.exports.append({"status": r.status_code, "tries": tries,
+                            "seconds": round(time.perf_counter() - t0, 2)})
+
+
+def _workers_rss(master: int) -> dict[int, int]:
+    """Resident bytes of the master's child processes (the workers), from /proc."""
+    out = {}
+    for d in Path("/proc").iterdir():
+        if not d.name.isdigit():
+            continue
+        try:
+            stat = (d / "stat").read_text()
+            ppid = int(stat.rsplit(")", 1)[1].split()[1])
+            if ppid != master:
+                continue
+            for line in (d / "status").read_text().splitlines():
+                if line.startswith("VmRSS:"):
+                    out[int(d.name)] = int(line.split()[1]) * 1024
+        except (OSError, ValueError, IndexError):
+            continue
+    return out
+
+
+def main() -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--minutes", type=float, default=10.0)
+    parser.add_argument("--json", action="store_true")
+    args = parser.parse_args()
+    total = args.minutes * 60
+    warmup, baseline = total * 0.1, total * 0.1
+    body = _post_body()
+    port = common.free_port()
+    url = f"http://127.0.0.1:{port}"
+    cache = tempfile.mkdtemp(prefix="brdf-soak-tables-")
+    log_path = Path(tempfile.gettempdir()) / f"brdf-soak-{os.getpid()}.log"
+    proc = subprocess.Popen(
+        [sys.executable, "-m", "uvicorn", "--factory", "app.main:create_app", "--workers", "2",
+         "--host", "127.0.0.1", "--port", str(port), "--log-level", "warning"],
+        cwd=common.ROOT, stdout=open(log_path, "wb"), stderr=subprocess.STDOUT,
+        env={**os.environ, "PYTHONPATH": str(common.ROOT), "BRDF_CACHE_DIR": cache})
+    rec, phase, stop = Recorder(), ["warmup"], threading.Event()
+    rss: list[tuple[float, str, int]] = []
+    try:
+        deadline = time.monotonic() + 120
+        while time.monotonic() < deadline:
+            try:
+                if httpx.get(f"{url}/api/v1/health", timeout=2).status_code == 200:
+                    break
+            except httpx.HTTPError:
+                time.sleep(0.2)
+        common.log(f"soak: server up, {args.minutes:g} min, log {log_path}")
+        clients = [threading.Thread(target=_slider, args=(url, rec, phase, stop), daemon=True)
+                   for _ in range(SLIDER_CLIENTS)]
+        for t in clients:
+            t.start()
+        t_start = time.monotonic()
+        side: list[threading.Thread] = []
+        next_worst, next_burst, k_worst, k_export = warmup + baseline, warmup + baseline + 5, 0, 0
+        while (now := time.monotonic() - t_start) < total:
+            phase[0] = "warmup" if now < warmup else "baseline" if now < warmup + baseline else "mixed"
+            rss.append((round(now, 1), phase[0], sum(_workers_rss(proc.pid).values())))
+            if phase[0] == "mixed" and now >= next_worst:
+                side.append(threading.Thread(target=_worst, args=(url, rec, body, k_worst), daemon=True))
+                side[-1].start()
+                k_worst, next_worst = k_worst + 1, next_worst + WORST_EVERY
+            if phase[0] == "mixed" and now >= next_burst:
+                for _ in range(BURST):
+                    side.append(threading.Thread(target=_export, args=(url, rec, k_export), daemon=True))
+                    side[-1].start()
+                    k_export += 1
+                next_burst += BURST_EVERY
+            time.sleep(2.0)
+        stop.set()
+        for t in clients + side:
+            t.join(timeout=150)
+    finally:
+        proc.terminate()
+        try:
+            proc.wait(timeout=20)
+        except subprocess.TimeoutExpired:
+            proc.kill()
+            proc.wait()
+    after_warmup = [b for t, p, b in rss if p != "warmup"]
+    result = {
+        "machine": common.machine(), "minutes": args.minutes,
+        "status": {str(k): v for k, v in sorted(rec.status.items(), key=str)},
+        "busy_503_with_retry_after": rec.busy,
+        "5xx": sum(v for k, v in rec.status.items() if isinstance(k, int) and k >= 500),
+        "5xx_other_than_busy": sum(v for k, v in rec.status.items()
+                                   if isinstance(k, int) and k >= 500) - rec.busy,
+        "cheap": {p: {"n": len(v), "p50_ms": 1e3 * common.percentile(v, 50),
+                      "p99_ms": 1e3 * common.percentile(v, 99)} for p, v in rec.cheap.items()},
+        "worst": rec.worst,
+        "exports": {"n": len(rec.exports), "ok": sum(e["status"] == 200 for e in rec.exports),
+                    "max_tries": max((e["tries"] for e in rec.exports), default=0),
+                    "max_seconds": max((e["seconds"] for e in rec.exports), default=0)},
+        "rss_mb": {"after_warmup": after_warmup[0] / 2**20 if after_warmup else None,
+                   "end": after_warmup[-1] / 2**20 if after_warmup else None,
+                   "max": max(after_warmup) / 2**20 if after_warmup else None,
+                   "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]]},
+        "errors": rec.errors,
+    }
+    c = result["cheap"]
+    result["cheap_p99_ratio"] = (c["mixed"]["p99_ms"] / c["baseline"]["p99_ms"]
+                                 if c["baseline"]["n"] and c["mixed"]["n"] else None)
+    if args.json:
+        print(json.dumps(result, indent=1))
+        return
+    print(f"statuses {result['status']}; 5xx {result['5xx']} "
+          f"(busy 503 + Retry-After {rec.busy}, other {result['5xx_other_than_busy']})")
+    for p, v in c.items():
+        print(f"cheap {p:8s} n={v['n']:5d} p50 {v['p50_ms']:7.1f} ms p99 {v['p99_ms']:7.1f} ms")
+    print(f"cheap p99 mixed/baseline: {result['cheap_p99_ratio']:.2f}")
+    for w in rec.worst:
+        print(f"worst {w['status']} {w['seconds']:6.2f} s {w['request'][:100]}")
+    print(f"exports {result['exports']}")
+    r = result["rss_mb"]
+    print(f"workers' RSS: after warm-up {r['after_warmup']:.0f} MB, end {r['end']:.0f} MB, "
+          f"max {r['max']:.0f} MB")
+    for e in rec.errors:
+        print("error:", e)
+
+
+if __name__ == "__main__":
+    main()
