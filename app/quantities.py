@@ -52,6 +52,8 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
     l, v = l.reshape(-1, 3), v.reshape(-1, 3)
     out: dict[str, np.ndarray] = {}
     for start in range(0, count, EVAL_CHUNK):
+        if start:
+            cost.check_deadline(f"{count} BRDF evaluations")
         part = slice(start, start + EVAL_CHUNK)
         for name, value in terms(l[part], v[part]).items():
             if name not in out:

@@ -98,3 +98,12 @@ def require_evaluations(brdf, evaluations: int, nbytes: int, param: str, what: s
     if budget.current() is None:
         return
     require(evaluations * seconds_per_evaluation(brdf), nbytes, param, what)
+
+
+def check_deadline(what: str) -> None:
+    """Between chunks of fixed work: once the request's budget is spent (the machine was
+    slower than predicted, being busy), stop with Busy rather than hold the worker."""
+    b = budget.current()
+    if b is not None and b.elapsed() > b.seconds:
+        raise Busy(f"{what} ran out of BRDF_MAX_SECONDS={b.seconds:g} (the server is busy): "
+                   "retry", retry_after=int(np.ceil(b.seconds)), what="time budget")

@@ -90,6 +90,8 @@ def albedo_mc(brdf: BRDF, mu, phi: float = 0.0, sampler: str = "cosine", samples
     E_error = np.empty_like(mu)
     rows = max(1, CHUNK_DIRECTIONS // samples)
     for start in range(0, mu.size, rows):
+        if start:
+            cost.check_deadline(f"Monte Carlo with {mu.size} μ × {samples} samples")
         part = slice(start, start + rows)
         # every chunk restarts the same stream: common random numbers across all μ
         _, _, w = weights(brdf, chosen, v[part], samples, seed)
