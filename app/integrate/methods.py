@@ -61,6 +61,8 @@ def single_albedo(brdf: BRDF, mu, phi: float, method: str, tol: float = DEFAULT_
     if method in MC_METHODS:
         try:
             res = albedo_mc(brdf, mu, phi, MC_METHODS[method], samples, seed)
+        except ParameterError:      # a limit (TooLarge) names its own parameter
+            raise
         except ValueError as exc:
             raise ParameterError("method", f"method={method}: {exc}") from exc
         return {"E": res.E, "E_error": res.E_error, "evaluations": res.evaluations,
