@@ -41,6 +41,8 @@ def _table(brdf: BRDF, mu) -> dict:
     t0 = time.perf_counter()
     try:
         E, error, tables = tabulated_albedo(brdf, mu)
+    except ParameterError:          # a limit names its own parameter
+        raise
     except ValueError as exc:
         raise ParameterError("method", str(exc)) from exc
     return {"E": E, "E_error": np.full(E.shape, error), "evaluations": 0,

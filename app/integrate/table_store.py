@@ -320,7 +320,10 @@ def table(key: tuple) -> tables.ETable:
     if entry is None:
         predicted = predict_seconds(key)
         if predicted <= IN_REQUEST_SHARE * (b.seconds - b.elapsed()):
-            return _build(key)
+            try:
+                return _build(key)
+            except tables.TableTooSlow:     # slower than predicted (the machine is loaded)
+                predicted = max(predicted, b.seconds)
         entry = _queue_build(key, predicted)
     raise Busy(f"the {_name(key)} is being built (~{entry['predicted']:.0f} s, outside this "
                "request); retry after the time given, or use method=quadrature",
