@@ -4,6 +4,7 @@ to know which query parameters are lists and which methods a path takes)."""
 from __future__ import annotations
 
 import re
+import threading
 
 from fastapi import FastAPI
 
@@ -52,10 +53,14 @@ def install(app: FastAPI) -> None:
     """``app.openapi()`` builds the document on its first call (FastAPI's generator plus
     the error responses) and returns the same object afterwards."""
     generate = app.openapi
+    # FastAPI's generator is not thread-safe: concurrent first requests of an app served
+    # without its lifespan (which builds the document first) raised KeyError inside it
+    lock = threading.Lock()
 
     def openapi() -> dict:
-        if app.openapi_schema is None:
-            app.openapi_schema = _with_errors(generate())
+        with lock:
+            if app.openapi_schema is None:
+                app.openapi_schema = _with_errors(generate())
         return app.openapi_schema
 
     app.openapi = openapi
