@@ -5,7 +5,7 @@ evaluations × the seconds one evaluation of the chosen model takes, measured on
 model family by a probe (:func:`seconds_per_evaluation`); and its memory from the values
 it must hold at once (outputs, one chunk of work). Then :func:`require`:
 
-* predicted beyond the whole time budget (BRDF_MAX_SECONDS) or the memory budget
+* predicted beyond the whole time budget (BRDF_MAX_SECONDS + GRACE_SECONDS) or the memory budget
   (BRDF_MAX_REQUEST_BYTES): the input asks too much whatever the load — ``TooLarge``
   (413) naming the parameter and the setting, before any work;
 * within the budget but beyond what is left of it (the request waited for a worker
@@ -33,6 +33,11 @@ PROBE_PAIRS = 4096
 SAFETY = 1.5
 #: The memory budget of one request, set by the server at start-up (BRDF_MAX_REQUEST_BYTES).
 _memory_limit = {"bytes": 1 << 30}
+#: Seconds past BRDF_MAX_SECONDS a request may end: work that cannot be cut (a first
+#: pass, one chunk) is started when predicted to end within it. Adaptive work stops
+#: within BRDF_MAX_SECONDS itself (budget.py); this is the rest of the promise that no
+#: request holds a worker longer than BRDF_MAX_SECONDS + 1 s.
+GRACE_SECONDS = 1.0
 _lock = threading.Lock()
 
 
@@ -83,10 +88,10 @@ def require(seconds: float, nbytes: int, param: str, what: str) -> None:
         raise TooLarge(param, f"{what} would hold ~{nbytes / 2**20:.0f} MiB at once, above "
                               f"BRDF_MAX_REQUEST_BYTES={memory_limit()}: ask for less")
     predicted = SAFETY * seconds
-    if predicted > b.seconds:
+    if predicted > b.seconds + GRACE_SECONDS:
         raise TooLarge(param, f"{what} is predicted to take ~{predicted:.1f} s, beyond "
                               f"BRDF_MAX_SECONDS={b.seconds:g}: ask for less")
-    left = b.seconds - b.elapsed()
+    left = b.seconds + GRACE_SECONDS - b.elapsed()
     if predicted > left:
         raise Busy(f"{what} needs ~{predicted:.1f} s and this request has {max(left, 0):.1f} s "
                    f"of BRDF_MAX_SECONDS={b.seconds:g} left (the server is busy): retry",

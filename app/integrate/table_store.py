@@ -14,7 +14,8 @@ tables
    with a log line.
 
 :func:`start` queues the default models' tables (:func:`default_keys`) for one background
-thread. A request whose table is not ready builds it in place only when its predicted
+thread, and from then on any table a request needs. A request whose table is not ready
+builds it in place only when its predicted
 cost (one probe E(μ) at mid roughness × the build's points) fits IN_REQUEST_SHARE of the
 time left; otherwise the table is queued and :class:`~app.errors.Busy` says which and
 when to retry (503 + Retry-After), and ``method=auto`` takes the quadrature instead.
@@ -60,7 +61,8 @@ _memory: "OrderedDict[tuple, tables.ETable]" = OrderedDict()
 _stats = {"hits": 0, "misses": 0}
 _pending: dict[tuple, dict] = {}          # key -> {"predicted": s, "queued": t, "started": t|None}
 _queue: "queue.Queue[tuple]" = queue.Queue(QUEUE_SIZE)
-_state = {"directory": None, "thread": None}
+#: accepting: queue tables for the background builder (from :func:`start` to :func:`stop`)
+_state = {"directory": None, "thread": None, "accepting": False}
 
 
 # ------------------------------------------------------------------ keys and versions
@@ -254,6 +256,10 @@ def predict_seconds(key: tuple) -> float:
 def _queue_build(key: tuple, predicted: float) -> dict:
     with _lock:
         entry = _pending.get(key)
+        if entry is None and not _state["accepting"]:
+            raise Busy(f"the {_name(key)} would take ~{predicted:.0f} s to build, more than "
+                       "this request has, and no background builder runs here (a server "
+                       "started normally has one)", RETRY_UNKNOWN, what=_name(key))
         if entry is None:
             try:
                 _queue.put_nowait(key)
@@ -340,7 +346,7 @@ def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) 
     """Use ``directory`` for persisted tables (created if missing; None: memory only) and
     queue ``keys`` (default: :func:`default_keys`) for the background builder. Returns the
     directory in use (None when it is not writable)."""
-    _state["directory"] = None
+    _state["directory"], _state["accepting"] = None, True
     if directory is not None:
         path = Path(directory)
         try:
@@ -359,6 +365,11 @@ def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) 
             except Busy:
                 break
     return _state["directory"]
+
+
+def stop() -> None:
+    """Queue no more builds (those queued still finish) and forget the directory."""
+    _state["directory"], _state["accepting"] = None, False
 
 
 def default_directory() -> Path:

@@ -32,7 +32,8 @@ def quadrature_directions(monkeypatch):
     real = smith_integral._integral
 
     def counted(ndf, mu, s, v0, order, with_slope=False):
-        count[0] += int(np.size(mu))
+        if threading.current_thread().name != "table-builder":   # not another test's build
+            count[0] += int(np.size(mu))
         return real(ndf, mu, s, v0, order, with_slope)
 
     monkeypatch.setattr(smith_integral, "_integral", counted)

@@ -33,7 +33,7 @@ def small_fresh_store(monkeypatch):
     table_store.cache_clear()
     yield
     assert table_store.wait(300)
-    table_store.start(None, keys=[])
+    table_store.stop()
     table_store.cache_clear()
 
 
@@ -142,3 +142,12 @@ def test_fresh_server_answers_kulla_conty_from_its_start_up_table_and_a_restart_
         assert r.status_code == 200, r.text
         info = table_store.cache_info()
         assert info.misses == 0 and info.hits > 0
+
+
+def test_without_a_started_store_a_slow_table_is_busy_and_nothing_builds(monkeypatch):
+    """An app served without its lifespan (no builder): Busy, and no thread left building."""
+    table_store.stop()
+    monkeypatch.setattr(table_store, "predict_seconds", lambda key: 1e4)
+    with budget.limit(10.0), pytest.raises(Busy) as busy:
+        table_store.table(_ggx_key(ndf="beckmann"))
+    assert "no background builder" in busy.value.message and table_store.building() == []
