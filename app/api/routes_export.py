@@ -69,11 +69,13 @@ def _image_route(view: View, fmt: str):
     def route(request: Request, renderer: Renderer, q: Annotated[model, Query()]) -> Response:
         settings = request.app.state.settings
         build.check_image_size(q, settings)
-        t0 = time.perf_counter()
-        produced = build.produce(view, q, settings)
-        t1 = time.perf_counter()
-        body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
-        t2 = time.perf_counter()
+        # a place in the export queue before any work: a full queue is a 503 at once
+        with renderer.slot():
+            t0 = time.perf_counter()
+            produced = build.produce(view, q, settings)
+            t1 = time.perf_counter()
+            body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
+            t2 = time.perf_counter()
         return Response(body, media_type=MEDIA[fmt], headers={
             "Content-Disposition": f'inline; filename="{_filename(view, q, fmt)}"',
             "Server-Timing": _timing(compute=t1 - t0, render=t2 - t1)})
