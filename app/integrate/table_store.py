@@ -242,7 +242,7 @@ def predict_seconds(key: tuple) -> float:
     """Seconds a build of ``key`` is predicted to take: one probe of PROBE_POINTS E(μ) at
     α = PROBE_ALPHA, scaled to the build's points (and the Schlick basis' base table)."""
     lobe = tables._lobe_at(key, PROBE_ALPHA)
-    compiled = tables.albedo_kernel.spec_args(lobe) is not None
+    compiled = tables.kernels.ENABLED and tables.kernels.components(lobe) is not None
     n = tables.TABLE_N_Y if compiled else tables.SLOW_TABLE_N
     points = tables.build_points(n, n)
     if key[-1] is not None:

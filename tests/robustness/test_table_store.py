@@ -76,9 +76,10 @@ def test_a_second_worker_reads_the_first_ones_file(tmp_path):
         table_store.table(key)
         print(queued, table_store.cache_info().misses)
     """)
-    out = subprocess.run([sys.executable, "-c", child, str(tmp_path)], cwd=ROOT, check=True,
+    out = subprocess.run([sys.executable, "-c", child, str(tmp_path)], cwd=ROOT,
                          capture_output=True, text=True, env={**os.environ, "PYTHONPATH": str(ROOT)})
-    assert out.stdout.split() == ["[]", "0"]
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert out.stdout.split()[-2:] == ["[]", "0"], out.stdout
 
 
 def test_changed_code_does_not_read_an_old_file(tmp_path, monkeypatch):
