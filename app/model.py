@@ -5,7 +5,7 @@ what it allows, which the API turns into an HTTP 422.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
@@ -93,10 +93,56 @@ def choice_param_names() -> dict[str, dict[str, Param]]:
 
 @dataclass(frozen=True)
 class ModelSpec:
-    """The validated, flat description of a model: what URLs and API calls carry."""
+    """The validated, flat description of a model: what URLs and API calls carry. Build
+    one with :func:`make_spec`; derive others with the typed edits ``with_`` and
+    ``at_alpha`` (validated again) instead of editing ``values``."""
     values: dict
+    _built: list = field(default_factory=list, compare=False, repr=False)
+
+    def key(self) -> tuple:
+        """A hashable identity of the model (cache keys)."""
+        return tuple(sorted(self.values.items()))
+
+    def as_query(self) -> dict:
+        """The model as make_spec (and every endpoint) takes it: every option named, the
+        roughness as α (no roughness/anisotropy form), only parameters that apply, no
+        derived values."""
+        v = self.values
+        out = {name: v[name] for name in OPTIONS}
+        out.update({p.name: v[p.name] for p in COMMON_PARAMS
+                    if p.name not in ("roughness", "anisotropy") and v.get(p.name) is not None})
+        for option in ("ndf", "fresnel"):
+            out.update({p.name: v[p.name] for p in choice_params(option, v[option])
+                        if v.get(p.name) is not None})
+        if v.get("lambda_phi") is not None:
+            out["lambda_phi"] = v["lambda_phi"]
+        return out
+
+    def with_(self, **changes) -> "ModelSpec":
+        """This model with ``changes`` (``None`` removes a value): the parameters of a
+        replaced choice (Schlick's f0 when fresnel changes, λ(φ) when the new G2 does not
+        take it) are dropped. Raises ParameterError for a combination that does not exist."""
+        out = self.as_query()
+        for option in ("ndf", "fresnel"):
+            if option in changes and changes[option] != out[option]:
+                for p in choice_params(option, out[option]):
+                    out.pop(p.name, None)
+        out.update(changes)
+        if not G2_FORMS[out["g2"]].needs_phi:
+            out.pop("lambda_phi", None)
+        return make_spec(**out)
+
+    def at_alpha(self, alpha: float) -> "ModelSpec":
+        """The isotropic model with roughness ``alpha`` (a second lobe's α₂ is kept)."""
+        return self.with_(alpha=float(alpha), alpha_y=None)
 
     def brdf(self) -> BRDF:
+        """The BRDF, built once per spec."""
+        if not self._built:
+            self._built.append(self._build())
+        return self._built[0]
+
+    def _build(self) -> BRDF:
         v = self.values
         shape = {p.name: v[p.name] for p in choice_params("ndf", v["ndf"]) if v.get(p.name) is not None}
         fresnel_values = {p.name: v[p.name] for p in choice_params("fresnel", v["fresnel"])

@@ -31,8 +31,6 @@ QUAD_TOL = DEFAULT_TOL
 GRID_SAFETY = 2.0
 #: E grids kept (one per model and scene: 54 E and errors, ~1 kB).
 GRID_CACHE_ENTRIES = 512
-#: Options of the roughness form, replaced by alpha when α is set from the range.
-_ROUGHNESS_FORM = ("roughness", "anisotropy", "aniso_map", "alpha_y")
 
 
 @dataclass(frozen=True)
@@ -52,13 +50,6 @@ class Scene:
 
 def is_anisotropic(values: dict) -> bool:
     return values.get("alpha_y") is not None and values["alpha_y"] != values["alpha"]
-
-
-def at_alpha(model: dict, alpha: float) -> dict:
-    """The model with its α (in whichever form it was given) replaced by ``alpha``."""
-    out = {k: v for k, v in model.items() if k not in _ROUGHNESS_FORM}
-    out["alpha"] = float(alpha)
-    return out
 
 
 @dataclass
@@ -82,7 +73,7 @@ def albedo_grid(model: dict, scene: Scene, method: str = "quadrature", name: str
     another tol, starts from them. ``seconds`` is then that of the first computation."""
     if not cache:
         return _compute_grid(model, scene, method, name, kw)
-    key = tuple(sorted(make_spec(**at_alpha(model, 1.0)).values.items()))
+    key = make_spec(**model).at_alpha(1.0).key()
     return _grid_cached(Keyed((model, name), key), scene, method, tuple(sorted(kw.items())))
 
 
@@ -96,11 +87,12 @@ def _grid_cached(model: Keyed, scene: Scene, method: str, kw: tuple) -> Grid:
 def _compute_grid(model: dict, scene: Scene, method: str, name: str, kw: dict) -> Grid:
     E, err, evals, t0 = [], [], 0, time.perf_counter()
     alphas = scene.alphas()
+    base = make_spec(**model)
     for alpha in alphas:
         if E and not _affords((time.perf_counter() - t0) / len(E)):
             _cut(f"advise: E of {name or method} stopped at α = {alpha:.3g} (no time left)")
             break
-        res = albedo_by(make_spec(**at_alpha(model, alpha)).brdf(), scene.mu(alpha),
+        res = albedo_by(base.at_alpha(alpha).brdf(), scene.mu(alpha),
                         method=method, tol=QUAD_TOL, average=False, **kw)
         E.append(np.asarray(res["E"], dtype=float))
         err.append(np.asarray(res["E_error"], dtype=float))

@@ -25,9 +25,8 @@ from ..errors import ParameterError
 from ..integrate import budget
 from ..integrate import slope_quadrature as sq
 from ..integrate.methods import albedo_by
-from ..model import COMMON_PARAMS, OPTIONS, ModelSpec, choice_params, make_spec
+from ..model import ModelSpec
 from ..physics.brdf import BRDF
-from ..physics.g2 import G2_FORMS
 from ..physics.masking import G1
 from ..physics.vectors import direction_deg, half_vector
 
@@ -190,28 +189,6 @@ def _quadrature_row(rid: str, brdf: BRDF, v: np.ndarray, expected: float, note: 
 
 # ------------------------------------------------------------- the albedo rows
 
-def model_values(spec: ModelSpec, **overrides) -> dict:
-    """Flat parameters of ``spec`` (as make_spec takes them) with ``overrides``: the
-    roughness resolved to α (no roughness/anisotropy form), derived values dropped, and
-    the parameters of a replaced choice (Schlick's f0 when fresnel changes; λ(φ) when
-    the new G2 does not take it) left out."""
-    v = spec.values
-    out = {name: v[name] for name in OPTIONS}
-    for p in COMMON_PARAMS:
-        if p.name not in ("roughness", "anisotropy") and v.get(p.name) is not None:
-            out[p.name] = v[p.name]
-    out.update(overrides)
-    for option in ("ndf", "fresnel"):
-        if out[option] == v[option]:
-            for p in choice_params(option, v[option]):
-                if v.get(p.name) is not None:
-                    out[p.name] = v[p.name]
-    g2 = G2_FORMS[out["g2"]]
-    if g2.needs_phi and v.get("lambda_phi") is not None:
-        out["lambda_phi"] = v["lambda_phi"]
-    return out
-
-
 class _Albedos:
     """E(μ) of variants of the model with F = 1, kd = 0, each computed at most once."""
 
@@ -225,7 +202,7 @@ class _Albedos:
         key = tuple(sorted(overrides.items()))
         if key in self.done:
             return self.done[key], 0
-        spec = make_spec(**model_values(self.spec, fresnel="none", kd=0.0, **overrides))
+        spec = self.spec.with_(fresnel="none", kd=0.0, **overrides)
         outer = budget.current()
         seconds = ALBEDO_SECONDS
         if outer is not None:

@@ -9,7 +9,6 @@ import numpy as np
 
 from ..integrate.cache import Keyed, freeze
 from ..model import COMMON_PARAMS, OPTIONS, SUB_OPTIONS, choice_param_names, make_spec
-from .albedo_grid import at_alpha
 
 #: f evaluations timed per run (below fast.PARALLEL_MIN: one thread), at least this many
 #: runs per model (the minimum is kept), and the CPU seconds after which a slow model
@@ -73,7 +72,7 @@ def _seconds(kind: Keyed) -> float:
     """Least CPU seconds of f at the fixed pairs over the runs, for one kind of model
     (``kind.key``); the first model of that kind seen (``kind.value``) is the one timed
     (continuous values do not matter)."""
-    brdf = make_spec(**at_alpha(kind.value, COST_ALPHA)).brdf()
+    brdf = make_spec(**kind.value).at_alpha(COST_ALPHA).brdf()
     l, v = _pairs()
     brdf.evaluate(l, v)                          # warm-up: numba compiles on first use
     runs, spent = [], 0.0

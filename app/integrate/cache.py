@@ -8,10 +8,12 @@ The albedo, the E(μ, α) tables, the trade-off and the advice cache what they c
 * :func:`complete_only` — an lru_cache that does not keep a result the request's time
   budget cut short (the budget gained a note during the call, :mod:`budget`) or that
   says itself it is incomplete: that answer is returned, with its honest larger error,
-  and the next request, with a fresh budget, computes it whole.
+  and the next request, with a fresh budget, computes it whole. Its ``lookup`` also
+  says whether the answer came from the cache (:func:`mark_cached` stamps it).
 """
 from __future__ import annotations
 
+from contextvars import ContextVar
 from functools import lru_cache, wraps
 from typing import Callable
 
@@ -35,6 +37,10 @@ class Keyed:
         return isinstance(other, Keyed) and self.key == other.key
 
 
+#: Set by :func:`complete_only`'s ``lookup``: whether the cached function ran.
+_ran: ContextVar[list | None] = ContextVar("ran", default=None)
+
+
 class _Cut(Exception):
     """Carries an incomplete result out of the lru_cache (which keeps no call that raises)."""
 
@@ -46,6 +52,9 @@ def complete_only(maxsize: int, complete: Callable[[object], bool] = lambda resu
     def decorate(function):
         @lru_cache(maxsize=maxsize)
         def cached(*args):
+            ran = _ran.get()
+            if ran is not None:
+                ran[0] = True
             b = budget.current()
             notes = len(b.notes) if b else 0
             result = function(*args)
@@ -60,7 +69,17 @@ def complete_only(maxsize: int, complete: Callable[[object], bool] = lambda resu
             except _Cut as cut:
                 return cut.args[0]
 
+        def lookup(*args) -> tuple[object, bool]:
+            """(the result, whether it came from the cache without computing)."""
+            token = _ran.set([False])
+            try:
+                result = call(*args)
+                return result, not _ran.get()[0]
+            finally:
+                _ran.reset(token)
+
         call.cache_info, call.cache_clear = cached.cache_info, cached.cache_clear
+        call.lookup = lookup
         return call
     return decorate
 
@@ -72,3 +91,15 @@ def freeze(arrays):
         if isinstance(value, np.ndarray):
             value.setflags(write=False)
     return arrays
+
+
+def mark_cached(data: dict, hit: bool) -> dict:
+    """A cached answer says so: ``cached`` true, ``seconds`` 0 (this request computed
+    nothing) and the first computation's time as ``computed_seconds``. Deterministic,
+    so an HTTP revalidation of the same answer matches its ETag."""
+    out = dict(data)
+    out["computed_seconds"] = data.get("seconds")
+    out["cached"] = bool(hit)
+    if hit:
+        out["seconds"] = 0.0
+    return out

@@ -1,21 +1,20 @@
 """The advice view: the cheaper choices of a model over the range a scene uses (roughness,
 angles), their albedo error and measured cost, and the cheapest within a tolerance
-(app/advise.py)."""
+(app/analysis/advise.py)."""
 from __future__ import annotations
 
 from typing import Annotated, Literal
 
 from pydantic import Field
 
-from .. import figures
 from ..analysis.advise import RESULT_CACHE_ENTRIES, Scene, advise, is_anisotropic
 from ..config import Settings
-from ..integrate.cache import Keyed, complete_only
-from ..model import make_spec
+from ..figures.advise import advise_figure
+from ..integrate.cache import Keyed, complete_only, mark_cached
 from ..physics.ndf import ALPHA
-from . import schemas
 from ..errors import ParameterError
-from .views import View, register
+from . import schemas
+from .view import View
 
 
 class AdviseQuery(schemas.ModelQuery):
@@ -42,7 +41,7 @@ def _check_advise(q: AdviseQuery, s: Settings):
         raise ParameterError("alpha_min", f"alpha_min={q.alpha_min:g} is above alpha_max="
                                       f"{q.alpha_max:g}: the range needs alpha_min ≤ alpha_max")
     given = schemas.model_values(q)
-    if is_anisotropic(make_spec(**given).values):
+    if is_anisotropic(schemas.spec_of(q).values):
         name = "anisotropy" if "anisotropy" in given else "alpha_y"
         raise ParameterError(name, f"{name}: advise is for isotropic models (alpha_y = alpha): the "
                                "scene's range replaces one α, and the albedo metric, the tables "
@@ -61,12 +60,15 @@ def _compute(spec, q: AdviseQuery) -> dict:
     and an export for the data of the same request, and the timing is worth keeping."""
     given = schemas.model_values(q)
     scene = Scene(q.alpha_min, q.alpha_max, q.theta_max_deg)
-    return dict(_cached(Keyed((given, spec), tuple(sorted(given.items()))), q.tol, scene,
-                        q.albedo_methods, q.metric))
+    data, hit = _cached.lookup(Keyed((given, spec), tuple(sorted(given.items()))), q.tol, scene,
+                               q.albedo_methods, q.metric)
+    return mark_cached(data, hit)
 
 
-register(View(
-    "advise", "Cheaper choices of the model over the scene's range of α and θ: the largest "
-              "albedo error and measured relative cost of each, and the cheapest within tol",
-    AdviseQuery, AdviseQuery, _check_advise, _compute,
-    lambda data, spec, q: figures.advise_figure(data, spec.values)))
+VIEW = View(
+    "advise", "Advice: a cheaper model",
+    "The cheaper choices of the model over the scene's range of α and θ, each with its "
+    "largest albedo error and measured relative cost, and the cheapest within tol.",
+    AdviseQuery, AdviseQuery, _compute,
+    lambda data, spec, q: advise_figure(data, spec.values),
+    _check_advise)

@@ -1,17 +1,18 @@
-"""The checks view: MATH.md's identities computed numerically for the current model,
-each next to the value it must have (app/checks.py), drawn as a table."""
+"""The checks view: the identities a microfacet model must satisfy computed numerically
+for the current model, each next to the value it must have (app/analysis/checks.py),
+drawn as a table."""
 from __future__ import annotations
 
 from typing import Annotated, Literal, Optional
 
 from pydantic import BeforeValidator, Field
 
-from .. import figures
 from ..analysis import checks
+from ..figures.checks import checks_figure
 from ..config import Settings
 from . import schemas
 from ..errors import ParameterError
-from .views import View, register
+from .view import View
 
 #: Largest θ of v: at 90° (μ_v = 0) rows 2–4 are 0 = 0 and 0/0. A closed bound (not
 #: θ < 90) so that the page, which shows numeric fields with both bounds, offers it.
@@ -38,9 +39,12 @@ def _check(q, s: Settings):
         raise ParameterError("ids", "ids must name at least one row of " + ", ".join(checks.ROW_IDS))
 
 
-register(View(
-    "checks", "MATH.md's identities 1–4 and 7 computed numerically for the model and a view "
-              "direction, each next to the value it must have, with error and cost",
-    ChecksQuery, ChecksQuery, _check,
+VIEW = View(
+    "checks", "Identity checks",
+    "The identities every microfacet model must satisfy (normalisation, projected area, "
+    "Smith's G1, the white furnace, energy) computed for the model and a view direction, "
+    "each next to the value it must have, with error and cost.",
+    ChecksQuery, ChecksQuery,
     lambda spec, q: checks.checks(spec, q.theta_deg, q.phi_deg, q.ids),
-    lambda data, spec, q: figures.checks_figure(data, spec.values)))
+    lambda data, spec, q: checks_figure(data, spec.values),
+    _check)

@@ -11,8 +11,9 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
 from ..integrate.albedo import ORDER_MAX
 from ..integrate.methods import DEFAULT_SAMPLES, MC_METHODS, MC_SAMPLES_MAX, METHODS
-from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_param_names
 from ..errors import ParameterError
+from ..model import (COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, ModelSpec,
+                     choice_param_names, make_spec)
 
 STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
 
@@ -40,8 +41,9 @@ def applies_where_given(q: BaseModel) -> None:
 
 
 def _split_commas(value):
-    """Accept ``?x=1,2,3``, ``?x=1&x=2`` and JSON lists alike."""
-    if isinstance(value, str):
+    """Accept ``?x=1,2,3``, ``?x=1&x=2``, JSON lists and a JSON scalar (one value, as
+    ``?x=1`` is) alike."""
+    if isinstance(value, (str, int, float)) and not isinstance(value, bool):
         value = [value]
     if isinstance(value, (list, tuple)):
         out = []
@@ -112,6 +114,11 @@ def model_values(q: BaseModel) -> dict:
     """The model part of a query, only what the request set (make_spec fills defaults and
     must know whether alpha was given, to refuse two roughness forms at once)."""
     return {name: getattr(q, name) for name in ModelQuery.model_fields if name in q.model_fields_set}
+
+
+def spec_of(q: BaseModel) -> ModelSpec:
+    """The validated model of a query."""
+    return make_spec(**model_values(q))
 
 
 class EvalQuery(ModelQuery):

@@ -7,14 +7,13 @@ from typing import Annotated, Literal, Optional
 import numpy as np
 from pydantic import BeforeValidator, Field
 
-from .. import figures
 from ..config import Settings
 from ..analysis import tradeoff
+from ..figures.tradeoff import tradeoff_figure
 from ..integrate.albedo import max_evaluations
-from ..model import make_spec
 from . import schemas
 from ..errors import ParameterError
-from .views import View, _limit, register
+from .view import View, limit
 
 #: Largest max_budget the schema admits; the setting BRDF_MAX_TRADEOFF_SAMPLES is the
 #: limit that applies (checked with a message naming it).
@@ -55,10 +54,10 @@ def _check(q, s: Settings):
     if q.mu is not None and len(q.mu) == 0:
         raise ParameterError("mu", "mu must hold at least one value in [0, 1]")
     count = len(q.mu) if q.mu is not None else len(tradeoff.DEFAULT_MU)
-    _limit("mu", count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
-    _limit("max_budget", q.max_budget, s.max_tradeoff_samples, "BRDF_MAX_TRADEOFF_SAMPLES")
+    limit("mu", count, s.max_albedo_points, "BRDF_MAX_ALBEDO_POINTS")
+    limit("max_budget", q.max_budget, s.max_tradeoff_samples, "BRDF_MAX_TRADEOFF_SAMPLES")
     # the reference is the refining quadrature: the albedo view's worst case
-    worst = max_evaluations(make_spec(**schemas.model_values(q)).brdf(), count)
+    worst = max_evaluations(schemas.spec_of(q).brdf(), count)
     if worst > s.max_evaluations:
         raise ParameterError("mu", f"the reference at {count} μ values may need up to {worst:.3g} "
                                f"integrand evaluations; the limit is {s.max_evaluations:.3g} "
@@ -67,15 +66,17 @@ def _check(q, s: Settings):
 
 def _compute(spec, q) -> dict:
     mu = q.mu if q.mu is not None else tradeoff.DEFAULT_MU
-    data = tradeoff.tradeoff(spec.brdf(), tuple(sorted(spec.values.items())), mu,
+    data = tradeoff.tradeoff(spec.brdf(), spec.key(), mu,
                              float(np.deg2rad(q.phi_deg)), q.methods, q.max_budget, q.seed)
     if "note" in data:
         data["note"] += " (setting BRDF_MAX_SECONDS)"
     return data
 
 
-register(View(
-    "tradeoff", "Albedo error against cost: each method (quadrature, Monte Carlo, table) over "
-                "a range of budgets, max |E − E_ref| over μ versus evaluations and seconds",
-    TradeoffQuery, TradeoffFigureQuery, _check, _compute,
-    lambda data, spec, q: figures.tradeoff_figure(data, spec.values, getattr(q, "x", "evaluations"))))
+VIEW = View(
+    "tradeoff", "Speed against accuracy",
+    "Albedo error against cost: each method (quadrature, Monte Carlo, table) over a range "
+    "of budgets, max |E − E_ref| over μ versus evaluations and seconds.",
+    TradeoffQuery, TradeoffFigureQuery, _compute,
+    lambda data, spec, q: tradeoff_figure(data, spec.values, getattr(q, "x", "evaluations")),
+    _check)
