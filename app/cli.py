@@ -45,7 +45,7 @@ def _option(name: str) -> str:
 
 def _export_parser(kind: str):
     from .export import build
-    from .api.views import VIEWS
+    from .views import VIEWS
     view = VIEWS[kind]
     model = build.image_query(view)
     parser = argparse.ArgumentParser(
@@ -69,7 +69,7 @@ def _export_parser(kind: str):
 def parse_export(argv: list[str]):
     """``KIND options -o FILE`` → (view, validated query, output path)."""
     from pydantic import ValidationError
-    from .api.views import VIEWS
+    from .views import VIEWS
     if not argv or argv[0] in ("-h", "--help"):
         raise UsageError("usage: brdf-explorer export KIND [options] -o FILE\n"
                          f"KIND is one of: {', '.join(VIEWS)}\n"

@@ -12,10 +12,9 @@ from urllib.parse import urlencode
 
 from pydantic import ValidationError
 
-from .api import schemas
 from .errors import ParameterError
-from .api.views import VIEWS
-from .model import make_spec
+from .views import VIEWS, lookup, vary
+from .views.schemas import spec_of
 
 
 @dataclass(frozen=True)
@@ -113,15 +112,12 @@ ENTRIES: tuple[Entry, ...] = (
 
 def _validate(kind: str, state: dict) -> bool:
     """Does the API accept this state for this view (the same checks a request gets)?"""
-    from .export.build import export_query, lookup
     try:
         view = lookup(kind)
-        q = export_query(view).model_validate(state)
-        for value in (q.values or [None]):
-            qk = q if value is None else view.figure_query.model_validate(
-                {**{k: getattr(q, k) for k in view.figure_query.model_fields if k in q.model_fields_set},
-                 q.vary: value})
-            make_spec(**schemas.model_values(qk))
+        q = vary.figure_query(view).model_validate(state)
+        expanded = vary.expand(view, q)
+        for qk in (expanded[0] if expanded else [q]):
+            spec_of(qk)
     except (ValidationError, ParameterError):
         return False
     return True

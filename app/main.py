@@ -14,9 +14,8 @@ from starlette.concurrency import run_in_threadpool
 
 from . import __version__, kernels
 from .api import errors, http, openapi
-from .api.routes import router
+from .api import routes, routes_figures, routes_pages
 from .api.routes_data import router as data_router
-from .api.routes_export import router as export_router
 from .api.routes_shader import router as shader_router
 from .api.routes_lut import router as lut_router
 from .config import Settings
@@ -78,8 +77,9 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     openapi.install(app)
     http.install(app, app.state.settings, STATIC_DIR)
-    app.include_router(router)
-    app.include_router(export_router)
+    app.include_router(routes.router)
+    app.include_router(routes_figures.router)
+    app.include_router(routes_pages.router)
     app.include_router(shader_router)
     app.include_router(data_router)
     app.include_router(lut_router)
@@ -105,6 +105,8 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     def favicon():
         return FileResponse(STATIC_DIR / "favicon.svg", media_type="image/svg+xml")
 
+    # last: any other /api/v1 path is a 404 listing the views
+    app.include_router(routes.fallback)
     app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
     return app
 

@@ -1,20 +1,15 @@
-"""Routes of API v1. Each parses, checks limits, calls one computation, encodes."""
-from typing import Annotated, Any, Optional
+"""Routes of API v1 that are not figures: health, the model registry, /eval, and each
+view's data route. Each parses, calls the views' pipeline or one computation, encodes."""
+from typing import Annotated
 
 import numpy as np
-from fastapi import APIRouter, Body, Query, Request, Response
-from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from fastapi import APIRouter, Body, HTTPException, Query, Request, Response
 
-from .. import __version__, figures, quantities
-from ..figures.overlay import overlay
-from ..figures.style import model_title
-from ..model import (COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_params,
-                     make_spec)
-from ..physics.vectors import direction_deg
-from . import schemas
-from .encode import json_response
+from .. import __version__, quantities
 from ..errors import ParameterError
-from .views import VIEWS, View
+from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_params
+from ..views import VIEWS, View, lookup, run, schemas
+from .encode import json_response
 
 router = APIRouter(prefix="/api/v1")
 
@@ -86,7 +81,7 @@ def _evaluate(q: schemas.EvalQuery, limit: int, status: int, env: str):
         if size not in (1, n):
             raise ParameterError(name, f"{name} has {size} values but another list has {n}: "
                                    "lists must have equal length, or one value to broadcast")
-    spec = make_spec(**schemas.model_values(q))
+    spec = schemas.spec_of(q)
     arrays = {k: np.asarray(v, dtype=float) for k, v in lists.items()}
     return json_response(quantities.evaluate(
         spec.brdf(), arrays["theta_i_deg"], arrays["phi_i_deg"],
@@ -112,92 +107,20 @@ def eval_post(request: Request, q: Annotated[schemas.EvalQuery, Body(openapi_exa
 
 def _data_route(view: View):
     def route(request: Request, q: Annotated[view.query, Query()]) -> Response:
-        view.check(q, request.app.state.settings)
-        spec = make_spec(**schemas.model_values(q))
-        return json_response(view.compute(spec, q))
-    return route
-
-
-def _figure_route(view: View):
-    def route(request: Request, q: Annotated[view.figure_query, Query()]) -> Response:
-        view.check(q, request.app.state.settings)
-        spec = make_spec(**schemas.model_values(q))
-        figure = view.figure(view.compute(spec, q), spec, q)
-        return Response(figures.to_json(figure), media_type="application/json")
+        return json_response(run(view, q, request.app.state.settings).data)
     return route
 
 
 for _view in VIEWS.values():
     router.add_api_route(f"/{_view.name}", _data_route(_view), methods=["GET"], tags=["data"],
-                         summary=_view.summary, name=f"data_{_view.name}")
-    router.add_api_route(f"/figures/{_view.name}", _figure_route(_view), methods=["GET"],
-                         tags=["figures"], summary=f"Plotly figure: {_view.summary}",
-                         name=f"figure_{_view.name}")
+                         summary=f"{_view.title}: {_view.summary}", name=f"data_{_view.name}")
 
 
-class CompareBody(BaseModel):
-    """Several models in one figure: each entry of ``models`` is a model as the GET
-    endpoints take it (``{"ndf": "beckmann", "alpha": 0.2}``); ``view`` holds the
-    parameters they share (``theta_i_deg``, ``n``, ``log``...)."""
-    model_config = ConfigDict(extra="forbid")
-    models: list[dict[str, Any]] = Field(min_length=1, description="model specs, one curve each")
-    labels: Optional[list[str]] = Field(None, description="legend labels, one per model")
-    view: dict[str, Any] = Field(default_factory=dict, description="shared view parameters")
+#: Included last (app/main.py): any other /api/v1 path is a 404 that lists the views.
+fallback = APIRouter(prefix="/api/v1")
 
 
-def _difference_labels(specs: list[dict]) -> list[str]:
-    """Legend labels naming what differs between the models (all of the title if nothing
-    does): "ndf=ggx, alpha=0.2" / "ndf=beckmann, alpha=0.2" → "ggx" / "beckmann"."""
-    keys = [k for k in dict.fromkeys(k for s in specs for k in s)
-            if len({repr(s.get(k)) for s in specs}) > 1]
-    if not keys:
-        return [model_title(s) for s in specs]
-
-    def show(k, value):
-        return str(value) if k in OPTIONS else f"{k}={value:g}" if isinstance(value, float) else f"{k}={value}"
-    return [", ".join(show(k, s.get(k)) for k in keys if s.get(k) is not None) or "default" for s in specs]
-
-
-def _compare_route(view: View):
-    def route(request: Request, body: CompareBody) -> Response:
-        settings = request.app.state.settings
-        limit = settings.max_compare_models
-        if len(body.models) > limit:
-            raise ParameterError("models", f"{len(body.models)} models; the limit is {limit} "
-                             "(setting BRDF_MAX_COMPARE_MODELS)", status=413, loc="body")
-        if body.labels is not None and len(body.labels) != len(body.models):
-            raise ParameterError("labels", "give one label per model", loc="body")
-        model_fields = set(schemas.ModelQuery.model_fields)
-        if set(body.view) & model_fields:
-            name = sorted(set(body.view) & model_fields)[0]
-            raise ParameterError("view", f"{name} is a model parameter: put it in each model", loc="body")
-        figures_, specs = [], []
-        for k, model in enumerate(body.models):
-            try:
-                q = view.figure_query.model_validate({**body.view, **model})
-            except ValidationError as exc:
-                e = exc.errors()[0]
-                field = ".".join(str(x) for x in e.get("loc", ()))
-                raise ParameterError(f"models[{k}].{field}", f"models[{k}].{field}: {e.get('msg', '')}",
-                                 loc="body") from None
-            view.check(q, settings)
-            try:
-                spec = make_spec(**schemas.model_values(q))
-            except ParameterError as exc:
-                raise ParameterError(f"models[{k}].{exc.param}", f"models[{k}]: {exc.message}",
-                                 loc="body") from None
-            figures_.append(view.figure(view.compute(spec, q), spec, q))
-            specs.append(spec.values)
-        labels = body.labels or _difference_labels(specs)
-        figure = overlay(figures_, labels, f"{view.summary}: {len(labels)} models", param="models")
-        return Response(figures.to_json(figure), media_type="application/json")
-    return route
-
-
-for _view in VIEWS.values():
-    router.add_api_route(
-        f"/figures/{_view.name}", _compare_route(_view), methods=["POST"], tags=["figures"],
-        summary=f"Compare models in one figure: {_view.summary}", name=f"compare_{_view.name}",
-        openapi_extra={"requestBody": {"content": {"application/json": {"example": {
-            "models": [{"ndf": "ggx", "alpha": 0.2}, {"ndf": "beckmann", "alpha": 0.2}],
-            "view": {}}}}}})
+@fallback.api_route("/{name}", methods=["GET", "POST"], include_in_schema=False)
+def unknown(name: str):
+    lookup(name)
+    raise HTTPException(405, "Method Not Allowed")       # a view's data route takes GET

@@ -18,7 +18,7 @@ from ..integrate import budget
 from ..datasets.store import DatasetStore, content_id
 from ..errors import ParameterError, TooLarge
 from ..model import make_spec
-from . import schemas
+from ..views import schemas
 from .encode import json_response
 from .views import VIEWS, View
 

@@ -19,7 +19,7 @@ from ..shader import conventions
 from ..shader.conventions_figure import conventions_figure
 from ..shader.dsl import LANGS
 from ..shader.generate import generate
-from . import schemas
+from ..views import schemas
 from .encode import json_response
 
 router = APIRouter(prefix="/api/v1")

@@ -15,11 +15,11 @@ from pathlib import Path
 
 from pydantic import BaseModel
 
-from ..api.encode import jsonable
-from ..api.views import View
 from ..config import Settings
+from ..views import View
 from . import build
 from .image import ImageRenderer
+from .jsonable import jsonable
 
 SUFFIXES = (".svg", ".png", ".html", ".csv", ".plotly.json", ".json")
 

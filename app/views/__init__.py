@@ -18,7 +18,7 @@ VIEWS: dict[str, View] = {v.name: v for v in (
 def lookup(name: str) -> View:
     """The view called ``name``; unknown: a 404 that lists the views there are."""
     if name not in VIEWS:
-        raise ParameterError("view", f"unknown view {name!r}; the views are {', '.join(VIEWS)}",
+        raise ParameterError("view", f"unknown view {name!r}; one of {', '.join(VIEWS)}",
                              status=404, loc="path")
     return VIEWS[name]
 

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 from ..config import Settings
 from ..errors import ParameterError
 from ..figures.overlay import overlay
-from ..model import ModelSpec
+from ..figures.style import model_title
+from ..model import OPTIONS, ModelSpec
 from . import schemas
 from .view import View
 
@@ -40,11 +41,12 @@ def run(view: View, query, settings: Settings) -> Result:
     return Result(view, query, spec, view.compute(spec, query))
 
 
-def compare(view: View, queries: list, labels: list[str], caption: str, settings: Settings,
-            param: str = "vary", where: list[str] | None = None) -> Comparison:
+def compare(view: View, queries: list, labels: list[str] | None, caption: str,
+            settings: Settings, param: str = "vary", where: list[str] | None = None) -> Comparison:
     """:func:`run` each query and overlay their figures, titled "<the view's figure
-    title> — <caption>". A figure that is not a curve is refused naming ``param``; an
-    error of query k is prefixed by ``where[k]`` when given (``models[k]``)."""
+    title> — <caption>", one legend label per query (None: what differs between the
+    models). A figure that is not a curve is refused naming ``param``; an error of query
+    k is prefixed by ``where[k]`` when given (``models[k]``)."""
     results = []
     for k, query in enumerate(queries):
         try:
@@ -54,9 +56,26 @@ def compare(view: View, queries: list, labels: list[str], caption: str, settings
                 raise
             raise ParameterError(f"{where[k]}.{exc.param}", f"{where[k]}: {exc.message}",
                                  exc.status, exc.loc) from None
+    labels = labels or difference_labels([r.spec.values for r in results])
     figures = [r.figure() for r in results]
     head = _title_text(figures[0]).split(" — ")[0]
     return Comparison(results, labels, overlay(figures, labels, f"{head} — {caption}", param))
+
+
+def difference_labels(specs: list[dict]) -> list[str]:
+    """Legend labels naming what differs between the models (all of the title if nothing
+    does): "ndf=ggx, alpha=0.2" / "ndf=beckmann, alpha=0.2" → "ggx" / "beckmann"."""
+    keys = [k for k in dict.fromkeys(k for s in specs for k in s)
+            if len({repr(s.get(k)) for s in specs}) > 1]
+    if not keys:
+        return [model_title(s) for s in specs]
+
+    def show(k, value):
+        if k in OPTIONS:
+            return str(value)
+        return f"{k}={value:g}" if isinstance(value, float) else f"{k}={value}"
+    return [", ".join(show(k, s.get(k)) for k in keys if s.get(k) is not None) or "default"
+            for s in specs]
 
 
 def _title_text(figure: dict) -> str:

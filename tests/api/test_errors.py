@@ -90,7 +90,7 @@ def _app_raising(exc):
 
     app = create_app(settings_for_tests())
 
-    @app.get("/api/v1/raise-for-test")
+    @app.get("/test/raise")
     def raise_it():
         raise exc
     return app
@@ -102,7 +102,7 @@ def test_busy_is_503_with_retry_after():
 
     client = TestClient(_app_raising(Busy("the E(μ, α) table is being built", retry_after=7,
                                           what="table")))
-    r = client.get("/api/v1/raise-for-test")
+    r = client.get("/test/raise")
     assert r.status_code == 503 and r.headers["retry-after"] == "7"
     (e,) = detail(r)
     assert "being built" in e["msg"] and e["loc"] == ["query", "table"] and e["type"] == "busy"
@@ -114,10 +114,10 @@ def test_parameter_error_from_any_layer_is_its_status():
     from app.errors import ParameterError, TooLarge
 
     r = TestClient(_app_raising(ParameterError("alpha", "alpha: out of range"))).get(
-        "/api/v1/raise-for-test")
+        "/test/raise")
     assert r.status_code == 422 and detail(r)[0]["loc"] == ["query", "alpha"]
     r = TestClient(_app_raising(TooLarge("n", "n: above BRDF_MAX_CURVE_POINTS"))).get(
-        "/api/v1/raise-for-test")
+        "/test/raise")
     assert r.status_code == 413 and "n" in detail(r)[0]["loc"]
 
 
@@ -133,8 +133,8 @@ def test_a_failing_error_handler_keeps_the_errors_status(monkeypatch):
 
     monkeypatch.setattr(errors, "_respond", broken)
     client = TestClient(_app_raising(ParameterError("alpha", "bad")), raise_server_exceptions=False)
-    assert client.get("/api/v1/raise-for-test").status_code == 422
+    assert client.get("/test/raise").status_code == 422
     client = TestClient(_app_raising(Busy("busy")), raise_server_exceptions=False)
-    assert client.get("/api/v1/raise-for-test").status_code == 503
+    assert client.get("/test/raise").status_code == 503
     r = TestClient(_app_raising(ParameterError("alpha", "bad"))).get("/api/v1/eval?alpha=2",)
     assert r.status_code == 422

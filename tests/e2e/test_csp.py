@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import pytest
 
-from app.api.views import VIEWS
+from app.views import VIEWS
 
 pytestmark = pytest.mark.e2e
 

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from app.api.views import VIEWS
+from app.views import VIEWS
 from app.errors import ParameterError
 from app.export import table
 

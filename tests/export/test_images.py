@@ -9,7 +9,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
-from app.api.views import VIEWS
+from app.views import VIEWS
 from tests.budget import settings_for_tests
 from app.export.image import ImageRenderer, get_renderer
 from app.main import create_app

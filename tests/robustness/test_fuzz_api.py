@@ -44,9 +44,9 @@ import time
 import schemathesis
 from schemathesis.config import SchemathesisConfig
 
-from app.api import schemas
+from app.views import schemas
 from app.errors import ParameterError
-from app.api.views import VIEWS
+from app.views import VIEWS
 from app.config import Settings
 from app.main import create_app
 from app.model import make_spec

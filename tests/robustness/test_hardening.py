@@ -14,7 +14,7 @@ with warnings.catch_warnings():
     warnings.simplefilter("ignore", DeprecationWarning)
     from fastapi.testclient import TestClient
 
-from app.api.views import VIEWS
+from app.views import VIEWS
 from app.config import Settings
 from tests.budget import settings_for_tests
 from app.integrate.albedo import albedo, albedo_average, max_evaluations

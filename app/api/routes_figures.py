@@ -1,0 +1,193 @@
+"""Figures and their exports, for every view:
+
+* ``GET /api/v1/figures/{view}`` (and the same at ``.json``): the Plotly figure; with
+  ``vary`` + ``values`` one curve per value;
+* ``POST /api/v1/figures/{view}``: several models in one figure (``models[]``);
+* ``GET /api/v1/figures/{view}.svg`` / ``.png`` (+ ``width``, ``height``, ``scale``):
+  rendered by kaleido in one headless Chromium per process (503 without Chromium);
+* ``GET /api/v1/figures/{view}.csv``: the numbers behind the figure, units in the header.
+
+Every one of them takes the same query and goes through :mod:`app.views`' pipeline
+(via :mod:`app.export.build`). An unknown view or format is a 404 listing those there are.
+"""
+# No "from __future__ import annotations": FastAPI must see the query models, which are
+# local to the route factories, as objects.
+import re
+import time
+from typing import Annotated, Any, Optional
+
+from fastapi import APIRouter, Depends, HTTPException, Query, Request, Response
+from pydantic import BaseModel, ConfigDict, Field, ValidationError
+
+from .. import figures
+from ..errors import ParameterError
+from ..export import build
+from ..export.image import ImageRenderer, get_renderer
+from ..views import VIEWS, View, compare, lookup, schemas
+
+router = APIRouter(prefix="/api/v1/figures")
+Renderer = Annotated[ImageRenderer, Depends(get_renderer)]
+
+MEDIA = {"svg": "image/svg+xml", "png": "image/png", "csv": "text/csv; charset=utf-8",
+         "json": "application/json"}
+
+_SVG_EXAMPLE = ('<svg class="main-svg" xmlns="http://www.w3.org/2000/svg" width="800" '
+                'height="560" viewBox="0 0 800 560">…</svg>')
+_CSV_EXAMPLE = ("# view = ndf\n# phi_deg = 0\n# ndf = ggx\n# alpha = 0.3\ntheta_deg,D_per_sr\n"
+                "0,3.5367765131532298\n0.5,3.5347584447016218\n…\n")
+_PNG_NOTE = "PNG bytes: width·scale × height·scale pixels, RGBA."
+_UNAVAILABLE = {"description": "No Chromium on the server: the message says what to install",
+                "content": {"application/json": {"example": {"detail": [{
+                    "loc": ["query", "image export"], "type": "busy",
+                    "msg": "No Chromium found. Server-side image export needs a Chromium "
+                           "browser: install it (Debian/Ubuntu: apt-get install chromium; …)"}]}}}}
+
+
+def _filename(view: View, q, ext: str) -> str:
+    """lobe-ggx-alpha0.3.svg: the kind and the model, safe for any file system."""
+    parts = [view.name, getattr(q, "ndf", "") or ""]
+    if getattr(q, "vary", None):
+        parts.append(f"vary-{q.vary}")
+    elif getattr(q, "alpha", None) is not None:
+        parts.append(f"alpha{q.alpha:g}")
+    name = "-".join(p for p in parts if p)
+    return re.sub(r"[^A-Za-z0-9._-]", "_", name) + f".{ext}"
+
+
+def _timing(**seconds: float) -> str:
+    return ", ".join(f"{k};dur={v * 1000:.1f}" for k, v in seconds.items())
+
+
+def _image_route(view: View, fmt: str):
+    model = build.image_query(view)
+
+    def route(request: Request, renderer: Renderer, q: Annotated[model, Query()]) -> Response:
+        settings = request.app.state.settings
+        build.check_image_size(q, settings)
+        # a place in the export queue before any work: a full queue is a 503 at once
+        with renderer.slot():
+            t0 = time.perf_counter()
+            produced = build.produce(view, q, settings)
+            t1 = time.perf_counter()
+            body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
+            t2 = time.perf_counter()
+        return Response(body, media_type=MEDIA[fmt], headers={
+            "Content-Disposition": f'inline; filename="{_filename(view, q, fmt)}"',
+            "Server-Timing": _timing(compute=t1 - t0, render=t2 - t1)})
+    return route
+
+
+def _csv_route(view: View):
+    model = build.export_query(view)
+
+    def route(request: Request, q: Annotated[model, Query()]) -> Response:
+        produced = build.produce(view, q, request.app.state.settings)
+        return Response(produced.csv(), media_type=MEDIA["csv"], headers={
+            "Content-Disposition": f'inline; filename="{_filename(view, q, "csv")}"'})
+    return route
+
+
+def _figure_route(view: View):
+    model = build.export_query(view)
+
+    def route(request: Request, q: Annotated[model, Query()]) -> Response:
+        produced = build.produce(view, q, request.app.state.settings)
+        return Response(build.figure_json(produced), media_type=MEDIA["json"])
+    return route
+
+
+class CompareBody(BaseModel):
+    """Several models in one figure: each entry of ``models`` is a model as the GET
+    endpoints take it (``{"ndf": "beckmann", "alpha": 0.2}``); ``view`` holds the
+    parameters they share (``theta_i_deg``, ``n``, ``log``...)."""
+    model_config = ConfigDict(extra="forbid")
+    models: list[dict[str, Any]] = Field(min_length=1, description="model specs, one curve each")
+    labels: Optional[list[str]] = Field(None, description="legend labels, one per model")
+    view: dict[str, Any] = Field(default_factory=dict, description="shared view parameters")
+
+
+def _compare_route(view: View):
+    def route(request: Request, body: CompareBody) -> Response:
+        settings = request.app.state.settings
+        limit = settings.max_compare_models
+        if len(body.models) > limit:
+            raise ParameterError("models", f"{len(body.models)} models; the limit is {limit} "
+                                 "(setting BRDF_MAX_COMPARE_MODELS)", status=413, loc="body")
+        if body.labels is not None and len(body.labels) != len(body.models):
+            raise ParameterError("labels", "give one label per model", loc="body")
+        shared = sorted(set(body.view) & set(schemas.ModelQuery.model_fields))
+        if shared:
+            raise ParameterError("view", f"{shared[0]} is a model parameter: put it in each model",
+                                 loc="body")
+        queries = []
+        for k, model in enumerate(body.models):
+            try:
+                queries.append(view.figure_query.model_validate({**body.view, **model}))
+            except ValidationError as exc:
+                e = exc.errors()[0]
+                name = ".".join(str(x) for x in e.get("loc", ()))
+                raise ParameterError(f"models[{k}].{name}", f"models[{k}].{name}: {e.get('msg', '')}",
+                                     loc="body") from None
+        comparison = compare(view, queries, body.labels, f"{len(queries)} models", settings,
+                             param="models", where=[f"models[{k}]" for k in range(len(queries))])
+        return Response(figures.to_json(comparison.figure), media_type=MEDIA["json"])
+    return route
+
+
+for _view in VIEWS.values():
+    _example = f"/api/v1/figures/{_view.name}"
+    router.add_api_route(
+        f"/{_view.name}.svg", _image_route(_view, "svg"), methods=["GET"],
+        tags=["exports"], name=f"export_svg_{_view.name}", response_class=Response,
+        summary=f"SVG: {_view.title}",
+        description=f"Example: `{_example}.svg?alpha=0.2&width=1200&height=800`",
+        responses={200: {"content": {"image/svg+xml": {"example": _SVG_EXAMPLE}}},
+                   503: _UNAVAILABLE})
+    router.add_api_route(
+        f"/{_view.name}.png", _image_route(_view, "png"), methods=["GET"],
+        tags=["exports"], name=f"export_png_{_view.name}", response_class=Response,
+        summary=f"PNG: {_view.title}",
+        description=f"Example: `{_example}.png?alpha=0.2&width=1200&height=800&scale=2`. {_PNG_NOTE}",
+        responses={200: {"content": {"image/png": {"schema": {"type": "string", "format": "binary"},
+                                                   "example": "(binary PNG)"}}},
+                   503: _UNAVAILABLE})
+    router.add_api_route(
+        f"/{_view.name}.csv", _csv_route(_view), methods=["GET"],
+        tags=["exports"], name=f"export_csv_{_view.name}", response_class=Response,
+        summary=f"CSV: {_view.title}",
+        description=f"Example: `{_example}.csv?alpha=0.2`. Header row with units; 2-D grids "
+                    "in long format; `# name = value` lines above it give the state.",
+        responses={200: {"content": {"text/csv": {"example": _CSV_EXAMPLE}}}})
+    _figure = _figure_route(_view)
+    for _path, _name in ((f"/{_view.name}", f"figure_{_view.name}"),
+                         (f"/{_view.name}.json", f"export_json_{_view.name}")):
+        router.add_api_route(
+            _path, _figure, methods=["GET"], tags=["figures"], name=_name, response_class=Response,
+            summary=f"Plotly figure: {_view.title}",
+            description=f"{_view.summary} `vary` + `values` draw one curve per value. Example: "
+                        f"`{_example}?vary=alpha&values=0.1,0.3`",
+            responses={200: {"content": {"application/json": {"example": {
+                "data": [{"type": "scatter", "name": "alpha=0.1", "x": [0, 0.5], "y": [31.8, 31.6]}],
+                "layout": {"title": {"text": "D(θ_m) — alpha = 0.1, 0.3"}}}}}}})
+    router.add_api_route(
+        f"/{_view.name}", _compare_route(_view), methods=["POST"], tags=["figures"],
+        summary=f"Compare models in one figure: {_view.title}", name=f"compare_{_view.name}",
+        openapi_extra={"requestBody": {"content": {"application/json": {"example": {
+            "models": [{"ndf": "ggx", "alpha": 0.2}, {"ndf": "beckmann", "alpha": 0.2}],
+            "view": {}}}}}})
+
+
+FORMATS = ("svg", "png", "csv", "json")
+
+
+@router.api_route("/{name}", methods=["GET", "POST"], include_in_schema=False)
+def unknown_figure(name: str):
+    """Any other figure path: a 404 that lists the views and formats there are."""
+    view, dot, fmt = name.partition(".")
+    lookup(view)
+    if fmt in FORMATS or not dot:         # a known figure, another method
+        raise HTTPException(405, "Method Not Allowed")
+    raise ParameterError("format", f"unknown format {fmt!r} for figures/{view}; the formats are "
+                                   f"{', '.join(FORMATS)}", status=404, loc="path")
+
+
