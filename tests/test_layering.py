@@ -1,7 +1,7 @@
-"""Imports go one way: physics ← integrate ← (quantities, model) ← figures/api.
-
-physics/ and integrate/ import neither FastAPI nor Plotly; physics/ does not import
-integrate/; figures/ does no physics (imports nothing from physics/ or integrate/).
+"""Imports go one way, down the stack: api → views (with export, gallery, cli) →
+analysis → model/quantities → integrate → kernels → physics. Figures import no physics
+and nothing above them; nothing below the api imports it; nothing below the views
+imports FastAPI or Plotly.
 """
 import ast
 from pathlib import Path
@@ -27,20 +27,63 @@ def imported_modules(path: Path) -> set[str]:
     return out
 
 
-RULES = {
-    "physics": ("fastapi", "starlette", "plotly", "app.integrate", "app.api", "app.figures",
-                "app.model", "app.quantities"),
-    "integrate": ("fastapi", "starlette", "plotly", "app.api", "app.figures"),
-    "figures": ("fastapi", "app.physics", "app.integrate"),
-}
+#: The stack, top to bottom: each layer may import those below it, none above.
+STACK = [
+    ("api", ("app.api", "app.main")),
+    ("views", ("app.views", "app.export", "app.gallery", "app.cli")),
+    ("analysis", ("app.analysis",)),
+    ("model", ("app.model", "app.quantities", "app.adaptive")),
+    ("integrate", ("app.integrate",)),
+    ("kernels", ("app.kernels",)),
+    ("physics", ("app.physics",)),
+]
+WEB = ("fastapi", "starlette")
 
 
-@pytest.mark.parametrize("layer", sorted(RULES))
-def test_import_direction(layer):
-    files = sorted((APP / layer).rglob("*.py"))
+def _modules(prefixes) -> list[Path]:
+    out = []
+    for prefix in prefixes:
+        path = APP.parent / prefix.replace(".", "/")
+        out += sorted(path.rglob("*.py")) if path.is_dir() else (
+            [path.with_suffix(".py")] if path.with_suffix(".py").exists() else [])
+    return out
+
+
+def _banned(layer: str) -> tuple[str, ...]:
+    """What a layer may not import: every layer above it, and HTTP below the views."""
+    names = [n for n, _ in STACK]
+    above = [p for n, prefixes in STACK[:names.index(layer)] for p in prefixes]
+    if layer == "views":     # the exports, gallery and CLI sit beside the views, above them
+        above = [p for p in above if p not in ("app.export",)]
+    web = WEB if names.index(layer) > names.index("api") else ()
+    plot = ("plotly",) if names.index(layer) > names.index("views") else ()
+    return (*above, *web, *plot)
+
+
+def _violations(files: list[Path], banned) -> list[str]:
+    return [f"{path.relative_to(APP.parent)} imports {module}"
+            for path in files for module in imported_modules(path)
+            for b in banned if module == b or module.startswith(b + ".")]
+
+
+@pytest.mark.parametrize("layer", [n for n, _ in STACK[1:]])
+def test_the_stack_imports_downward_only(layer):
+    prefixes = dict(STACK)[layer]
+    files = _modules(prefixes)
+    if layer != "kernels":           # app/kernels is being built (it replaces physics/fast.py)
+        assert files, layer
+    assert _violations(files, _banned(layer)) == []
+
+
+def test_figures_import_no_physics_and_nothing_above_them():
+    files = _modules(("app.figures",))
     assert files
-    for path in files:
-        for module in imported_modules(path):
-            for banned in RULES[layer]:
-                assert not (module == banned or module.startswith(banned + ".")), \
-                    f"{path.relative_to(APP.parent)} imports {module}"
+    assert _violations(files, ("app.physics", "app.integrate", "app.kernels", "app.model",
+                               "app.quantities", "app.analysis", "app.views", "app.api",
+                               "app.export", "fastapi", "starlette")) == []
+
+
+def test_nothing_below_the_api_imports_it():
+    files = [p for p in APP.rglob("*.py")
+             if not p.is_relative_to(APP / "api") and p != APP / "main.py"]
+    assert _violations(files, ("app.api",)) == []

@@ -3,7 +3,8 @@
 Layout rules, the same for every view (so a view added later exports unchanged):
 
 * every array in the payload of the same length as the first 1-D array is a column
-  (a "wide" table: ``theta_deg, D_per_sr``);
+  (a "wide" table: ``theta_deg, D_per_sr``); a list of texts of that length (a row's
+  id or label) is a column too, first;
 * a payload with an N-D array (N ≥ 2) is a grid: its 1-D arrays are its axes, in the
   order the payload lists them (rows, then columns), and the table is "long": one row
   per grid point, ``theta_deg, phi_deg, f_per_sr`` (numpy C order, the last axis
@@ -131,9 +132,21 @@ def _format_scalar(v) -> str:
     return str(v)
 
 
+def _with_labels(payload: dict) -> dict[str, np.ndarray]:
+    """:func:`columns`, preceded by the payload's lists of texts that label its rows (the
+    checks' ``id``, the advice's ``label``): a table whose rows are named says which is
+    which in the table itself."""
+    cols = columns(payload)
+    rows = next(iter(cols.values())).size
+    labels = {k: np.asarray(v, dtype=object) for k, v in payload.items()
+              if isinstance(v, (list, tuple)) and len(v) == rows and v
+              and all(isinstance(x, str) for x in v)}
+    return {**labels, **cols}
+
+
 def to_csv(payload: dict, meta: dict | None = None) -> str:
     """CSV text of one payload (see the module docstring for the layout)."""
-    cols = columns(payload)
+    cols = _with_labels(payload)
     _, scalars = split(payload)
     return _write(cols, {**(meta or {}), **scalars})
 
@@ -145,7 +158,7 @@ def to_csv_variants(vary: str, payloads: Iterable[tuple[object, dict]], meta: di
     empty in the rows of the others."""
     blocks, comments = [], dict(meta or {})
     for value, payload in payloads:
-        cols = columns(payload)
+        cols = _with_labels(payload)
         _, scalars = split(payload)
         for k, s in scalars.items():
             comments[f"{k} [{vary}={value}]"] = s

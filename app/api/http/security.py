@@ -30,10 +30,13 @@ def content_security_policy(script_hashes: list[str]) -> str:
     """The page and the embeds load only same-origin scripts (static/js/*.js, plotly.min.js from
     /static/vendor/) and fetch only /api/v1. Plotly injects its stylesheet at run time and
     styles elements inline, hence 'unsafe-inline' for styles only (styles cannot run
-    code); its modebar icons and image downloads use data: and blob: URLs. Any site may
-    frame any page: nothing here acts on a user's behalf (no cookies, no sessions, no
-    writes), so there is nothing to click-jack, and embedding is the point of /embed/*
-    and ?embed=1."""
+    code); its modebar icons and image downloads use data: and blob: URLs.
+
+    Any page may frame any page, a slide deck opened from disk included: nothing here
+    acts on a user's behalf (no cookies, no sessions, no writes), so there is nothing to
+    click-jack, and embedding is the point of /embed/* and ?embed=1. Hence no
+    ``frame-ancestors`` directive at all: ``frame-ancestors *`` matches network schemes
+    only, and a ``file:`` page could not frame an embed."""
     return "; ".join([
         "default-src 'self'",
         "script-src " + " ".join(["'self'", *script_hashes]),
@@ -45,7 +48,6 @@ def content_security_policy(script_hashes: list[str]) -> str:
         "object-src 'none'",
         "base-uri 'none'",
         "form-action 'self'",
-        "frame-ancestors *",
     ])
 
 
