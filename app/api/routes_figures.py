@@ -128,7 +128,7 @@ def _compare_route(view: View):
                 name = ".".join(str(x) for x in e.get("loc", ()))
                 raise ParameterError(f"models[{k}].{name}", f"models[{k}].{name}: {e.get('msg', '')}",
                                      loc="body") from None
-        comparison = compare(view, queries, body.labels, f"{len(queries)} models", settings,
+        comparison = compare(view, queries, body.labels, None, settings,
                              param="models", where=[f"models[{k}]" for k in range(len(queries))])
         return Response(figures.to_json(comparison.figure), media_type=MEDIA["json"])
     return route

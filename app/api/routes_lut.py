@@ -13,7 +13,7 @@ from ..lut import build, check, export
 from ..lut.table import KINDS, QUANTISATIONS, make, orientation
 from ..model import make_spec
 from ..shader.generate import model_query
-from . import schemas
+from ..views import schemas
 from .encode import json_response
 
 router = APIRouter(prefix="/api/v1")

@@ -73,6 +73,6 @@ VIEW = View(
     "E(μ), the share of light a surface reflects from each direction, by quadrature, "
     "Monte Carlo or table, with its error and cost; with compensation also the "
     "single-scattering E.",
-    schemas.AlbedoQuery, schemas.AlbedoQuery, compute,
-    lambda data, spec, q: albedo_figure(data, spec.values),
+    schemas.AlbedoQuery, schemas.AlbedoFigureQuery, compute,
+    lambda data, spec, q: albedo_figure(data, spec.values, getattr(q, "y_range", "fit")),
     limits)

@@ -41,12 +41,12 @@ def run(view: View, query, settings: Settings) -> Result:
     return Result(view, query, spec, view.compute(spec, query))
 
 
-def compare(view: View, queries: list, labels: list[str] | None, caption: str,
+def compare(view: View, queries: list, labels: list[str] | None, caption: str | None,
             settings: Settings, param: str = "vary", where: list[str] | None = None) -> Comparison:
-    """:func:`run` each query and overlay their figures, titled "<the view's figure
-    title> — <caption>", one legend label per query (None: what differs between the
-    models). A figure that is not a curve is refused naming ``param``; an error of query
-    k is prefixed by ``where[k]`` when given (``models[k]``)."""
+    """:func:`run` each query and overlay their figures, one legend label per query
+    (None: what differs between the models), titled "<the view's figure title> —
+    <caption>" (None: the labels compared). A figure that is not a curve is refused
+    naming ``param``; an error of query k is prefixed by ``where[k]`` when given."""
     results = []
     for k, query in enumerate(queries):
         try:
@@ -58,8 +58,8 @@ def compare(view: View, queries: list, labels: list[str] | None, caption: str,
                                  exc.status, exc.loc) from None
     labels = labels or difference_labels([r.spec.values for r in results])
     figures = [r.figure() for r in results]
-    head = _title_text(figures[0]).split(" — ")[0]
-    return Comparison(results, labels, overlay(figures, labels, f"{head} — {caption}", param))
+    title = None if caption is None else f"{_title_text(figures[0]).split(' — ')[0]} — {caption}"
+    return Comparison(results, labels, overlay(figures, labels, title, param))
 
 
 def difference_labels(specs: list[dict]) -> list[str]:

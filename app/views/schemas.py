@@ -193,6 +193,11 @@ class AlbedoQuery(ModelQuery):
                                json_schema_extra=applies_to(method=list(MC_METHODS)))] = 0
 
 
+class AlbedoFigureQuery(AlbedoQuery):
+    y_range: Annotated[Literal["fit", "unit"], Field(
+        description="vertical axis: fit (the data's own span, E ± error) or unit (0 to 1)")] = "fit"
+
+
 class G2Query(ModelQuery):
     phi_deg: Annotated[Phi, Field(
         description="azimuth of v in degrees, [-360, 360], with l at azimuth 0 (along t, the "

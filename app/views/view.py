@@ -25,7 +25,7 @@ ROLE_BY_NAME = {
     **dict.fromkeys(("n", "n_theta", "n_phi", "mu"), "resolution"),
     **dict.fromkeys(("method", "tol", "order", "samples", "seed", "sampler", "methods",
                      "max_budget", "quantity", "albedo_methods", "ids"), "method"),
-    **dict.fromkeys(("log", "cosine", "display", "exposure", "x"), "display"),
+    **dict.fromkeys(("log", "cosine", "display", "exposure", "x", "y_range"), "display"),
 }
 
 

@@ -70,5 +70,7 @@ def test_figure_is_a_table_naming_the_model(client):
 def test_csv_names_the_rows(client):
     text = client.get("/api/v1/figures/checks.csv?ids=1,3").text
     assert "# row_order = 1, 3" in text
-    header = next(line for line in text.splitlines() if not line.startswith("#"))
-    assert header.split(",")[:2] == ["value", "expected"]
+    lines = [line for line in text.splitlines() if not line.startswith("#")]
+    header = lines[0].split(",")
+    assert header[:2] == ["id", "identity"] and {"value", "expected"} <= set(header)
+    assert [line.split(",")[0] for line in lines[1:]] == ["1", "3"]

@@ -49,6 +49,15 @@ def test_csv_columns_match_the_json(client, kind):
     keys = [table.json_key(c) for c in header]
     arrays = {k: as_float(v) for k, v in data.items()
               if isinstance(v, list) and v and not isinstance(v[0], (dict, str))}
+    # lists of texts that name the rows (the checks' id, the advice's label) are columns too,
+    # first, with the texts themselves
+    labels = {k: v for k, v in data.items() if isinstance(v, list) and len(v) == len(rows)
+              and all(isinstance(x, str) for x in v)}
+    assert keys[:len(labels)] == list(labels), (header, list(labels))
+    for i, k in enumerate(labels):
+        assert [r[i] for r in rows] == labels[k]
+    keys = keys[len(labels):]
+    rows = [r[len(labels):] for r in rows]
     # every array of the payload is a column, named after its key (plus its unit)
     assert set(keys) == set(arrays), (header, list(arrays))
     cols = {k: np.array([cell(r[i]) for r in rows]) for i, k in enumerate(keys)}
