@@ -16,7 +16,7 @@ import numpy as np
 
 from ..model import make_spec
 from ..physics.vectors import direction_deg
-from .albedo_grid import Scene, _affords, _cut, at_alpha
+from .albedo_grid import Scene, _affords, _cut
 
 #: f below which the error is taken relative to this floor instead of f (1/sr): 1 % of a
 #: white Lambertian surface's f = 1/π, the least a viewer sees against diffuse light.
@@ -56,11 +56,12 @@ def f_grid(model: dict, scene: Scene, alphas=None, n_theta: int = N_THETA,
     l, v = directions(scene, n_theta, n_phi)
     out, t0 = [], time.perf_counter()
     alphas = scene.alphas() if alphas is None else alphas
+    base = make_spec(**model)
     for alpha in alphas:
         if out and not _affords((time.perf_counter() - t0) / len(out)):
             _cut(f"advise: f of {name or 'a model'} stopped at α = {alpha:.3g} (no time left)")
             break
-        out.append(make_spec(**at_alpha(model, alpha)).brdf().evaluate(l, v, ("f",))["f"])
+        out.append(base.at_alpha(alpha).brdf().evaluate(l, v, ("f",))["f"])
     return PointGrid(out, len(out) * l[..., 0].size, time.perf_counter() - t0,
                      len(out) == len(alphas))
 

@@ -20,7 +20,7 @@ from ..errors import ParameterError, TooLarge
 from ..model import make_spec
 from ..views import schemas
 from .encode import json_response
-from .views import VIEWS, View
+from ..views import VIEWS, View, run
 
 router = APIRouter(prefix="/api/v1")
 
@@ -233,9 +233,8 @@ def _overlay_query(view: View) -> type:
 def _overlay(request: Request, view: View, data_id: str, q):
     """The view run for the model, the data on its axes, and the model's figure maker."""
     data, info = store(request).get(data_id, "data_id", "path")
-    view.check(q, request.app.state.settings)
-    spec = make_spec(**schemas.model_values(q))
-    arrays = view.compute(spec, q)
+    result = run(view, q, request.app.state.settings)
+    spec, arrays = result.spec, result.data
     extra = (info,) if view.name == "albedo" else ()
     found = overlay.OVERLAYS[view.name](data, spec.brdf(), arrays, q, q.channel, *extra)
     default = data.channels[0] if len(data.channels) == 1 or data.kind == "term" else "luminance"
@@ -273,10 +272,10 @@ for _name in overlay.OVERLAYS:
     router.add_api_route(
         f"/datasets/{{data_id}}/{_name}", _overlay_data_route(_view), methods=["GET"],
         tags=["datasets"], name=f"data_overlay_{_name}",
-        summary=f"{_view.summary} — with the data set on the same axes: data, model, model − data, "
+        summary=f"{_view.title} — with the data set on the same axes: data, model, model − data, "
                 "the largest relative error and where")
     router.add_api_route(
         f"/datasets/{{data_id}}/figures/{_name}", _overlay_figure_route(_view), methods=["GET"],
         tags=["datasets"], name=f"figure_overlay_{_name}",
-        summary=f"Plotly figure: {_view.summary} — with the data set (difference=true: "
+        summary=f"Plotly figure: {_view.title} — with the data set (difference=true: "
                 "(data − model)/model)")

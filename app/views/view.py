@@ -24,7 +24,7 @@ ROLE_BY_NAME = {
     **dict.fromkeys(("alpha_min", "alpha_max"), "shape"),
     **dict.fromkeys(("n", "n_theta", "n_phi", "mu"), "resolution"),
     **dict.fromkeys(("method", "tol", "order", "samples", "seed", "sampler", "methods",
-                     "max_budget", "quantity", "albedo_methods", "ids"), "method"),
+                     "max_budget", "quantity", "albedo_methods", "ids", "metric"), "method"),
     **dict.fromkeys(("log", "cosine", "display", "exposure", "x", "y_range"), "display"),
 }
 
