@@ -67,13 +67,11 @@ _state = {"directory": None, "thread": None, "accepting": False}
 
 # ------------------------------------------------------------------ keys and versions
 
-def default_keys() -> list[tuple]:
-    """The tables of the default models: the default model (GGX) and Beckmann, each F = 1
-    (Kulla-Conty, method=table with fresnel=none) and its Schlick basis."""
-    from ..model import make_spec
+def default_keys(brdfs) -> list[tuple]:
+    """The tables of ``brdfs`` (the server passes its default models: GGX and Beckmann):
+    each lobe at F = 1 (Kulla-Conty, method=table with fresnel=none) and its Schlick basis."""
     keys = []
-    for values in ({}, {"ndf": "beckmann"}):
-        brdf = make_spec(**values).brdf()
+    for brdf in brdfs:
         for _, lobe in brdf.lobes():
             keys.append(tables.table_key(lobe, None))
             if brdf.fresnel.name == "schlick":
@@ -344,7 +342,8 @@ def building() -> list[str]:
 
 def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) -> Path | None:
     """Use ``directory`` for persisted tables (created if missing; None: memory only) and
-    queue ``keys`` (default: :func:`default_keys`) for the background builder. Returns the
+    queue ``keys`` (:func:`default_keys` of the default models) for the background builder.
+    Returns the
     directory in use (None when it is not writable)."""
     _state["directory"], _state["accepting"] = None, True
     if directory is not None:
@@ -358,7 +357,7 @@ def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) 
         except OSError as exc:
             log.warning("table cache: %s is not writable (%s); tables kept in memory only",
                         path, exc)
-    for key in (default_keys() if keys is None else keys):
+    for key in (keys or []):
         if _ready(key) is None:
             try:
                 _queue_build(key, predict_seconds(key))
