@@ -7,15 +7,15 @@ commands at the top install things: the second must be what .ci/run runs, the fi
 the wheel install that tests/packaging/test_wheel.py performs."""
 import os
 import re
-import socket
 import stat
 import subprocess
 import sys
-import time
 import urllib.request
 from pathlib import Path
 
 import pytest
+
+from tests.live import free_port, stop, wait_until_up
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
@@ -37,37 +37,18 @@ def test_readme_opens_with_one_sentence_and_the_two_commands():
     assert "MATH.md" not in README and not re.search(r"seed \d{3}|\(\d-\d+\)", README)
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 @pytest.fixture(scope="module")
-def server(tmp_path_factory):
-    port = _free_port()
+def server():
+    port = free_port()
     env = {**os.environ, "PYTHONPATH": str(ROOT)}
     proc = subprocess.Popen([sys.executable, "-m", "uvicorn", "app.main:app", "--port", str(port)],
                             cwd=ROOT, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     base = f"http://127.0.0.1:{port}"
-    deadline = time.monotonic() + START_SECONDS
     try:
-        while True:
-            try:
-                urllib.request.urlopen(base + "/api/v1/health", timeout=30)
-                break
-            except OSError:
-                assert proc.poll() is None, proc.stderr.read().decode()
-                assert time.monotonic() < deadline, "server did not start"
-                time.sleep(1)
+        wait_until_up(base + "/api/v1/health", proc, START_SECONDS)
         yield base
     finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
+        stop(proc)
 
 
 def _shell_env(tmp_path: Path, base: str) -> dict:

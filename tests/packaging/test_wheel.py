@@ -6,15 +6,15 @@ This directory has no __init__.py: as a package pytest would import it as ``pack
 the name of the library pip and kaleido import."""
 import os
 import shutil
-import socket
 import subprocess
 import sys
-import time
 import urllib.request
 import zipfile
 from pathlib import Path
 
 import pytest
+
+from tests.live import free_port, stop, wait_until_up
 
 ROOT = Path(__file__).resolve().parents[2]
 #: What a source distribution or a git checkout holds that the build reads.
@@ -49,12 +49,6 @@ def _build_wheel(src: Path, out: Path) -> Path:
     return wheels[0]
 
 
-def _free_port() -> int:
-    with socket.socket() as s:
-        s.bind(("127.0.0.1", 0))
-        return s.getsockname()[1]
-
-
 def _get(url: str) -> tuple[int, bytes, str]:
     with urllib.request.urlopen(url, timeout=120) as r:
         return r.status, r.read(), r.headers.get("content-type", "")
@@ -87,20 +81,13 @@ def test_installed_wheel_serves_the_page_from_another_directory(wheel, tmp_path)
     app_file, static = where.stdout.split()
     assert Path(app_file).is_relative_to(venv), app_file        # from the wheel, not the source tree
     assert Path(static).is_relative_to(venv), static
-    port = _free_port()
+    port = free_port()
     server = subprocess.Popen([str(venv / "bin" / "brdf-explorer"), "serve", "--port", str(port)],
                               cwd=elsewhere, env=env, stdout=subprocess.DEVNULL, stderr=subprocess.PIPE)
     try:
         base = f"http://127.0.0.1:{port}"
-        deadline = time.monotonic() + START_SECONDS
-        while True:
-            try:
-                status, page, _ = _get(base + "/")
-                break
-            except OSError:
-                assert server.poll() is None, server.stderr.read().decode()
-                assert time.monotonic() < deadline, "server did not start"
-                time.sleep(1)
+        wait_until_up(base + "/", server, START_SECONDS)
+        status, page, _ = _get(base + "/")
         assert status == 200 and b"<html" in page.lower()
         module = sorted((ROOT / "static").rglob("*.js"))[-1].relative_to(ROOT / "static").as_posix()
         status, body, kind = _get(f"{base}/static/{module}")
@@ -110,9 +97,4 @@ def test_installed_wheel_serves_the_page_from_another_directory(wheel, tmp_path)
         status, body, kind = _get(base + "/api/v1/figures/lobe?n=31")
         assert status == 200 and kind.startswith("application/json") and b'"data"' in body
     finally:
-        server.terminate()
-        try:
-            server.wait(timeout=30)
-        except subprocess.TimeoutExpired:
-            server.kill()
-            server.wait()
+        stop(server)
