@@ -57,10 +57,10 @@ class AnisoMap:
 
 
 ANISO_MAPS = {m.name: m for m in [
-    AnisoMap("burley", "Burley (3-26)",
+    AnisoMap("burley", "Burley",
              "k_aspect = √(1 − 0.9k); α_x = r²/k_aspect, α_y = r² k_aspect (Burley 2012).",
              lambda r, k: (r * r / np.sqrt(1 - 0.9 * k), r * r * np.sqrt(1 - 0.9 * k))),
-    AnisoMap("kulla_conty", "Kulla-Conty (3-27)",
+    AnisoMap("kulla_conty", "Kulla-Conty",
              "α_x = r²(1 + k), α_y = r²(1 − k) (Kulla & Conty 2017).",
              lambda r, k: (r * r * (1 + k), r * r * (1 - k))),
 ]}
@@ -242,7 +242,7 @@ def _roughness_form(values: dict, given: dict, explicit_alpha: list) -> None:
 
 
 def _apply_aniso_map(values: dict) -> None:
-    """(r, k) → (α_x, α_y), converted once, here, at the edge (MATH.md)."""
+    """(r, k) → (α_x, α_y), converted once, here, at the edge (docs/conventions.md §4)."""
     ax, ay = ANISO_MAPS[values["aniso_map"]].alphas(values["roughness"], values["anisotropy"])
     for name, a in (("alpha", ax), ("alpha_y", ay)):
         if not ALPHA.contains(float(a)):

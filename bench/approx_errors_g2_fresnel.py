@@ -1,14 +1,14 @@
 """Largest error of two approximations against the exact forms they stand for.
 
-1. Hammon's G2 (3-40) against the exact height-correlated GGX G2 (3-17) = 4 μl μv × (3-37),
+1. Hammon's G2 (Hammon 2017) against the exact height-correlated GGX G2 (Heitz 2014),
    over α ∈ [0.01, 1] and θ_l, θ_v ∈ [0, 89°].
    Compared in G2, not in V = G2/(4 μl μv): G2 is a fraction in [0, 1] (the share of
    microfacets both lit and seen), so its absolute error says how much light is gained
    or lost, at every angle on the same scale; V grows without bound towards grazing and
    its absolute error would be dominated by the last degree. The relative error is the
    same for both (they differ by the exact factor 4 μl μv) and is reported too.
-2. Schlick's Fresnel (2-3), p = 5, F90 = 1, against the exact unpolarised dielectric
-   Fresnel with the same F0 = ((η−1)/(η+1))² (2-4), for η ∈ [1.33, 2.4] (water to
+2. Schlick's Fresnel, p = 5, F90 = 1, against the exact unpolarised dielectric
+   Fresnel with the same F0 = ((η−1)/(η+1))², for η ∈ [1.33, 2.4] (water to
    diamond) and θ ∈ [0, 89°]. Compared in F (a reflectance in [0, 1]).
 
 Each maximum is taken over a dense grid and then polished by a bounded local optimiser
@@ -119,11 +119,11 @@ def main():
     print("Approximation errors against the exact forms (θ ∈ [0, 89°])\n")
     print("| approximation | exact form | range | max |error| | where | max rel. error | where |")
     print("|---|---|---|---|---|---|---|")
-    print(f"| hammon G2 (3-40) | height-correlated GGX G2 (3-17)/(3-37) | α ∈ [0.01, 1] | "
+    print(f"| hammon G2 (Hammon 2017) | height-correlated GGX G2 (Heitz 2014) | α ∈ [0.01, 1] | "
           f"{g_pol:.4f} (grid {g_abs:.4f}) | α={g_pol_at[0]:.4g}, θ_l={g_pol_at[1]:.2f}°, "
           f"θ_v={g_pol_at[2]:.2f}° | {g_rel:.3f} | α={g_rel_at[0]:.3g}, θ_l={g_rel_at[1]:g}°, "
           f"θ_v={g_rel_at[2]:g}° |")
-    print(f"| Schlick F, p=5, F90=1 (2-3) | exact dielectric, same F0 (2-4) | η ∈ [1.33, 2.4] | "
+    print(f"| Schlick F, p=5, F90=1 | exact dielectric, same F0 | η ∈ [1.33, 2.4] | "
           f"{s_pol:.4f} (grid {s_abs:.4f}) | η={s_pol_at[0]:.4g}, θ={s_pol_at[1]:.2f}° | "
           f"{s_rel:.3f} | η={s_rel_at[0]:.3g}, θ={s_rel_at[1]:g}° |")
 

@@ -1,7 +1,7 @@
 """Speed against accuracy: each albedo method run over a range of budgets, its E(μ)
 compared with a tight reference.
 
-Quantity: the directional albedo E(μ) (MATH.md; the only quantity for now) at a set of
+Quantity: the directional albedo E(μ) (docs/conventions.md §3; the only quantity for now) at a set of
 cosines μ. Methods (app/integrate/methods.py), with what "budget" means for each:
 
 * ``quadrature`` — the Gauss order N of :func:`app.integrate.albedo.albedo` with

@@ -329,7 +329,7 @@ def albedo(brdf: BRDF, mu, phi: float = 0.0, tol: float = DEFAULT_TOL,
 
 
 def albedo_average(brdf: BRDF, phi: float = 0.0, tol: float = DEFAULT_TOL):
-    """E_avg = 2 ∫_0^1 E(μ) μ dμ (MATH.md), with μ = t²: 4 ∫_0^1 E(t²) t³ dt.
+    """E_avg = 2 ∫_0^1 E(μ) μ dμ (docs/conventions.md §3), with μ = t²: 4 ∫_0^1 E(t²) t³ dt.
 
     E(μ) changes on a scale μ ~ α near grazing; μ = t² puts nodes there.
     Gauss-Legendre with n and 2n nodes, n = 6, 12, 24: stop when ERROR_SAFETY × the

@@ -1,29 +1,17 @@
 """Kulla-Conty energy compensation: the multiple-scattering lobe f_ms.
 
-For one specular lobe with single-scattering albedo E(μ) at F = 1 and its cosine-weighted
-average Ē = 2 ∫₀¹ E(μ) μ dμ (MATH.md):
-
-    f_ms(μ_l, μ_v) = (1 − E(μ_l))(1 − E(μ_v)) / (π (1 − Ē))                 (3-53)
-
-has albedo 1 − E(μ_v) (3-54), so with F = 1, E + E_ms = 1 for every μ (the white
-furnace). With a Fresnel term, f_ms is multiplied by
-
-    F_ms = F̄² Ē / (1 − F̄ (1 − Ē)),      F̄ = 2 ∫₀¹ F(μ) μ dμ                 (3-56), (3-57)
-
-(the energy of bounces 2, 3, … each scaled by F̄, summed as a geometric series; F_ms = 1
-for F = 1). F̄ comes from the Fresnel object: closed form for Schlick (MATH.md errata:
-F₀ + 2(F₉₀ − F₀)/((p+1)(p+2))), Gauss quadrature otherwise.
+For one specular lobe with albedo E(μ) at F = 1 and Ē = 2 ∫₀¹ E(μ) μ dμ,
+f_ms(μ_l, μ_v) = (1 − E(μ_l))(1 − E(μ_v)) / (π (1 − Ē)) has albedo 1 − E(μ_v), so with
+F = 1 every μ reflects everything; with a Fresnel term it is scaled by
+F_ms = F̄² Ē / (1 − F̄ (1 − Ē)). Derivation: docs/kulla_conty.md §1, §2.
 
 E and Ē come from the E(μ, α) table (tables.py); Ē is the average of the interpolant
 itself, so the albedo of the f_ms actually used is exactly F_ms (1 − Ê(μ_v)), and the
-furnace holds to within the table's error |Ê − E|. A two-lobe model gets one f_ms per
-lobe, weighted like the lobes. Anisotropic roughness is refused (app/model.py): the
-table is isotropic.
+furnace holds to within the table's error |Ê − E| (§3). A two-lobe model gets one f_ms
+per lobe, weighted like the lobes. Anisotropic roughness is refused (app/model.py).
 
-References
-----------
-Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks", SIGGRAPH course
-notes, pp. 14-17; seed 000 (3-51)..(3-58) with the MATH.md errata.
+Reference: Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks",
+SIGGRAPH course notes, pp. 14-17.
 """
 from __future__ import annotations
 
@@ -55,12 +43,12 @@ MULTISCATTERS = {m.name: m for m in [
     MultiScatter("kulla_conty", "Kulla-Conty compensation",
                  "Adds f_ms = F_ms (1 − E(μ_l))(1 − E(μ_v)) / (π (1 − Ē)) from an E(μ, α) "
                  "table: with F = 1 the albedo is 1 at every angle. Isotropic roughness only.",
-                 "Kulla & Conty 2017; seed 000 (3-53), (3-56), (3-57)"),
+                 "Kulla & Conty 2017"),
 ]}
 
 
 def fresnel_factor(F_avg: float, E_avg: float) -> float:
-    """F_ms = F̄² Ē / (1 − F̄ (1 − Ē)) (3-56); 1 when F̄ = 1."""
+    """F_ms = F̄² Ē / (1 − F̄ (1 − Ē)) (docs/kulla_conty.md §2); 1 when F̄ = 1."""
     return F_avg * F_avg * E_avg / (1.0 - F_avg * (1.0 - E_avg))
 
 
@@ -79,7 +67,7 @@ class LobeTerm:
 @dataclass(frozen=True, eq=False)
 class KullaConty:
     """f_ms(μ_l, μ_v) = Σ_lobes scale (1 − Ê(μ_l))(1 − Ê(μ_v)): symmetric in μ_l, μ_v,
-    so the compensated BRDF stays reciprocal (MATH.md identity 5)."""
+    so the compensated BRDF stays reciprocal (docs/identities.md §5)."""
     lobes: tuple[LobeTerm, ...]
     F_avg: float
     F_ms: float             # factor of the first lobe (as reported); each lobe has its own
@@ -93,7 +81,7 @@ class KullaConty:
             np.shape(mu_l), np.shape(mu_v))).copy()
 
     def albedo(self, mu) -> np.ndarray:
-        """∫ f_ms(μ_l, μ_v) μ_l dω_l = Σ weight F_ms (1 − Ê(μ_v)) (3-54), exact for Ê's Ē."""
+        """∫ f_ms(μ_l, μ_v) μ_l dω_l = Σ weight F_ms (1 − Ê(μ_v)) (docs/kulla_conty.md §1), exact for Ê's Ē."""
         mu = np.asarray(mu, dtype=float)
         out = np.zeros(mu.shape)
         for term in self.lobes:

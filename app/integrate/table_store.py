@@ -343,8 +343,7 @@ def building() -> list[str]:
 def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) -> Path | None:
     """Use ``directory`` for persisted tables (created if missing; None: memory only) and
     queue ``keys`` (:func:`default_keys` of the default models) for the background builder.
-    Returns the
-    directory in use (None when it is not writable)."""
+    Returns the directory in use (None when it is not writable)."""
     _state["directory"], _state["accepting"] = None, True
     if directory is not None:
         path = Path(directory)

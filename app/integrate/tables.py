@@ -191,7 +191,7 @@ class ETable:
         return f"{self.y.size}×{self.r.size}"
 
     def E(self, mu, alpha) -> np.ndarray:
-        """Interpolated E(μ, α), clipped to [0, 1] (MATH.md identity 7)."""
+        """Interpolated E(μ, α), clipped to [0, 1] (docs/identities.md §7)."""
         alpha = np.asarray(alpha, dtype=float)
         r = np.clip(np.sqrt(alpha), self.r[0], self.r[-1])
         mu = np.clip(np.asarray(mu, dtype=float), 0.0, 1.0)

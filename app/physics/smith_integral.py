@@ -1,4 +1,4 @@
-"""The general Smith masking integral (3-6), by quadrature, for any slope-space NDF.
+"""The general Smith masking integral, by quadrature, for any slope-space NDF.
 
 G1(ω) = μ / A(ω) with A(ω) = ∫ D(m) (ω·m)⁺ dm (Heitz 2014, eq. 43), so μΛ = A − μ.
 In α-stretched slope space (r̃, ψ), with a = μ/s and s = α(φ) sinθ, the ψ-integral of
@@ -7,8 +7,8 @@ the NDF's radial CDF u = C(r̃):
 
     μΛ = (s/π) ∫_{C(a)}^{1} [ √(r̃² − a²) − a·atan(√(r̃² − a²)/a) ] du,   r̃ = C⁻¹(u).
 
-(The integrand is 0 for r̃ ≤ a: those facets are never back-facing.) This is the
-corrected (3-22) of MATH.md, Λ(a) = (1/a)∫_a^∞ (x − a) g(x) dx, with the marginal g
+(The integrand is 0 for r̃ ≤ a: those facets are never back-facing.) This is
+Λ(a) = (1/a)∫_a^∞ (x − a) g(x) dx (docs/conventions.md §5), with the marginal g
 integrated out in polar form.
 
 Quadrature over the tail mass v = 1 − u ∈ (0, v₀], v₀ = 1 − C(a) (the NDF's

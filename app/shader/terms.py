@@ -18,7 +18,7 @@ from . import embed
 #: so D = 0 in any float format, while mz⁴ in its denominator underflows in float32
 #: (0/0) below 1e-10.
 BECKMANN_MZ_MIN = 1e-3
-#: Walter 2007's rational fit is Λ = 0 from a = 1.6 on (MATH.md's corrected constants).
+#: Walter 2007's rational fit is Λ = 0 from a = 1.6 on (docs/conventions.md §5).
 WALTER_A_MAX = 1.6
 
 def _alphas(k: int, ndf) -> list[Const]:
@@ -72,7 +72,7 @@ def ndf_D(k: int, ndf) -> tuple[list, list, list]:
         result = f"sel(mz > 0.0, exp(log_d) / (PI * {axy}), {horizon})"
     elif name == "exp_power":
         p = ndf.p
-        doc = ("Exponential power: α_x α_y D = p/(π Γ(1/p)) exp(−(q²/mz²)^p) / mz⁴ (seed (3-49) as corrected;\n"
+        doc = ("Exponential power: α_x α_y D = p/(π Γ(1/p)) exp(−(q²/mz²)^p) / mz⁴ (docs/conventions.md §5;\n"
                "p = 1 is Beckmann), in logs.")
         consts += [Const(f"P{k}", p, "kurtosis p (1 = Beckmann)"),
                    Const(f"EP_NORM{k}", p / (math.pi * gamma_fn(1.0 / p)), "p/(π Γ(1/p))")]
@@ -109,7 +109,7 @@ def mu_Lambda(k: int, ndf, masking: str) -> tuple[list, list, list]:
                  ("float", "erfcx_a", _ERFCX), ("float", "bracket", "max(INV_SQRT_PI - a * erfcx_a, 0.0)")]
         result = "sel(s > 0.0, 0.5 * s * exp(-a * a) * bracket, 0.0)"
     elif form == "walter":
-        doc = ("Walter 2007's rational fit of Beckmann's Λ (eq. 27, constants of MATH.md's errata), times μ:\n"
+        doc = ("Walter 2007's rational fit of Beckmann's Λ (eq. 27, constants of docs/conventions.md §5), times μ:\n"
                "s (1 − 1.259a + 0.396a²)/(3.535 + 2.181a) for a = μ/s < 1.6, else 0; the numerator, negative\n"
                "just below 1.6, is taken as 0 there.")
         consts.append(Const("WALTER_A_MAX", WALTER_A_MAX, "Λ = 0 from here on (exact Λ < 3.4e-3 there)"))

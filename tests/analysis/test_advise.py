@@ -101,7 +101,7 @@ def test_tiny_tol_keeps_the_current_model():
 def test_schlick_replaces_an_exact_fresnel_with_the_same_f0():
     res = advise({"fresnel": "dielectric", "ior": 1.5}, 0.1, Scene(0.05, 1.0, 80.0))
     e = entry(res, "fresnel=schlick")
-    assert e["model"]["f0"] == pytest.approx(((1.5 - 1) / (1.5 + 1)) ** 2, rel=1e-12)   # (2-4)
+    assert e["model"]["f0"] == pytest.approx(((1.5 - 1) / (1.5 + 1)) ** 2, rel=1e-12)   #
     assert "ior" not in e["model"]
     make_spec(**e["model"])                                       # feedable as it is
     make_spec(**res["recommendation"])

@@ -1,8 +1,8 @@
-"""The checks view's computations (app/checks.py): MATH.md's identities computed
+"""The checks view's computations (app/checks.py): docs/conventions.md's identities computed
 numerically must hold where the physics says they do, fail where it says they do not,
 and report an error that covers the true one.
 
-Expected values are MATH.md's closed forms (1, n·v, n·v, 1), not the code's output; the
+Expected values are docs/conventions.md's closed forms (1, n·v, n·v, 1), not the code's output; the
 albedo rows are checked against the independent brute-force cubature of
 tests/reference.py; the area element of row 4 against mpmath differentiation.
 """
@@ -51,7 +51,7 @@ def test_rows_1_to_4_hold_with_exact_smith(ndf, ax, ay):
     spec = make_spec(ndf=ndf, alpha=ax, alpha_y=ay, masking=exact_masking(ndf))
     rows = by_id(checks.checks(spec, theta, phi, SMITH_ROWS))
     mu = math.cos(math.radians(theta))
-    closed_form = {"1": 1.0, "2": mu, "3": mu, "4": 1.0}      # MATH.md identities 1–4
+    closed_form = {"1": 1.0, "2": mu, "3": mu, "4": 1.0}      # docs/conventions.md identities 1–4
     for rid, expected in closed_form.items():
         r = rows[rid]
         assert r["expected"] == pytest.approx(expected, abs=1e-15)

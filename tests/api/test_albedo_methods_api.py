@@ -2,8 +2,8 @@
 
 References: the quadrature at a tight tolerance (tested on its own against an
 independent brute-force cubature, tests/physics/test_albedo.py), the white furnace
-(MATH.md identity 7) and the closed form F_avg = (20 f0 + 1)/21 of Schlick (p = 5,
-f90 = 1; MATH.md errata).
+(docs/identities.md §7) and the closed form F_avg = (20 f0 + 1)/21 of Schlick (p = 5,
+f90 = 1; docs/conventions.md §5).
 """
 import numpy as np
 import pytest

@@ -1,6 +1,6 @@
 """The REST API's contract: shapes, reference values, nulls for divergences.
 
-Reference values are closed forms written out here (MATH.md), not the code's output.
+Reference values are closed forms written out here (docs/conventions.md), not the code's output.
 """
 import json
 import math

@@ -1,8 +1,8 @@
 """GET /api/v1/g2, /api/v1/fresnel and their figures: contract, reference values, 422s.
 
 Reference values are closed forms written out here: GGX Λ (Heitz 2014 eq. 86), the G2
-forms of seed 000 (3-10, 3-11, 3-17), Schlick (2-3), the exact dielectric at normal
-incidence (2-4) and at grazing (1).
+forms of Heitz 2014, Schlick 1994, the exact dielectric at normal
+incidence and at grazing (1).
 """
 from __future__ import annotations
 
@@ -42,7 +42,7 @@ def test_g2_grid_is_height_correlated_by_default(client):
     assert G2.shape == (4, 4)
     th = np.array(body["theta_l_deg"][:-1])
     L = ggx_Lambda(th, 0.5)
-    ref = 1 / (1 + L[:, None] + L[None, :])                      # (3-17)
+    ref = 1 / (1 + L[:, None] + L[None, :])                      #
     np.testing.assert_allclose(G2[:-1, :-1], ref, rtol=1e-12)
     assert np.all(G2[-1, :] == 0) and np.all(G2[:, -1] == 0)     # G1 = 0 at grazing
     assert G2[0, 0] == 1.0
@@ -58,7 +58,7 @@ def test_g2_separable_is_the_product_of_G1(client):
 
 @pytest.mark.parametrize("phi_deg, lam", [(0.0, 0.0), (90.0, 1 - math.exp(-7.3 * (math.pi / 2) ** 2))])
 def test_g2_direction_correlated_follows_lambda(client, phi_deg, lam):
-    """(3-11) with Ashikhmin's λ (3-12), the default λ(φ): φ = 0 gives min(G1)."""
+    """ with Ashikhmin's λ, the default λ(φ): φ = 0 gives min(G1)."""
     body = get(client, f"/api/v1/g2?g2=direction_correlated&alpha=0.4&n=5&phi_deg={phi_deg}")
     G2 = np.array(body["G2"], dtype=float)[:-1, :-1]
     G1 = 1 / (1 + ggx_Lambda(np.array(body["theta_l_deg"][:-1]), 0.4))

@@ -5,7 +5,7 @@ the rules below are plain Gauss-Legendre products after a change of variables ch
 only to put nodes where the integrands vary (the peak of D, the kinks where a
 positive part switches on). None of them assumes an identity that is under test.
 
-Conventions (MATH.md): n = +z, ω = (sinθ cosφ, sinθ sinφ, cosθ), μ = cosθ, directions
+Conventions (docs/conventions.md): n = +z, ω = (sinθ cosφ, sinθ sinφ, cosθ), μ = cosθ, directions
 point away from the surface, α is the roughness of the formulas.
 """
 from __future__ import annotations

@@ -1,4 +1,4 @@
-"""Directional albedo E(μ) = ∫_{H²} f(l, v)(n·l) dl (MATH.md; Kulla & Conty 2017).
+"""Directional albedo E(μ) = ∫_{H²} f(l, v)(n·l) dl (docs/conventions.md §3; Kulla & Conty 2017).
 
 References: the brute-force adaptive cubature over l of ``tests/reference.py`` (no slope
 space, no change of variables to m) and closed forms derived below.
@@ -20,7 +20,7 @@ MU_GRID = np.array([0.0, 1e-3, 0.02, 0.1, 0.3, 0.5, 0.8, 1.0])
 @pytest.mark.parametrize("phi", [0.0, 0.7])
 def test_albedo_bounds(ndf_name, alphas, g2, phi):
     """0 ≤ E(μ) ≤ 1 with F = 1, kd = 0 (energy conservation of the single-scattering
-    BRDF, MATH.md identity 7): E ≤ 1 + E_error, E ≥ −E_error, and E_error within the
+    BRDF, docs/identities.md §7): E ≤ 1 + E_error, E ≥ −E_error, and E_error within the
     promised 1e-4."""
     ax, ay = alphas
     res = albedo(make_brdf(ndf_name, ax, ay, g2=g2), MU_GRID, phi)

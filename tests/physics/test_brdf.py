@@ -1,7 +1,7 @@
 """The assembled BRDF: weak white furnace, reciprocity, composition and Fresnel.
 
 f(l, v) = kd/π + D(h) F(v·h) G2(l, v) / (4 |n·l| |n·v|), h = (l+v)/‖l+v‖
-(MATH.md errata of seed 000 (3-1)..(3-3); Walter et al. 2007 eq. 20; Heitz 2014 eq. 4).
+(docs/conventions.md §5; Walter et al. 2007 eq. 20; Heitz 2014 eq. 4).
 """
 from __future__ import annotations
 
@@ -19,7 +19,7 @@ FURNACE_VIEWS_DEG = [(0.0, 0.0), (40.0, 23.0), (80.0, 160.0)]
 @pytest.mark.parametrize("view_deg", FURNACE_VIEWS_DEG, ids=lambda t: f"v{t[0]:g}-{t[1]:g}")
 def test_weak_white_furnace(ndf_name, alphas, view_deg):
     """∫_{S²} D(h) G1(v) / (4 |n·v|) dl = 1 over the FULL sphere of l (Heitz 2014 eq. 19,
-    "weak white furnace test"; MATH.md identity 4), h = (l+v)/‖l+v‖.
+    "weak white furnace test"; docs/identities.md §4), h = (l+v)/‖l+v‖.
 
     Integrated over l with the plain sphere measure dl = sinθ' dθ' dψ (no h-Jacobian is
     assumed); D(h) and G1(v) are the BRDF's own, from ``evaluate``.
@@ -34,7 +34,7 @@ def test_weak_white_furnace(ndf_name, alphas, view_deg):
 
 
 def test_half_vector_quantities(ndf_name, alphas, rng):
-    """evaluate's D and F are taken at h = (l+v)/‖l+v‖ normalised (MATH.md errata):
+    """evaluate's D and F are taken at h = (l+v)/‖l+v‖ normalised (docs/conventions.md §5):
     D equals ndf.D(h) and Schlick F uses v·h, with h computed here."""
     ax, ay = alphas
     l = random_upper_directions(rng, 2000)
@@ -57,7 +57,7 @@ def test_half_vector_quantities(ndf_name, alphas, rng):
                                              ("schlick", {"f0": 0.8, "f90": 0.3})])
 @pytest.mark.parametrize("kd", [0.0, 0.4])
 def test_reciprocity(ndf_name, alphas, g2, fresnel, params, kd, rng):
-    """f(l, v) = f(v, l) (Helmholtz; MATH.md identity 5) at random directions of the
+    """f(l, v) = f(v, l) (Helmholtz; docs/identities.md §5) at random directions of the
     closed upper hemisphere, 10 % of them exactly grazing (where both graze under the
     height-correlated form both sides are +inf)."""
     ax, ay = alphas
@@ -113,7 +113,7 @@ def test_f_composition(name, ax, ay, g2, rng):
 
 def test_f_zero_outside_upper_hemisphere(ndf_name, alphas, rng):
     """Reflection only: f = 0 unless both l and v are in the closed upper hemisphere,
-    even with kd > 0 (brdf.py contract, MATH.md conventions)."""
+    even with kd > 0 (brdf.py contract, docs/conventions.md)."""
     ax, ay = alphas
     brdf = make_brdf(ndf_name, ax, ay, kd=0.5, fresnel="schlick")
     up = random_upper_directions(rng, 500, grazing_fraction=0.0)
@@ -142,8 +142,8 @@ def test_schlick_endpoints(f0, f90):
 
 @pytest.mark.parametrize("f0, f90", [(0.04, 1.0), (0.3, 0.7)])
 def test_schlick_hemispherical_average(f0, f90):
-    """F̄ = 2 ∫_0^1 F(μ) μ dμ = F0 + 2 (F90 − F0)/((p+1)(p+2)), p = 5 (MATH.md errata on
-    seed (3-58)); for F90 = 1: (20 F0 + 1)/21. Direct quadrature of the code's F."""
+    """F̄ = 2 ∫_0^1 F(μ) μ dμ = F0 + 2 (F90 − F0)/((p+1)(p+2)), p = 5 (docs/conventions.md §5 on
+    seed); for F90 = 1: (20 F0 + 1)/21. Direct quadrature of the code's F."""
     fr = FRESNELS["schlick"](f0=f0, f90=f90)
     x, w = gauss_on(0.0, 1.0, 8)          # exact for the degree-6 polynomial F(μ)μ
     avg = 2.0 * np.sum(w * x * fr.F(x))

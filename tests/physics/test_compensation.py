@@ -1,5 +1,5 @@
 """Kulla-Conty compensation: the white furnace for every NDF, F̄, the Fresnel factor,
-reciprocity (MATH.md identities 5 and 7).
+reciprocity (docs/identities.md §5, §7).
 
 References are independent of the code under test: E_single by the reference quadrature
 (albedo.py), the albedo of f_ms by Gauss-Legendre over μ_l of the lobe function itself

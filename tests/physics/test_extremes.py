@@ -1,5 +1,5 @@
 """Extreme angles and roughnesses: finite values, documented divergences, no NaN, no
-floating-point warnings, continuity into the limits (MATH.md "Grazing angles").
+floating-point warnings, continuity into the limits (docs/conventions.md).
 
 Documented non-finite values (masking.py, brdf.py, ndf/base.py):
 * Λ(ω) = +inf at μ = 0;

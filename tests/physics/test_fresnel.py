@@ -1,6 +1,6 @@
 """Fresnel reflectance: exact dielectric and conductor, generalised Schlick, averages.
 
-References: (2-4) F₀ = ((η−1)/(η+1))²; Born & Wolf sec. 1.5.2 (amplitude ratios r_s, r_p);
+References: F₀ = ((η−1)/(η+1))²; Born & Wolf sec. 1.5.2 (amplitude ratios r_s, r_p);
 Brewster's angle tan θ_B = η where r_p = 0; the normal-incidence reflectance of an
 absorbing medium ((η−1)² + κ²)/((η+1)² + κ²); the textbook complex r_s, r_p written out
 below in numpy complex and in mpmath; scipy quadrature for the averages.
@@ -139,7 +139,7 @@ def test_conductor_default_is_gold():
 # ----------------------------------------------------------------------- Schlick
 
 def test_schlick_formula_and_exponent():
-    """(2-3): F₀ + (F₉₀ − F₀)(1 − cos θ)^p, with p = 5 by default."""
+    """: F₀ + (F₉₀ − F₀)(1 − cos θ)^p, with p = 5 by default."""
     c = np.linspace(0, 1, 11)
     assert FRESNELS["schlick"]().fresnel_p == 5.0
     for p in [1.0, 2.5, 5.0, 10.0]:
@@ -149,7 +149,7 @@ def test_schlick_formula_and_exponent():
 
 @pytest.mark.parametrize("f0", [0.0, 0.02, 0.04, 0.17, 0.5, 0.9, 1.0])
 def test_schlick_error_is_zero_at_normal_incidence(f0):
-    """The exact counterpart is the dielectric with η from (2-4) inverted, whose F(1) is f0:
+    """The exact counterpart is the dielectric with η from inverted, whose F(1) is f0:
     Schlick's error vanishes at θ = 0 (to rounding of η). At grazing the exact form is 1
     (0 for f0 = 0: η = 1, no interface)."""
     fr = FRESNELS["schlick"](f0=f0)
@@ -169,7 +169,7 @@ def test_ior_and_f0_round_trip():
 @pytest.mark.parametrize("p", [1.0, 2.0, 3.7, 5.0, 10.0])
 @pytest.mark.parametrize("f0, f90", [(0.04, 1.0), (0.9, 0.2), (0.0, 0.5)])
 def test_schlick_average_against_quadrature(p, f0, f90):
-    """F̄ = 2 ∫₀¹ F(μ) μ dμ = F₀ + 2(F₉₀ − F₀)/((p+1)(p+2)) (MATH.md errata of (3-58))
+    """F̄ = 2 ∫₀¹ F(μ) μ dμ = F₀ + 2(F₉₀ − F₀)/((p+1)(p+2)) (docs/conventions.md §5)
     against scipy's adaptive quadrature of the definition; for p = 5, F₉₀ = 1 it is
     (20 F₀ + 1)/21. The base class's Gauss rule agrees too."""
     fr = FRESNELS["schlick"](f0=f0, f90=f90, fresnel_p=p)

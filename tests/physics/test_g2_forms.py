@@ -1,8 +1,8 @@
 """The G2 forms of g2.py: reciprocity, bounds and orderings, limits, grazing, references.
 
-Forms (seed 000): separable (3-10), direction-correlated (3-11) with λ(φ) of Ashikhmin
-(3-12) or van Ginneken (3-13), height-correlated (3-17), height-direction-correlated
-(3-18), and Hammon's approximation (3-40) of the height-correlated GGX visibility (3-37).
+Forms: separable, direction-correlated with λ(φ) of Ashikhmin
+ or van Ginneken, height-correlated, height-direction-correlated
+, and Hammon's approximation of the height-correlated GGX visibility.
 
 References are written out here from Λ (the GGX closed form, Heitz 2014 eq. 86), not
 from the code's μΛ; orderings are proved in the docstrings.
@@ -72,7 +72,7 @@ def brdf_with(ndf, g2, lambda_name=None, fresnel="schlick", **fresnel_params):
 
 @pytest.mark.parametrize("phi", [0.0, 1e-8, 0.1, 0.5, 1.0, 2.0, math.pi])
 def test_lambda_phi_closed_forms(phi):
-    """λ(φ) against (3-12) and (3-13) evaluated in mpmath at 30 digits."""
+    """λ(φ) against and evaluated in mpmath at 30 digits."""
     with mp.workdps(30):
         ash = 1 - mp.exp(-mp.mpf("7.3") * mp.mpf(phi) ** 2)
         vg = mp.mpf("4.41") * phi / (mp.mpf("4.41") * phi + 1)
@@ -151,7 +151,7 @@ def _forms_for(ndf_name, ax, ay):
 @pytest.mark.parametrize("ndf_name, ax, ay", NDF_CASES, ids=NDF_IDS)
 def test_reciprocity_every_form(ndf_name, ax, ay, rng):
     """G2(l, v) = G2(v, l) and V(l, v) = V(v, l) for every form and λ(φ), and the whole
-    f(l, v) = f(v, l) (MATH.md identity 5), with 10 % of directions exactly grazing."""
+    f(l, v) = f(v, l) (docs/identities.md §5), with 10 % of directions exactly grazing."""
     ndf = make_ndf(ndf_name, ax, ay)
     l = random_upper_directions(rng, 2000)
     v = random_upper_directions(rng, 2000)
@@ -169,7 +169,7 @@ def test_reciprocity_every_form(ndf_name, ax, ay, rng):
 
 @pytest.mark.parametrize("ndf_name, ax, ay", NDF_CASES, ids=NDF_IDS)
 def test_bounds_and_orderings(ndf_name, ax, ay, rng):
-    """MATH.md identity 6 and the orderings that hold between the forms, for either λ(φ):
+    """docs/identities.md §6 and the orderings that hold between the forms, for either λ(φ):
 
     * 0 ≤ G2 ≤ min(G1(l), G1(v)) for every form;
     * separable ≤ height-correlated: (1+Λl)(1+Λv) ≥ 1 + Λl + Λv;
@@ -181,7 +181,7 @@ def test_bounds_and_orderings(ndf_name, ax, ay, rng):
       DC = (1 + m − λm)/((1+M)(1+m)), HDC = 1/(1+M+λm), the difference of the cross
       products is (1+M)(1+m) − (1+m−λm)(1+M+λm) = λm(M − m) + λ²m² ≥ 0;
     * hammon ≤ height-correlated (GGX): lerp(μ, 1, α)² − (α² + (1−α²)μ²) =
-      2α(1−α)μ(1−μ) ≥ 0, so each √ of (3-37) is replaced by something larger.
+      2α(1−α)μ(1−μ) ≥ 0, so each √ of is replaced by something larger.
     Direction-correlated and height-correlated are NOT ordered (see the next test).
     """
     ndf = make_ndf(ndf_name, ax, ay)
@@ -225,7 +225,7 @@ def test_direction_and_height_correlated_are_not_ordered():
 @pytest.mark.parametrize("name", PHI_FORMS)
 @pytest.mark.parametrize("lambda_name", LAMBDAS)
 def test_same_azimuth_gives_min_G1(ndf_name, ax, ay, name, lambda_name, rng):
-    """φ = 0 ⇒ λ = 0 ⇒ both direction-correlated forms are min(G1(l), G1(v)) (3-11, 3-18):
+    """φ = 0 ⇒ λ = 0 ⇒ both direction-correlated forms are min(G1(l), G1(v)):
     the seed's motivating case l = v gives G1(l), not G1(l)²."""
     ndf = make_ndf(ndf_name, ax, ay)
     n = 1000
@@ -275,7 +275,7 @@ def test_lambda_extremes_reduce_to_the_other_forms(alpha, rng):
 
 
 def test_default_lambda_is_ashikhmin(rng):
-    """lambda_phi=None (what BRDF passes unless told otherwise) is Ashikhmin's (3-12)."""
+    """lambda_phi=None (what BRDF passes unless told otherwise) is Ashikhmin's."""
     ndf = make_ndf("ggx", 0.4)
     l = random_upper_directions(rng, 500)
     v = random_upper_directions(rng, 500)
@@ -352,7 +352,7 @@ def test_visibility_is_continuous_as_one_direction_grazes(name, lambda_name, phi
 @pytest.mark.parametrize("ax, ay", [(0.05, 0.5), (1.0, 0.1), (0.3, 0.3), (1e-3, 0.8)])
 def test_ggx_height_correlated_visibility_anisotropic(ax, ay, rng):
     """Anisotropic GGX: V = 0.5 / (μ_l √(μ_v² + α_x² v_x² + α_y² v_y²) + μ_v √(μ_l² +
-    α_x² l_x² + α_y² l_y²)) — (3-37) with α² (1 − μ²) replaced by α_x² ω_x² + α_y² ω_y²
+    α_x² l_x² + α_y² l_y²)) — with α² (1 − μ²) replaced by α_x² ω_x² + α_y² ω_y²
     (Heitz 2014 eq. 99 with eq. 86; Filament's V_SmithGGXCorrelated_Anisotropic). The
     isotropic case is tested in test_masking.py."""
     ndf = make_ndf("ggx", ax, ay)
@@ -368,7 +368,7 @@ def test_ggx_height_correlated_visibility_anisotropic(ax, ay, rng):
 
 
 def test_hammon_exact_at_alpha_one_and_near_zero(rng):
-    """(3-40) replaces √(α² + (1−α²)μ²) by lerp(μ, 1, α): equal at α = 1 (both 1) and at
+    """ replaces √(α² + (1−α²)μ²) by lerp(μ, 1, α): equal at α = 1 (both 1) and at
     α → 0 (both μ). So hammon = height-correlated GGX at α = 1 to rounding, and within
     α(μl + μv)/(2μlμv) of it at α = 1e-4."""
     l = random_upper_directions(rng, 2000, grazing_fraction=0.1)

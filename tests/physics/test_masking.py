@@ -1,6 +1,6 @@
 """Smith masking: Λ, G1 and G2 against the general Smith integral, closed forms and bounds.
 
-References: Heitz 2014, JCGT 3(2): eq. 13 / (3-6) in seed 000 (general Smith G1),
+References: Heitz 2014, JCGT 3(2): eq. 13 (general Smith G1),
 eq. 43 (G1 = 1/(1+Λ)), eq. 84 (Beckmann Λ), eq. 86 (GGX Λ), eq. 98 (separable G2),
 eq. 99 (height-correlated G2); Walter et al. 2007 eq. 27, 34.
 """
@@ -23,8 +23,8 @@ VIEWS_DEG = [(0.0, 0.0), (30.0, 20.0), (60.0, 135.0), (85.0, 250.0), (89.9, 300.
 @pytest.mark.parametrize("view_deg", VIEWS_DEG, ids=lambda t: f"v{t[0]:g}-{t[1]:g}")
 def test_smith_integral(ndf_name, alphas, view_deg):
     """∫ G1(v, m) D(m) (v·m)⁺ dm = n·v with G1(v, m) = χ⁺(v·m) G1(v) and G1(v) from the
-    analytic Λ (MATH.md identity 3): the closed-form Λ agrees with the general Smith
-    G1 = n·v / ∫ D(m)(v·m)⁺ dm (Heitz 2014 eq. 13 / seed (3-6))."""
+    analytic Λ (docs/identities.md §3): the closed-form Λ agrees with the general Smith
+    G1 = n·v / ∫ D(m)(v·m)⁺ dm (Heitz 2014 eq. 13)."""
     ax, ay = alphas
     v = direction_deg(*view_deg)
     ndf = make_ndf(ndf_name, ax, ay)
@@ -127,7 +127,7 @@ def test_G1_limits(name, ax, ay, phi_deg):
 # ----------------------------------------------------------------------------- G2
 
 def test_G2_bounds(ndf_name, alphas, rng):
-    """0 ≤ G2 ≤ min(G1(l), G1(v)); separable ≤ height-correlated (MATH.md identity 6).
+    """0 ≤ G2 ≤ min(G1(l), G1(v)); separable ≤ height-correlated (docs/identities.md §6).
     (1+Λl)(1+Λv) = 1 + Λl + Λv + ΛlΛv ≥ 1 + Λl + Λv gives the second (Heitz 2014 sec. 6)."""
     ax, ay = alphas
     n = 4000
@@ -169,7 +169,7 @@ def test_G2_closed_forms(name, ax, ay):
 @pytest.mark.parametrize("alpha", [1e-3, 0.1, 0.5, 1.0])
 def test_ggx_height_correlated_visibility(alpha, rng):
     """Isotropic GGX: V = G2/(4 μl μv) = 0.5 / (μl √(μv²(1−α²) + α²) + μv √(μl²(1−α²) + α²))
-    exactly (seed (3-37); Heitz 2014 eq. 99 with eq. 86) — an identity, not an approximation."""
+    exactly (Heitz 2014 eq. 99 with eq. 86) — an identity, not an approximation."""
     n = 500
     mu_l, mu_v = rng.uniform(1e-3, 1.0, n), rng.uniform(1e-3, 1.0, n)
     ndf = make_ndf("ggx", alpha)

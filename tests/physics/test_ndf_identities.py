@@ -1,4 +1,4 @@
-"""Identities of the normal distribution D (MATH.md identities 1, 2) and its closed forms.
+"""Identities of the normal distribution D (docs/identities.md §1, §2) and its closed forms.
 
 References: Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based
 BRDFs", JCGT 3(2): eq. 4 (normalisation), eq. 5 (projected area), eq. 83 (anisotropic
@@ -19,7 +19,7 @@ VIEWS_DEG = [(0.0, 0.0), (30.0, 20.0), (60.0, 135.0), (85.0, 250.0), (89.9, 300.
 
 
 def test_normalisation(ndf_name, alphas):
-    """∫_{H²} D(m)(n·m) dm = 1 (Heitz 2014 eq. 4; MATH.md identity 1)."""
+    """∫_{H²} D(m)(n·m) dm = 1 (Heitz 2014 eq. 4; docs/identities.md §1)."""
     ax, ay = alphas
     ndf = make_ndf(ndf_name, ax, ay)
     m, w = m_hemisphere_rule(ax, ay, n_beta=64, n_phi=64)
@@ -30,7 +30,7 @@ def test_normalisation(ndf_name, alphas):
 @pytest.mark.parametrize("view_deg", VIEWS_DEG, ids=lambda t: f"v{t[0]:g}-{t[1]:g}")
 def test_signed_projected_area(ndf_name, alphas, view_deg):
     """∫_{S²} D(m)(v·m) dm = n·v over the full sphere of m (signed, Heitz 2014 eq. 5;
-    MATH.md identity 2). D = 0 below the horizon, so the integral is over H² with the
+    docs/identities.md §2). D = 0 below the horizon, so the integral is over H² with the
     sign of v·m kept."""
     ax, ay = alphas
     v = direction_deg(*view_deg)
@@ -59,7 +59,7 @@ def test_radial_cdf_is_mass_of_D(ndf_name, alphas, r_stretched):
 
 
 def test_D_vanishes_below_horizon(ndf_name, alphas):
-    """D = 0 for n·m < 0 (MATH.md conventions)."""
+    """D = 0 for n·m < 0 (docs/conventions.md)."""
     ax, ay = alphas
     ndf = make_ndf(ndf_name, ax, ay)
     th = np.array([90.0 + 1e-9, 91.0, 120.0, 179.0, 180.0])

@@ -1,4 +1,4 @@
-"""χ² goodness of fit of every sampler against its own pdf (MATH.md identity 8).
+"""χ² goodness of fit of every sampler against its own pdf (docs/identities.md §8).
 
 For each case N = 100 000 directions are drawn with the fixed seed SEED and binned on
 the upper hemisphere in (cos θ, φ) plus one cell for everything below the horizon. The
@@ -121,7 +121,7 @@ def test_wrong_pdf_is_rejected(sampler, spec):
                                   {"ndf": "ggx", "alpha": 1.0}])
 def test_pdf_integrates_to_one_over_the_sphere(sampler, spec):
     """∫_{S²} pdf(l) dl = 1 (for vndf this is the weak white furnace, identity 4 of
-    MATH.md), by a product Gauss rule in (cos θ, φ) split at the horizon. At normal
+    docs/conventions.md), by a product Gauss rule in (cos θ, φ) split at the horizon. At normal
     incidence only: elsewhere the D·cos pdf has its integrable 1/|l + v| point
     singularity at l = −v inside the domain, which a product rule resolves poorly (the
     χ² tests check the mass below the horizon at every angle)."""

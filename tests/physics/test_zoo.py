@@ -1,7 +1,7 @@
 """The NDFs beyond GGX and Beckmann at their interesting shapes, and the special cases
 that tie them to GGX and Beckmann (issue: every model in the source documents).
 
-References are identities (MATH.md 1-4), closed forms written out here, or the general
+References are identities (docs/identities.md §1–§4), closed forms written out here, or the general
 Smith integral; never the code's own output.
 """
 from __future__ import annotations
@@ -177,8 +177,8 @@ def test_student_t_tends_to_beckmann():
 
 @pytest.mark.parametrize("gamma, alpha", [(1.0, 0.3), (0.5, 1.0), (3.0, 1.0), (1.0, 1.0)])
 def test_gtr_continuous_through_its_removable_singularities(gamma, alpha):
-    """k(α, γ) has removable singularities at γ = 1 and α = 1 (3-42): D, G1 and the
-    radial CDF at 1 ± 1e-9 are within 1e-7 of their value at 1 (MATH.md)."""
+    """k(α, γ) has removable singularities at γ = 1 and α = 1: D, G1 and the
+    radial CDF at 1 ± 1e-9 are within 1e-7 of their value at 1 (docs/conventions.md)."""
     r2 = np.array([0.01, 1.0, 100.0])
     at = make_ndf("gtr", alpha, gamma=gamma)
     for dg, da in [(1e-9, 0), (-1e-9, 0), (0, 1e-9), (0, -1e-9)]:
@@ -190,7 +190,7 @@ def test_gtr_continuous_through_its_removable_singularities(gamma, alpha):
         np.testing.assert_allclose(_g1(near, W_GRID), _g1(at, W_GRID), atol=1e-7)
         np.testing.assert_allclose(near.radial_cdf(r2), at.radial_cdf(r2), rtol=1e-7)
         assert near.k == pytest.approx(at.k, rel=1e-7)
-    # and the value at the singular point is the limit written in (3-42)
+    # and the value at the singular point is the limit written in
     x = np.log(alpha ** 2)
     expected = (alpha ** 2 - 1) / x if (gamma == 1.0 and alpha != 1.0) else 1.0 if alpha == 1.0 else None
     if expected is not None:
@@ -233,7 +233,7 @@ def test_blinn_phong_smith_is_walters_beckmann_substitution():
 
 
 def test_blinn_phong_D_closed_form():
-    """(3-32): D = (α_p + 2)/(2π) cos^{α_p} θ_m."""
+    """: D = (α_p + 2)/(2π) cos^{α_p} θ_m."""
     bp = make_ndf("blinn_phong", 0.2)
     ap = 2 / 0.04 - 2
     np.testing.assert_allclose(bp.D(M_GRID), (ap + 2) / (2 * np.pi) * M_GRID[:, 2] ** ap, rtol=1e-12)
@@ -242,7 +242,7 @@ def test_blinn_phong_D_closed_form():
 # ------------------------------------------------------------------- approximations
 
 def test_karis_is_schlick_ibl():
-    """(3-39) G1 = 2μ/(μ(2−α)+α) is Schlick's μ/(μ(1−k)+k) with k = α/2."""
+    """ G1 = 2μ/(μ(2−α)+α) is Schlick's μ/(μ(1−k)+k) with k = α/2."""
     ndf = make_ndf("ggx", 0.3)
     w = direction_deg(THETAS, 0.0)
     mu = w[:, 2]
@@ -258,7 +258,7 @@ def test_schlick_direct_closed_form():
 
 
 def test_walter_rational_fit():
-    """(3-31) with Walter's constants (MATH.md): Λ(a) = (1 − 1.259a + 0.396a²)/(3.535a +
+    """ with Walter's constants (docs/conventions.md): Λ(a) = (1 − 1.259a + 0.396a²)/(3.535a +
     2.181a²) for a < 1.6, else 0; and it stays within 0.01 of the exact Beckmann G1."""
     ndf = make_ndf("beckmann", 0.5)
     w = direction_deg(np.array([10.0, 40.0, 60.0, 70.0, 80.0, 85.0]), 0.0)
@@ -272,7 +272,7 @@ def test_walter_rational_fit():
 
 @pytest.mark.parametrize("r, k", [(0.5, 0.0), (0.5, 0.5), (0.8, 0.9), (0.3, 1.0)])
 def test_aniso_maps(r, k):
-    """(3-26) and (3-27), converted once into (α_x, α_y); a pair outside [1e-4, 1] is a
+    """ and, converted once into (α_x, α_y); a pair outside [1e-4, 1] is a
     ParameterError naming ``anisotropy``."""
     from app.errors import ParameterError
     aspect = np.sqrt(1 - 0.9 * k)

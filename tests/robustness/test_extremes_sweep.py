@@ -233,7 +233,7 @@ def _exact_smith(combo) -> bool:
 def test_albedo_at_most_one(combo):
     """E(μ) ≤ 1 + E_error for the exact Smith Λ (finite and ≥ −E_error for every
     masking): with kd = 0 and F = 1 a single-scattering BRDF reflects at most what
-    arrives (Kulla & Conty 2017; MATH.md identity 7); at grazing (μ = 0, where masking
+    arrives (Kulla & Conty 2017; docs/identities.md §7); at grazing (μ = 0, where masking
     matters most) and at μ = 0.5."""
     for a in ALBEDO_ALPHAS:
         brdf = make_spec(**combo, alpha=a).brdf()
