@@ -6,7 +6,7 @@ Benchmarks (each a module here with ``run(quick) -> dict`` and ``report(dict)``)
   accuracy    time to accuracy of E(μ): the 32×32 table at 1e-5, one E(μ) at 1e-6, MC
   scaling     lobe3d cost against grid size; albedo cost against tolerance
   latency     API p50/p95 per endpoint, warm, real uvicorn on 127.0.0.1
-  slider      slider input → last plotly_afterplot in headless Chromium
+  slider      slider input → last panel redrawn, and a sustained drag, in headless Chromium
 
 ``--quick`` takes about a minute; the full run a few minutes. ``--json`` prints one JSON
 object (one key per figure, plus "machine") on stdout and the readable report on

@@ -115,7 +115,15 @@ def _pct(xs, q):
     return round(common.percentile(xs, q), 1) if xs else float("nan")
 
 
+def thread_ms(cdp) -> float:
+    """CPU time of the page's main thread so far (Chromium's ThreadTime metric), ms: the
+    page's own work, which a loaded machine stretches in wall time but does not inflate."""
+    return 1000 * {m["name"]: m["value"] for m in cdp.send("Performance.getMetrics")["metrics"]}["ThreadTime"]
+
+
 def measure(page, url: str, moves: int, first: int) -> dict:
+    cdp = page.context.new_cdp_session(page)
+    cdp.send("Performance.enable")
     page.goto(url)
     page.wait_for_function("() => window.__brdf && window.__brdf.pending() === 0", timeout=60_000)
     ids = [i for i in page.evaluate(IN_VIEW_JS) if i.startswith("plot-")]
@@ -124,7 +132,9 @@ def measure(page, url: str, moves: int, first: int) -> dict:
     # α slider positions, each used once in the run: no answer comes from a cache
     positions = [first + 3 * i for i in range(moves + 3)]
     page.evaluate(MOVES_JS, [positions[:3], ids])          # warm
+    cpu0 = thread_ms(cdp)
     res = page.evaluate(MOVES_JS, [positions[3:], ids])
+    cpu_move = (thread_ms(cdp) - cpu0) / len(res)
     ms = [r["ms"] for r in res if r["ms"] == r["ms"]]
     per_panel = {i.removeprefix("plot-"): round(common.median([r["drawn"][i] for r in res if i in r["drawn"]]), 1)
                  for i in ids if any(i in r["drawn"] for r in res)}
@@ -132,7 +142,9 @@ def measure(page, url: str, moves: int, first: int) -> dict:
     # a drag over 2/3 of the slider and back, positions not used above
     lo, hi = 120, 880
     drag_pos = [round(lo + (hi - lo) * (1 - abs(1 - 2 * k / (n - 1)))) + 1 for k in range(n)]
+    cpu0 = thread_ms(cdp)
     drag = page.evaluate(DRAG_JS, [drag_pos, ids, DRAG_HZ])
+    cpu_drag = thread_ms(cdp) - cpu0
     handled = drag["handled"]
     return {"median_ms": round(common.median(ms), 1) if ms else float("nan"), "p95_ms": _pct(ms, 95),
             "moves": len(ms), "missed": len(res) - len(ms), "in_view": [i.removeprefix("plot-") for i in ids],
@@ -141,7 +153,8 @@ def measure(page, url: str, moves: int, first: int) -> dict:
             "drag_settle_ms": round(drag["settle_ms"], 1),
             "drag_input_p95_ms": _pct(handled, 95), "drag_input_max_ms": round(max(handled), 1),
             "drag_input_over_16ms": sum(h > 16.7 for h in handled), "drag_events": len(handled),
-            "drag_seconds": round(drag["seconds"], 2)}
+            "drag_seconds": round(drag["seconds"], 2),
+            "cpu_ms_per_move": round(cpu_move, 1), "drag_cpu_ms_per_event": round(cpu_drag / len(handled), 1)}
 
 
 def run(quick: bool = False, static: str | None = None) -> dict:
@@ -179,6 +192,8 @@ def report(r: dict) -> list[str]:
         lines.append(f"  {label}: input → last panel in view redrawn: median {g('median_ms')} ms, "
                      f"p95 {g('p95_ms')} ms over {g('moves')} moves ({g('missed')} missed); "
                      f"in view: {', '.join(g('in_view'))}")
+        lines.append(f"      page main-thread CPU: {g('cpu_ms_per_move')} ms a move, "
+                     f"{g('drag_cpu_ms_per_event')} ms an event of the drag")
         lines.append("      per panel, median ms: " + ", ".join(f"{k} {v}" for k, v in g("per_panel_median_ms").items()))
         lines.append(f"      drag {DRAG_HZ} Hz × {DRAG_SECONDS:g} s: redraws/s "
                      + ", ".join(f"{k} {v}" for k, v in g("drag_redraws_per_s").items())

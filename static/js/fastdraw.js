@@ -97,6 +97,35 @@ export function splitRanges(layout) {
   return { ranges, rest: JSON.stringify(rest) };
 }
 
+/** Ranges to draw, given the server's previous and new ones: an end that moved since
+ * the last full draw (the peak of the lobe growing as α falls) gets HEADROOM of the span
+ * beyond it, so that the next moves in that direction still fit the axes as drawn.
+ * An axis that does not move (θ from 0 to 90°) is drawn as the server gives it. */
+const HEADROOM = 0.1;
+export function withHeadroom(previous, next) {
+  const out = {};
+  for (const [k, w] of Object.entries(next)) {
+    const p = previous?.[k];
+    if (!p || p.length !== 2 || w.length !== 2 || (p[0] === w[0] && p[1] === w[1])) {
+      out[k] = w;
+      continue;
+    }
+    const pad = HEADROOM * Math.abs(w[1] - w[0]) * Math.sign(w[1] - w[0]);
+    out[k] = [p[0] === w[0] ? w[0] : w[0] - pad, p[1] === w[1] ? w[1] : w[1] + pad];
+  }
+  return out;
+}
+
+/** The layout with these axis ranges (keys as splitRanges gives them). */
+export function withRanges(layout, ranges) {
+  const out = { ...layout };
+  for (const [k, r] of Object.entries(ranges)) {
+    const [top, sub] = k.split(".");
+    out[top] = sub ? { ...out[top], [sub]: { ...out[top][sub], range: r } } : { ...out[top], range: r };
+  }
+  return out;
+}
+
 /** The server's new ranges are close enough to the drawn ones to keep the axes: each
  * inside the drawn range and spanning at least FILL of it (in the axis's own units,
  * log10 on a log axis, as Plotly keeps them). */
@@ -119,9 +148,9 @@ export function canAnimate(gd, data, styles) {
   if (!gd._fullLayout || !styles || styles.length !== data.length) return false;
   for (let i = 0; i < data.length; i++) {
     if (!ANIMATABLE.has(data[i].type || "scatter")) return false;
-    const style = traceStyle(data[i]);
-    if (style !== styles[i] && style !== traceStyle({ ...data[i], name: JSON.parse(styles[i]).name })) return false;
-    if (style !== styles[i] && /[<&]/.test(String(data[i].name))) return false;
+    if (traceStyle(data[i]) === styles[i]) continue;
+    if (traceStyle({ ...data[i], name: JSON.parse(styles[i]).name }) !== styles[i]) return false;
+    if (/[<&]/.test(String(data[i].name))) return false;
   }
   return fitsAxes(gd, data);
 }

@@ -134,7 +134,7 @@ const inViewObserver = new IntersectionObserver((entries) => {
     p.inView = e.isIntersecting;
     scheduler.touch(p);
   }
-}, { rootMargin: "120px" });
+});
 
 // Plots fit their boxes when the layout changes (a panel shown, the sidebar wraps).
 const resizeObserver = new ResizeObserver((entries) => {
@@ -235,6 +235,7 @@ window.__brdf = {
                                      current: p.drawnKey === p.request().key })),
   url: (name) => panels.find((x) => x.name === name)?.url(),
   request: (name) => panels.find((x) => x.name === name)?.request(),
+  panel: (name) => panels.find((x) => x.name === name),
 };
 
 boot();

@@ -9,7 +9,7 @@ import { ctx } from "./state.js";
 import { compareModels } from "./pins.js";
 import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId } from "./views.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
-import { canAnimate, animateData, traceStyle, splitRanges, rangesFit } from "./fastdraw.js";
+import { canAnimate, animateData, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges } from "./fastdraw.js";
 import { exportBar } from "./exports.js";
 
 const LOADING_DELAY_MS = 300;
@@ -207,8 +207,11 @@ export class Panel {
   draw({ data, layout, uirevision, sub }) {
     this.setSub(sub);
     this.styles = data.map(traceStyle);
-    Object.assign(this, splitRanges(layout), { uirev: uirevision });
-    return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, layout, uirevision), PLOT_CONFIG));
+    const { ranges, rest } = splitRanges(layout);
+    const same = rest === this.rest && uirevision === this.uirev;
+    const drawn = withHeadroom(same ? this.serverRanges : null, ranges);
+    Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn });
+    return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
 
   drawn_(promise) {

@@ -117,20 +117,17 @@ export function stateFromSearch(search) {
   return { s, notes, unknown };
 }
 
-// URL <- state, at most once per URL_WRITE_MS (leading and trailing edge): Chrome
-// throttles replaceState past ~200 calls per 10 s.
-const URL_WRITE_MS = 120;
-let urlTimer = 0, lastUrlWrite = -Infinity;
+// URL <- state, URL_WRITE_MS after a change (a drag writes it every URL_WRITE_MS): off
+// the path from a slider to the plots (a replaceState costs milliseconds, and Chrome
+// throttles it past ~200 calls per 10 s).
+const URL_WRITE_MS = 150;
+let urlTimer = 0;
 function writeUrl() {
   urlTimer = 0;
-  lastUrlWrite = performance.now();
   const search = stateToSearch(ctx.state);
   if (search !== location.search) history.replaceState(null, "", location.pathname + search);
 }
 export function scheduleUrlWrite() {
-  if (urlTimer) return;
-  const wait = lastUrlWrite + URL_WRITE_MS - performance.now();
-  if (wait <= 0) writeUrl();
-  else urlTimer = setTimeout(writeUrl, wait);
+  if (!urlTimer) urlTimer = setTimeout(writeUrl, URL_WRITE_MS);
 }
 export const urlPending = () => (urlTimer ? 1 : 0);

@@ -130,6 +130,32 @@ def test_panels_out_of_view_are_fetched_when_they_scroll_in(page, page_log, base
     assert page_log.problems() == []
 
 
+def test_heavy_images_come_coarser_while_a_slider_is_held(page, page_log, base_url):
+    view = next(v for v in page.request.get(f"{base_url}/api/v1/views").json() if v["name"] == "lobe3d")
+    full = {f["name"]: f["default"] for f in view["fields"] if f["name"] in ("n_theta", "n_phi")}
+    page.goto("/?show=lobe,lobe3d")
+    wait_quiet(page, ids=("plot-lobe", "plot-lobe3d"))
+
+    def last_lobe3d():
+        u = urlparse([x for x in page_log.requests if "/figures/lobe3d?" in x][-1])
+        return {k: v[-1] for k, v in parse_qs(u.query).items()}
+
+    assert "n_theta" not in last_lobe3d()
+    page.evaluate("""() => { const s = document.getElementById('alpha-slider');
+        s.dispatchEvent(new PointerEvent('pointerdown', { bubbles: true }));
+        s.value = String(Number(s.value) - 40); s.dispatchEvent(new Event('input', { bubbles: true })); }""")
+    wait_quiet(page, ids=("plot-lobe3d",))
+    held = last_lobe3d()
+    assert 2 <= int(held["n_theta"]) <= full["n_theta"] // 2 + 1 and int(held["n_phi"]) <= full["n_phi"] // 2 + 1
+    page.evaluate("""() => { const s = document.getElementById('alpha-slider');
+        s.dispatchEvent(new Event('change', { bubbles: true }));
+        s.dispatchEvent(new PointerEvent('pointerup', { bubbles: true })); }""")
+    wait_quiet(page, ids=("plot-lobe3d",))
+    released = last_lobe3d()
+    assert "n_theta" not in released and released["alpha"] == held["alpha"]
+    assert page_log.problems() == []
+
+
 # ----------------------------------------------------------------- a readable page
 
 def test_unknown_url_parameter_is_flagged(page, page_log):
