@@ -126,15 +126,17 @@ function onHold(held) {
   if (!held) for (const p of panels) scheduler.touch(p);
 }
 
-// Panels are fetched only when in or near the viewport.
+// Panels are fetched only when in the viewport: some of their area in it (a panel whose
+// edge only touches the viewport "intersects" with none; the 1 % threshold says when
+// it scrolls in).
 const inViewObserver = new IntersectionObserver((entries) => {
   for (const e of entries) {
     const p = panels.find((x) => x.section === e.target);
     if (!p) continue;
-    p.inView = e.isIntersecting;
+    p.inView = e.isIntersecting && e.intersectionRatio > 0;
     scheduler.touch(p);
   }
-});
+}, { threshold: [0, 0.01] });
 
 // Plots fit their boxes when the layout changes (a panel shown, the sidebar wraps).
 const resizeObserver = new ResizeObserver((entries) => {
