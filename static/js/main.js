@@ -182,7 +182,7 @@ async function boot() {
     const p = panels.find((x) => x.name === name);
     if (on) p.section.scrollIntoView({ behavior: "smooth", block: "nearest" });
   });
-  Object.assign(ctx.defaultState, modelDefaults(), { pins: [], vary: null, values: null,
+  Object.assign(ctx.defaultState, modelDefaults(), { pins: [], vary: null, values: null, extra: {},
     show: ctx.views.map((v) => v.name).filter((n) => HINTS[n]?.shown) });
   for (const [key, loc] of ctx.locals) ctx.defaultState[key] = loc.field.default;
   if (reg.models.version) $("#version").textContent = `v${reg.models.version}`;
@@ -238,6 +238,18 @@ window.__brdf = {
   url: (name) => panels.find((x) => x.name === name)?.url(),
   request: (name) => panels.find((x) => x.name === name)?.request(),
   panel: (name) => panels.find((x) => x.name === name),
+  // For another module (data overlays): query parameters it owns, kept in the page URL
+  // and sent to every panel whose view declares them. Declare before the page boots (at
+  // module load) so that a link carrying them is read, not flagged as unknown.
+  declareExtra: (keys) => { for (const k of keys) ctx.extraKeys.add(k); },
+  setExtra: (params) => {
+    for (const [k, v] of Object.entries(params)) {
+      ctx.extraKeys.add(k);
+      if (v === null || v === undefined) delete state.extra[k];
+      else state.extra[k] = String(v);
+    }
+    onStateChange();
+  },
 };
 
 boot();

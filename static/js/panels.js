@@ -7,7 +7,7 @@ import { API, el, $, richText, apiMessage, errorLoc, query } from "./dom.js";
 import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
 import { ctx } from "./state.js";
 import { compareModels } from "./pins.js";
-import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId } from "./views.js";
+import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
 import { canAnimate, animateData, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges } from "./fastdraw.js";
 import { exportBar } from "./exports.js";
@@ -46,7 +46,7 @@ function localControl(view, f, onChange) {
     input.addEventListener("change", () => set(input.checked));
   } else if (f.enum) {
     input = el("select", { id, class: "mini" });
-    for (const x of f.enum) input.append(el("option", { value: x, text: x }));
+    for (const x of f.enum) input.append(el("option", { value: x, text: OPTION_LABELS[f.name]?.[x] || x }));
     label = el("label", { class: "mini-field", for: id, title: f.description }, el("span", {}, richText(fieldLabel(view, f))), input);
     input.addEventListener("change", () => set(input.value));
   } else {
@@ -138,6 +138,7 @@ export class Panel {
       if (loc.view === this.name && s[key] !== loc.field.default && fieldApplies(this.name, loc.field, s)) q[loc.field.name] = s[key];
     }
     if (this.overlaid(s)) Object.assign(q, { vary: s.vary, values: s.values });
+    for (const [k, v] of Object.entries(s.extra || {})) if (this.view.fields.some((f) => f.name === k)) q[k] = v;
     return q;
   }
   params(s) { return { ...modelQuery(s), ...this.viewParams(s) }; }

@@ -14,6 +14,7 @@ export const ctx = {
   views: [],             // GET /api/v1/views, in panel order
   locals: new Map(),     // state key -> {view, field, input} of the panels' own fields
   embed: new URLSearchParams(location.search).get("embed") === "1",
+  extraKeys: new Set(),  // query parameters another module declared (state.extra)
 };
 
 export const TRUE_WORDS = new Set(["1", "true", "yes", "on"]);
@@ -37,6 +38,7 @@ export function stateToSearch(s) {
     q.set("values", s.values);
   }
   for (const pin of s.pins) q.append("pin", pinsModule.encodePin(pin));
+  for (const [k, v] of Object.entries(s.extra || {})) q.set(k, v);
   if (ctx.embed) q.set("embed", "1");
   // ':' and ',' may stand as they are in a query (RFC 3986 3.4): readable pins and lists
   const str = q.toString().replace(/%3A/gi, ":").replace(/%2C/gi, ",");
@@ -108,7 +110,10 @@ export function stateFromSearch(search) {
     if (note) notes.push(note);
     if (pin && !s.pins.some((x) => pinsModule.samePin(x, pin)) && s.pins.length < pinsModule.MAX_PINS) s.pins.push(pin);
   }
-  const known = new Set([...named.map((g) => g.name), ...reg.params.keys(), ...ctx.locals.keys(), ...PAGE_PARAMS]);
+  s.extra = {};
+  for (const k of ctx.extraKeys) if (q.has(k)) s.extra[k] = q.get(k);
+  const known = new Set([...named.map((g) => g.name), ...reg.params.keys(), ...ctx.locals.keys(), ...PAGE_PARAMS,
+                         ...ctx.extraKeys]);
   const unknown = [...new Set(q.keys())].filter((k) => !known.has(k));
   if (unknown.length) {
     notes.push(`Unknown parameter${unknown.length > 1 ? "s" : ""} ${unknown.map((k) => `“${k}”`).join(", ")}: `

@@ -38,7 +38,8 @@ export const HINTS = {
 export const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
 
 // Labels of panel fields (the API's names otherwise); roles where the API gives none.
-export const FIELD_LABELS = { log: "log scale", display: "display", exposure: "exposure (stops)" };
+export const FIELD_LABELS = { log: "log scale", display: "display", exposure: "exposure (stops)", y_range: "y axis" };
+export const OPTION_LABELS = { y_range: { fit: "fitted to the data", unit: "0–1" } };
 export const VIEW_FIELD_LABELS = {
   lobe: { cosine: "f·cos θ_o" },
   ndf: { cosine: "× cos θ_m" },

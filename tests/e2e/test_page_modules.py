@@ -156,6 +156,18 @@ def test_heavy_images_come_coarser_while_a_slider_is_held(page, page_log, base_u
     assert page_log.problems() == []
 
 
+def test_another_module_can_add_query_parameters(page, page_log):
+    """window.__brdf.setExtra: kept in the URL, sent to the views that declare it."""
+    page.goto("/?show=lobe,albedo")
+    wait_quiet(page, ids=("plot-lobe", "plot-albedo"))
+    page.evaluate("() => window.__brdf.setExtra({ mu: '0.5,1' })")      # albedo declares mu, the lobe does not
+    wait_quiet(page, ids=("plot-lobe", "plot-albedo"))
+    assert "mu=0.5" in page.evaluate("() => window.__brdf.url('albedo')")
+    assert "mu=" not in page.evaluate("() => window.__brdf.url('lobe')")
+    assert parse_qs(urlparse(page.url).query)["mu"] == ["0.5,1"]
+    assert page_log.problems() == []
+
+
 # ----------------------------------------------------------------- a readable page
 
 def test_unknown_url_parameter_is_flagged(page, page_log):
