@@ -242,7 +242,7 @@ def sphere_radiance(brdf: BRDF, x, y, light) -> np.ndarray:
     lit = mu_l > 0.0
     value = np.zeros(mu_l.shape)
     if lit.any():
-        value[lit] = brdf.evaluate(l[lit], v[lit], ("f",))["f"] * mu_l[lit]
+        value[lit] = kernels.f(brdf, l[lit], v[lit]) * mu_l[lit]
     return value
 
 
@@ -327,7 +327,7 @@ def half_difference_slice(brdf: BRDF, phi_h_deg: float, phi_d_deg: float, n: int
         above = (l[..., 2] >= 0.0) & (v[..., 2] >= 0.0)
         f = np.full(above.shape, np.nan)
         if above.any():
-            out = brdf.evaluate(l[above], v[above], ("f",))["f"]
+            out = kernels.f(brdf, l[above], v[above])
             if cosine:
                 # f·cos θ_l is 0 at θ_l = 90° even where f diverges (both directions grazing)
                 mu_l = l[above][:, 2]

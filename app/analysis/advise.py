@@ -17,7 +17,7 @@ import time
 
 import numpy as np
 
-from ..errors import ParameterError
+from ..errors import Busy, ParameterError
 from ..integrate import budget
 from ..integrate.sampling import SAMPLERS
 from ..model import OPTIONS, ModelSpec, choice_params, make_spec
@@ -333,6 +333,9 @@ def _albedo_methods(model: dict, quad: Grid, scene: Scene, tol_left: float) -> d
             grid = albedo_grid(model, scene, method, cache=False, **kw)
         except ParameterError:
             continue                                     # the table does not apply
+        except Busy as exc:                              # its table is still being built
+            _cut(f"advise: albedo by {method} not rated now ({exc.message})")
+            continue
         build = 0.0
         if method == "table" and grid.complete:          # its cost: the lookups, not the build
             first, grid = grid, albedo_grid(model, scene, method, cache=False, **kw)
