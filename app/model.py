@@ -11,6 +11,7 @@ from typing import Callable
 import numpy as np
 
 from .errors import ParameterError
+from . import materials
 from .integrate.compensation import MULTISCATTERS, compensated
 from .physics.brdf import BRDF
 from .physics.diffuse import DIFFUSES
@@ -147,11 +148,13 @@ class ModelSpec:
         shape = {p.name: v[p.name] for p in choice_params("ndf", v["ndf"]) if v.get(p.name) is not None}
         fresnel_values = {p.name: v[p.name] for p in choice_params("fresnel", v["fresnel"])
                           if v.get(p.name) is not None}
+        fresnel = (materials.MaterialFresnel(v["material"]) if v.get("material")
+                   else FRESNELS[v["fresnel"]](**fresnel_values))
         ndf_class = NDFS[v["ndf"]]
         lobe2 = ndf_class(v["alpha2"], None, **shape) if v.get("alpha2") is not None else None
         lambda_phi = LAMBDA_PHIS[v["lambda_phi"]].fn if v.get("lambda_phi") else None
         brdf = BRDF(ndf_class(v["alpha"], v.get("alpha_y"), **shape), MASKINGS[v["masking"]],
-                    G2_FORMS[v["g2"]], FRESNELS[v["fresnel"]](**fresnel_values), v.get("kd", 0.0),
+                    G2_FORMS[v["g2"]], fresnel, v.get("kd", 0.0),
                     lambda_phi=lambda_phi, lobe2=lobe2, lobe_mix=v.get("lobe_mix", 0.0),
                     diffuse=_diffuse(v))
         if v.get("multiscatter") == "kulla_conty":
@@ -175,6 +178,7 @@ def make_spec(**given) -> ModelSpec:
     used only with the choice it belongs to, one roughness form. Missing values take
     their defaults; ``None`` means not given."""
     given = {k: x for k, x in given.items() if x is not None}
+    material = _material_fresnel(given)
     explicit_alpha = [n for n in ("alpha", "alpha_y") if n in given]
     values: dict = {}
     for option, (_, registry, default) in OPTIONS.items():
@@ -215,6 +219,10 @@ def make_spec(**given) -> ModelSpec:
     for option in ("ndf", "fresnel", "diffuse"):
         for p in choice_params(option, values[option]):
             values.setdefault(p.name, p.default)
+    if material is not None:        # its RGB index replaces the scalar one
+        for p in choice_params("fresnel", values["fresnel"]):
+            values.pop(p.name, None)
+        values["material"] = material
     spec = ModelSpec(values)
     try:
         brdf = spec.brdf()
@@ -226,6 +234,20 @@ def make_spec(**given) -> ModelSpec:
     # Derived quantities for display (Blinn-Phong's α_p); not parameters.
     values.update(getattr(brdf.ndf, "derived", dict)())
     return spec
+
+
+def _material_fresnel(given: dict) -> str | None:
+    """``material=<slug>`` (app/materials.py) sets the Fresnel option to its kind; its own
+    RGB index replaces fresnel's parameters, which may not be given with it."""
+    slug = given.pop("material", None)
+    if slug is None:
+        return None
+    record = materials.material(slug)
+    for name in ("fresnel", *choice_param_names()):
+        if name in given and (name == "fresnel" or any(k.startswith("fresnel=") for k in choice_param_names()[name])):
+            raise ParameterError(name, f"{name} is set by material={slug}: give one or the other")
+    given["fresnel"] = record["kind"]
+    return slug
 
 
 def _roughness_form(values: dict, given: dict, explicit_alpha: list) -> None:

@@ -12,6 +12,7 @@ from . import kernels
 from .adaptive import ladder, peak, refine_curve, refine_grid
 from .integrate import cost
 from .integrate.methods import albedo_by
+from .materials import evaluate_rgb
 from .physics.brdf import BRDF
 from .physics.masking import G1
 from .physics.numeric import where_valid
@@ -46,6 +47,8 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
     l, v = np.broadcast_arrays(l, v)
 
     def terms(l, v):
+        if getattr(brdf.fresnel, "channels", None) is not None:   # a material: F_rgb, f_rgb too
+            return evaluate_rgb(brdf, l, v, want)
         return {"f": kernels.f(brdf, l, v)} if tuple(want) == ("f",) else brdf.evaluate(l, v, want)
     if count <= EVAL_CHUNK:
         return terms(l, v)
@@ -57,9 +60,9 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
         part = slice(start, start + EVAL_CHUNK)
         for name, value in terms(l[part], v[part]).items():
             if name not in out:
-                out[name] = np.empty(count, dtype=np.result_type(value, float))
+                out[name] = np.empty((count,) + np.shape(value)[1:], dtype=np.result_type(value, float))
             out[name][part] = value
-    return {name: value.reshape(shape) for name, value in out.items()}
+    return {name: value.reshape(shape + value.shape[1:]) for name, value in out.items()}
 
 
 def _width_deg(brdf: BRDF) -> float:

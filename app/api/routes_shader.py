@@ -107,7 +107,6 @@ def materials_route() -> Response:
 
 
 class MaterialFresnelQuery(schemas.ModelQuery):
-    material_name: Annotated[str, Field(alias="material", description="a slug from /api/v1/materials, e.g. gold")]
     n: Annotated[int, Field(ge=2, le=721, description="angles θ = 0..90°, both ends")] = 91
 
 
@@ -116,10 +115,12 @@ class MaterialFresnelQuery(schemas.ModelQuery):
             description="Per channel: F(θ) of each form, its error against the exact one, and E_avg of the "
                         "configured model's lobe with each form (adaptive quadrature; bounds given).")
 def material_fresnel_route(q: Annotated[MaterialFresnelQuery, Query()]) -> Response:
+    if q.material is None:
+        raise ParameterError("material", "give material=<slug> (GET /api/v1/materials lists them)")
     spec = make_spec(**schemas.model_values(q))
     brdf = spec.brdf()
     lobe = brdf.single() if hasattr(brdf, "single") else brdf
     if not lobe.ndf.isotropic:
         raise ParameterError("alpha_y", "the E_avg comparison is for isotropic roughness (no alpha_y)")
-    return json_response(materials.comparison(q.material_name, lobe.lobes()[0][1], q.n,
+    return json_response(materials.comparison(q.material, lobe.lobes()[0][1], q.n,
                                               lambda b: albedo_average(b, tol=1e-5)))

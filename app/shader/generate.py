@@ -28,6 +28,8 @@ FRAME_MIN = 1e-3
 def model_query(spec: ModelSpec) -> str:
     """The query string that reproduces the model (derived values left out)."""
     derived = set(getattr(spec.brdf().ndf, "derived_doc", {}) or {})
+    if spec.values.get("material"):
+        derived.add("fresnel")               # set by the material
     return "&".join(f"{k}={v:g}" if isinstance(v, float) else f"{k}={v}"
                     for k, v in spec.values.items() if v is not None and k not in derived)
 

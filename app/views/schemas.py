@@ -11,6 +11,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
 from ..integrate.albedo import ORDER_MAX
 from ..integrate.methods import DEFAULT_SAMPLES, MC_METHODS, MC_SAMPLES_MAX, METHODS
+from .. import materials
 from ..errors import ParameterError
 from ..model import (COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, ModelSpec,
                      choice_param_names, make_spec)
@@ -103,6 +104,9 @@ def _model_fields() -> dict:
         fields[name] = (Optional[float], Field(
             None, ge=lo, le=hi, examples=[first.default],
             description=f"{first.description} Applies with {where}; default {first.default:g}."))
+    fields["material"] = (Optional[Literal[tuple(materials.materials())]], Field(
+        None, examples=["gold"], description="a measured material (GET /api/v1/materials): sets fresnel to "
+        "its kind with its RGB index; /eval then answers F_rgb and f_rgb beside the luminance F, f"))
     return fields
 
 

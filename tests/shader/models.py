@@ -41,7 +41,10 @@ def registry_models() -> list[dict]:
             {"ndf": "ggx", "alpha": 0.5, "multiscatter": "kulla_conty"},
             {"ndf": "ggx", "alpha": 0.8, "multiscatter": "kulla_conty", "fresnel": "conductor", "alpha2": 0.2,
              "lobe_mix": 0.4},
-            {"ndf": "beckmann", "alpha": 0.6, "multiscatter": "kulla_conty", "g2": "separable", "fresnel": "dielectric"}]
+            {"ndf": "beckmann", "alpha": 0.6, "multiscatter": "kulla_conty", "g2": "separable", "fresnel": "dielectric"},
+            {"ndf": "ggx", "alpha": 0.3, "material": "gold"},
+            {"ndf": "ggx", "alpha": 0.5, "material": "copper", "multiscatter": "kulla_conty"},
+            {"ndf": "beckmann", "alpha": 0.3, "material": "water", "kd": 0.1}]
     return out
 
 

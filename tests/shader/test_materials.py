@@ -75,3 +75,45 @@ def test_unknown_material_is_a_422_naming_it(client):
     res = client.get("/api/v1/materials/fresnel", params={"material": "unobtainium"})
     assert res.status_code == 422 and res.json()["detail"][0]["loc"][-1] == "material"
     assert "gold" in res.json()["detail"][0]["msg"]
+
+
+def _eval(client, **query):
+    res = client.get("/api/v1/eval", params=query)
+    assert res.status_code == 200, res.text
+    return res.json()
+
+
+@pytest.mark.parametrize("slug", ["gold", "silver", "copper", "water"])
+def test_eval_answers_rgb_beside_luminance(client, slug):
+    """At θ_i = θ_o = 0 (v·h = 1) F_rgb is F₀ per channel from the data's n, k (or ior);
+    F and f are the Rec. 709 luminance of F_rgb and f_rgb."""
+    record = materials.material(slug)
+    body = _eval(client, material=slug, alpha=0.3, theta_i_deg="0,40", phi_i_deg=0, theta_o_deg="0,40",
+                 phi_o_deg=180, quantities="f,F")
+    if record["kind"] == "conductor":
+        n, k = np.array(record["n"]), np.array(record["k"])
+        F0 = ((n - 1) ** 2 + k ** 2) / ((n + 1) ** 2 + k ** 2)
+    else:
+        F0 = np.full(3, ((record["ior"] - 1) / (record["ior"] + 1)) ** 2)
+    F_rgb, f_rgb = np.array(body["F_rgb"]), np.array(body["f_rgb"])
+    assert F_rgb[0] == pytest.approx(F0, rel=1e-12)
+    weights = np.array([0.2126, 0.7152, 0.0722])
+    assert body["F"] == pytest.approx((F_rgb @ weights).tolist(), rel=1e-12)
+    assert body["f"] == pytest.approx((f_rgb @ weights).tolist(), rel=1e-12)
+    # each channel's f is the model with that channel's exact Fresnel as a scalar model
+    for c, fresnel in enumerate(materials.channel_fresnels(record)):
+        params = {"fresnel": fresnel.name, **{p.name: getattr(fresnel, p.name) for p in fresnel.params}}
+        if params.get("ior", 1.0) < 0.01:      # gold's red n = 0 is below the scalar model's range
+            continue
+        single = _eval(client, alpha=0.3, theta_i_deg="0,40", phi_i_deg=0, theta_o_deg="0,40", phi_o_deg=180,
+                       quantities="f", **params)
+        assert f_rgb[:, c] == pytest.approx(single["f"], rel=1e-12)
+
+
+@pytest.mark.parametrize("query, param", [({"material": "gold", "f0": 0.5}, "f0"),
+                                          ({"material": "gold", "fresnel": "schlick"}, "fresnel"),
+                                          ({"material": "gold", "ior": 1.5}, "ior"),
+                                          ({"material": "vibranium"}, "material")])
+def test_material_with_its_own_fresnel_parameters_is_a_422(client, query, param):
+    res = client.get("/api/v1/eval", params=query)
+    assert res.status_code == 422 and res.json()["detail"][0]["loc"][-1] == param
