@@ -23,6 +23,7 @@ from ..integrate import budget
 from ..integrate.albedo import albedo, albedo_average
 from ..physics.brdf import BRDF
 from ..physics.fresnel import FRESNELS
+from ..physics.ndf import ALPHA
 
 #: Quadrature tolerance of each E node: below the float16 step at 1 (4.9e-4) and the
 #: bilinear error of a 128² table (≳ 1e-5), above float32's 6e-8 (the table error says so).
@@ -46,7 +47,10 @@ def refined(n: int) -> np.ndarray:
 
 
 def alpha_of(axis: str, x):
-    return np.asarray(x, dtype=float) ** 2 if axis == "roughness" else np.asarray(x, dtype=float)
+    """α at axis value x, clamped to the explorer's smallest α (1e-4: r ≥ 0.01; only the
+    first roughness texels of sizes above 50 are below it)."""
+    x = np.asarray(x, dtype=float)
+    return np.maximum(x * x if axis == "roughness" else x, ALPHA.lo)
 
 
 def mu_of(axis: str, x):
@@ -105,7 +109,9 @@ def _refuse_if_slow(what: str, n: int, seconds_per_row: float, rows: int) -> Non
 
 @lru_cache(maxsize=CACHE_ENTRIES)
 def albedo_grid(key: LobeKey, n: int, mu_axis: str, roughness_axis: str, basis_p: float | None) -> Grid:
-    """E(μ, α) on the refined grid, F = 1 (basis_p None) or the Schlick basis."""
+    """E(μ, α) on the refined grid, F = 1 (basis_p None) or the Schlick basis. Under a
+    request's time budget, refused (TooLarge) after any row when the rest, predicted from
+    the rows done, would not fit."""
     x = refined(n)
     mu = mu_of(mu_axis, x)
     values = np.empty((x.size, x.size))
@@ -115,8 +121,7 @@ def albedo_grid(key: LobeKey, n: int, mu_axis: str, roughness_axis: str, basis_p
         res = albedo(key.lobe(float(alpha_of(roughness_axis, xr)), basis_p), mu, tol=LUT_TOL)
         values[i], error[i] = res.E, res.E_error
         evaluations += res.evaluations
-        if i == 1:
-            _refuse_if_slow("E", n, (time.perf_counter() - t0) / 2, x.size - 2)
+        _refuse_if_slow("E", n, (time.perf_counter() - t0) / (i + 1), x.size - i - 1)
     return Grid(values, error, time.perf_counter() - t0, evaluations)
 
 
@@ -129,6 +134,5 @@ def average_grid(key: LobeKey, n: int, roughness_axis: str) -> Grid:
     for i, xr in enumerate(x):
         values[i], error[i], ev = albedo_average(key.lobe(float(alpha_of(roughness_axis, xr)), None), tol=LUT_TOL)
         evaluations += ev
-        if i == 1:
-            _refuse_if_slow("E_avg", n, (time.perf_counter() - t0) / 2, x.size - 2)
+        _refuse_if_slow("E_avg", n, (time.perf_counter() - t0) / (i + 1), x.size - i - 1)
     return Grid(values, error, time.perf_counter() - t0, evaluations)

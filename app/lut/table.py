@@ -106,7 +106,8 @@ def make(kind: str, key: build.LobeKey, n: int, mu_axis: str, roughness_axis: st
     build.check_size(n)
     channels = KINDS[kind][0]
     x = build.centres(n)
-    r_axis = {"name": roughness_axis, "values": x, "alpha": "r²" if roughness_axis == "roughness" else "α"}
+    r_axis = {"name": roughness_axis, "values": x,
+              "alpha": ("r²" if roughness_axis == "roughness" else "α") + " (at least 1e-4)"}
     if kind == "kc_E_avg":
         g = build.average_grid(key, n, roughness_axis)
         return Lut(kind, [r_axis], channels, g.values[:, None], g.error[:, None], g.seconds, g.evaluations)
