@@ -48,13 +48,14 @@ def conventions_figure(roughness: float, anisotropy: float) -> dict:
                        "hovertemplate": f"{row['ecosystem']}<br>θ_o=%{{x:.1f}}°<br>f=%{{y:.4g}}<extra></extra>"})
     title = (f"One roughness r = {roughness:g}" + (f", anisotropy {anisotropy:g}" if anisotropy else "")
              + f": the α each ecosystem means, and its GGX lobe (θ_i = {THETA_I_DEG:g}°, F = 1)")
-    layout = base_layout(title, barmode="group", showlegend=True,
-                         xaxis=axis("", domain=[0.0, 0.42], tickangle=-35),
-                         yaxis=axis("α (log)", type="log"),
-                         xaxis2=axis("θ_o (degrees; > 0 mirror side)", domain=[0.52, 1.0], anchor="y2"),
-                         yaxis2=axis("f (log)", type="log", anchor="x2"),
+    layout = base_layout(title, barmode="group", showlegend=True, height=640,
+                         xaxis=axis("", domain=[0.0, 1.0], anchor="y", tickangle=-20),
+                         yaxis=axis("α (log)", type="log", domain=[0.62, 1.0]),
+                         xaxis2=axis("θ_o (degrees; > 0 mirror side)", domain=[0.0, 1.0], anchor="y2"),
+                         yaxis2=axis("f (log)", type="log", domain=[0.0, 0.46], anchor="x2"),
+                         legend={"orientation": "v", "x": 1.01, "y": 0.46, "yanchor": "top"},
                          shapes=[{"type": "rect", "xref": "x domain", "yref": "y", "x0": 0, "x1": 1,
                                   "y0": ALPHA_MIN, "y1": ALPHA_MAX, "fillcolor": "#e8f1f8", "line": {"width": 0},
                                   "layer": "below"}],
-                         margin={"l": 60, "r": 20, "t": 46, "b": 140})
+                         margin={"l": 60, "r": 230, "t": 46, "b": 50})
     return {"data": traces, "layout": layout}
