@@ -11,6 +11,7 @@ import math
 from dataclasses import replace
 
 from .. import __version__
+from ..errors import ParameterError
 from ..integrate.compensation import KullaConty, kulla_conty
 from ..model import ModelSpec
 from . import embed, terms
@@ -42,6 +43,10 @@ def fresnel_channels(fresnel) -> tuple[str, list[dict]]:
 
 
 def program(spec: ModelSpec) -> Program:
+    diffuse = spec.values.get("diffuse", "lambert")
+    if diffuse != "lambert":
+        raise ParameterError("diffuse", f"code generation writes the diffuse term as Lambert's kd/π only; "
+                                        f"got diffuse={diffuse}")
     brdf = spec.brdf()
     ms: KullaConty | None = getattr(brdf, "multiscatter", None)
     single = brdf.single() if ms is not None else brdf
