@@ -66,7 +66,7 @@ def conventions_route(roughness: Roughness = 0.5, anisotropy: Anisotropy = 0.0) 
     return json_response(conventions.table(_unit("roughness", roughness), _unit("anisotropy", anisotropy)))
 
 
-@router.get("/figures/conventions", tags=["figures"], summary="Plotly figure: the α of each ecosystem and its lobe")
+@router.get("/conventions/figure", tags=["figures"], summary="Plotly figure: the α of each ecosystem and its lobe")
 def conventions_figure_route(roughness: Roughness = 0.5, anisotropy: Anisotropy = 0.0) -> Response:
     figure = conventions_figure(_unit("roughness", roughness), _unit("anisotropy", anisotropy))
     return Response(figures.to_json(figure), media_type="application/json")

@@ -150,7 +150,7 @@ function conventionsBlock() {
   const draw = async () => {
     const r = slider.value;
     value.textContent = Number(r).toFixed(2);
-    const [fig, rows] = await Promise.all([getJson(`${API}/figures/conventions?roughness=${r}`),
+    const [fig, rows] = await Promise.all([getJson(`${API}/conventions/figure?roughness=${r}`),
                                            getJson(`${API}/conventions?roughness=${r}`)]);
     await window.Plotly.react(plot, fig.data, fig.layout, { displaylogo: false, responsive: true });
     table.replaceChildren(el("tr", {}, el("th", { text: "ecosystem" }), el("th", { text: "α" }), el("th", { text: "k (G)" }),

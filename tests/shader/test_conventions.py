@@ -63,7 +63,7 @@ def test_out_of_range_is_a_422_naming_it(client, query):
 
 
 def test_figure_has_every_lobe(client):
-    fig = client.get("/api/v1/figures/conventions", params={"roughness": 0.3, "anisotropy": 0.4}).json()
+    fig = client.get("/api/v1/conventions/figure", params={"roughness": 0.3, "anisotropy": 0.4}).json()
     lobes = [t for t in fig["data"] if t["type"] == "scatter"]
     assert len(lobes) == len(_rows(client, roughness=0.3))
 
