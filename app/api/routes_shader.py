@@ -124,3 +124,17 @@ def material_fresnel_route(q: Annotated[MaterialFresnelQuery, Query()]) -> Respo
         raise ParameterError("alpha_y", "the E_avg comparison is for isotropic roughness (no alpha_y)")
     return json_response(materials.comparison(q.material, lobe.lobes()[0][1], q.n,
                                               lambda b: albedo_average(b, tol=1e-5)))
+
+
+class MaterialSphereQuery(schemas.ModelQuery):
+    theta_i_deg: Annotated[float, Field(ge=0.0, le=90.0, description="angle between light and viewer, degrees")] = 45.0
+    n: Annotated[int, Field(ge=8, le=256, description="pixels across (n × n)")] = 128
+
+
+@router.get("/materials/sphere", tags=["code"], summary="A lit sphere in colour (RGB f of a material)",
+            description="L_o/E = f_rgb cos θ_l per pixel under a distant light, sRGB-encoded 0–255, values above 1 "
+                        "clipped (max before clipping given). With no material the three channels are equal.",
+            responses={200: {"content": {"application/json": {"example": {"rgb": [[[255, 255, 255]]], "max": 0.8}}}}})
+def material_sphere_route(q: Annotated[MaterialSphereQuery, Query()]) -> Response:
+    spec = make_spec(**schemas.model_values(q))
+    return json_response(materials.lit_sphere(spec.brdf(), q.theta_i_deg, q.n))

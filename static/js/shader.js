@@ -106,6 +106,7 @@ async function materialBlock(section, status) {
   const select = el("select", { id: "shader-material", "aria-label": "material preset" });
   select.append(el("option", { value: "", text: "— the page's Fresnel —" }));
   const plot = el("div", { id: "material-plot" });
+  const sphere = el("div", { id: "material-sphere" });
   const errors = el("div", { id: "material-table" });
   try {
     const list = await getJson(`${API}/materials`);
@@ -122,21 +123,29 @@ async function materialBlock(section, status) {
     section.dataset.material = select.value;
     if (!select.value) {
       window.Plotly.purge(plot);
+      window.Plotly.purge(sphere);
       errors.replaceChildren();
       return;
     }
     try {
       const q = await modelQuery(select.value);
-      const body = await getJson(`${API}/materials/fresnel?${q}`);
+      const [body, lit] = await Promise.all([getJson(`${API}/materials/fresnel?${q}`),
+                                             getJson(`${API}/materials/sphere?${q}`)]);
       const fig = fresnelFigure(body);
       await window.Plotly.react(plot, fig.traces, fig.layout, { displaylogo: false, responsive: true });
+      await window.Plotly.react(sphere, [{ type: "image", z: lit.rgb, hoverinfo: "skip" }],
+        { title: { text: `${body.material.name}, lit at 45° (sRGB; max L/E ${lit.max.toFixed(2)})`, x: 0.02, font: { size: 14 } },
+          xaxis: { visible: false }, yaxis: { visible: false, scaleanchor: "x" }, width: 360, height: 380,
+          margin: { l: 10, r: 10, t: 40, b: 10 } }, { displaylogo: false, staticPlot: true });
       errors.replaceChildren(el("p", { text: "Error of each fit against the exact Fresnel, and its error in E_avg of the page's lobe:" }),
                              errorTable(body));
     } catch (e) {
       status.textContent = `material: ${e.message}`;
     }
   });
-  return [el("div", { class: "shader-row" }, el("label", { for: "shader-material", text: "Material " }), select), plot, errors];
+  return [el("div", { class: "shader-row" }, el("label", { for: "shader-material", text: "Material " }), select),
+          el("div", { style: "display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start;" },
+             el("div", { style: "flex: 1 1 520px; min-width: 0;" }, plot), sphere), errors];
 }
 
 function conventionsBlock() {

@@ -38,6 +38,9 @@ def test_material_preset_draws_rgb_fresnel_and_goes_into_the_code(page, page_log
     page.wait_for_selector("#material-errors", timeout=TIMEOUT)
     traces = page.evaluate("() => document.querySelector('#material-plot').data.map(t => t.name)")
     assert {"exact R", "exact G", "exact B", "schlick B", "f82_tint G", "gulbrandsen R"} <= set(traces)
+    sphere = page.evaluate("() => document.querySelector('#material-sphere').data[0].z")
+    centre = sphere[len(sphere) // 2][len(sphere) // 2]
+    assert centre[0] > centre[1] > centre[2]         # gold: red > green > blue
     rows = page.locator("#material-errors tr")
     expect(rows).to_have_count(4)                   # header + schlick, f82_tint, gulbrandsen
     page.click("button[data-lang='glsl']")

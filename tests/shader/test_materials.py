@@ -117,3 +117,21 @@ def test_eval_answers_rgb_beside_luminance(client, slug):
 def test_material_with_its_own_fresnel_parameters_is_a_422(client, query, param):
     res = client.get("/api/v1/eval", params=query)
     assert res.status_code == 422 and res.json()["detail"][0]["loc"][-1] == param
+
+
+def test_lit_sphere_in_colour(client):
+    """Gold's sphere is red > green > blue where lit, its three channels equal without a
+    material; outside the disk white; the pixel facing the viewer under a light along the
+    view (θ_i = 0) is f_rgb(n, n) cos 0 from /eval, sRGB-encoded."""
+    gold = client.get("/api/v1/materials/sphere", params={"material": "gold", "alpha": 0.3, "n": 33,
+                                                          "theta_i_deg": 0}).json()
+    rgb = np.array(gold["rgb"])
+    assert rgb.shape == (33, 33, 3) and (rgb[0, 0] == 255).all()
+    centre = rgb[16, 16]
+    assert centre[0] > centre[1] > centre[2]
+    f = np.array(_eval(client, material="gold", alpha=0.3, theta_i_deg=0, theta_o_deg=0, quantities="f")["f_rgb"][0])
+    c = np.clip(f, 0, 1)
+    srgb = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)
+    assert np.abs(centre - np.round(srgb * 255)).max() <= 1      # the centre pixel is 1/33 off the pole
+    grey = np.array(client.get("/api/v1/materials/sphere", params={"alpha": 0.3, "n": 17}).json()["rgb"])
+    assert (grey[..., 0] == grey[..., 1]).all() and (grey[..., 1] == grey[..., 2]).all()
