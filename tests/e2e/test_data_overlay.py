@@ -1,0 +1,93 @@
+"""Data on the page: a shader's dump dropped on the page shows on the lobe beside the
+model, the difference toggle shows its largest error where the bug predicts; a
+measured-looking MERL file opened, fitted, and its fit loaded into the controls.
+
+Writes docs/screenshot-data.png: the measured-looking data beside its fitted model.
+"""
+from __future__ import annotations
+
+import json
+import math
+import urllib.request
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from test_page import wait_quiet   # tests/e2e is not a package
+
+from tests.datasets import known
+
+pytestmark = pytest.mark.e2e
+
+DOCS = Path(__file__).resolve().parents[2] / "docs"
+OVERLAID = "(id) => document.getElementById(id)?.dataset.overlay === 'data'"
+DIFFERENCE = "(id) => document.getElementById(id)?.dataset.overlay === 'difference'"
+
+
+def plot(page, name: str) -> dict:
+    """The trace names of a panel's plot and the largest error the data module found."""
+    return json.loads(page.evaluate(f"""() => {{ const d = document.getElementById('plot-{name}');
+        return JSON.stringify({{names: d.data.map((t) => t.name), title: d.dataset.largest}}); }}"""))
+
+
+def buggy_dump(base_url: str, theta_i: float) -> str:
+    """The page's default model as a shader that forgot 1/(4 n·l n·v) would print it: the
+    samples CSV of the model (GET /export/model.csv), each f times 4 cos θ_i cos θ_o."""
+    with urllib.request.urlopen(f"{base_url}/api/v1/export/model.csv?n_theta=19&n_phi=24") as res:
+        rows = np.loadtxt(res, delimiter=",", skiprows=1)
+    assert theta_i in set(rows[:, 0])
+    rows[:, 4] *= 4 * np.cos(np.radians(rows[:, 0])) * np.cos(np.radians(rows[:, 2]))
+    lines = ["theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,f"]
+    lines += [",".join(f"{x:.17g}" for x in row) for row in rows]
+    return "\n".join(lines) + "\n"
+
+
+def test_a_dropped_dump_shows_on_the_lobe_and_its_error_where_the_bug_predicts(page, page_log, base_url):
+    page.goto("/?show=lobe,albedo")
+    wait_quiet(page, ids=("plot-lobe", "plot-albedo"))
+    theta_i = page.evaluate("() => window.__brdf.state.theta_i_deg")
+    text = buggy_dump(base_url, theta_i)
+    page.evaluate("""([name, text]) => {
+        const dt = new DataTransfer();
+        dt.items.add(new File([text], name, { type: "text/csv" }));
+        const target = document.getElementById("panels");
+        for (const type of ["dragenter", "dragover", "drop"])
+          target.dispatchEvent(new DragEvent(type, { bubbles: true, cancelable: true, dataTransfer: dt }));
+    }""", ["shader_dump.csv", text])
+    page.wait_for_function(OVERLAID, arg="plot-lobe", timeout=30_000)
+    lobe = plot(page, "lobe")
+    assert "data (f)" in lobe["names"] and "largest" in lobe["title"]
+    assert "samples_csv" in page.text_content("#data-status")
+    page.check("#data-difference")
+    page.wait_for_function(DIFFERENCE, arg="plot-lobe", timeout=30_000)
+    predicted = 100 * (4 * math.cos(math.radians(theta_i)) - 1)     # at θ_o = 0: 4 μ_l μ_v − 1
+    title = plot(page, "lobe")["title"]
+    assert f"largest {predicted:+.2f} % at θ_o = " in title, title
+    assert title in page.text_content("#data-largest")
+    assert "θ_o = 0°" in title or "θ_o = -0°" in title
+    assert not [p for p in page_log.problems() if "/datasets" in p], page_log.problems()
+
+
+def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_path):
+    path = tmp_path / "coppery.binary"
+    path.write_bytes(known.measured_style_bytes())
+    page.goto("/?show=lobe,slice&theta_i_deg=30")
+    wait_quiet(page, ids=("plot-lobe", "plot-slice"))
+    page.set_input_files("#data-file", str(path))
+    page.wait_for_function(OVERLAID, arg="plot-lobe", timeout=60_000)
+    assert "merl" in page.text_content("#data-status")
+    page.select_option("#data-channel", "r")
+    page.click("#data-fit")
+    page.wait_for_selector("#data-fit-use", timeout=60_000)
+    result = page.text_content("#data-fit-result")
+    assert "alpha = " in result and "residual" in result
+    page.click("#data-fit-use")                      # the fitted model into the controls
+    page.wait_for_function(OVERLAID, arg="plot-lobe", timeout=60_000)
+    page.wait_for_function(OVERLAID, arg="plot-slice", timeout=60_000)
+    fitted_alpha = page.evaluate("() => window.__brdf.state.alpha")
+    assert 0.07 < fitted_alpha < 0.1              # one GGX lobe through the two (0.06, 0.3)
+    page.wait_for_function("() => window.__brdf.pending() === 0")
+    page.screenshot(path=str(DOCS / "screenshot-data.png"), full_page=False)
+    assert "data (r)" in plot(page, "lobe")["names"]
+    assert not [p for p in page_log.problems() if "/datasets" in p or "/fit" in p], page_log.problems()
