@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..physics.numeric import where_valid
 from ..physics.vectors import direction_deg
-from ..quantities import albedo_curve, evaluate, lit_sphere, rusinkiewicz_directions
+from ..quantities import albedo_curve, evaluate, rusinkiewicz_directions, sphere_radiance
 from . import merl
 from .dataset import angles_deg, select, term_of_model
 
@@ -30,7 +30,7 @@ ALBEDO_TOL = 1e-6
 
 class MeasuredBRDF:
     """A MERL table in the place of a model: ``evaluate`` interpolates f (NaN where not
-    measured), so a view's own geometry (the lit sphere's frames) applies unchanged."""
+    measured), so the lit sphere's own frames (quantities.sphere_radiance) apply unchanged."""
 
     def __init__(self, data, channel: str | None):
         self.data, self.channel = data, channel
@@ -134,11 +134,17 @@ def half_difference(data, brdf, arrays: dict, q, channel) -> dict:
 
 
 def sphere(data, brdf, arrays: dict, q, channel) -> dict:
+    """L_o/E of the data at the pixel centres (the model's pixels round the highlight are
+    means over sub-pixels; the table's 1° cells are coarser than those anyway)."""
     _table(data, "sphere")
-    values = lit_sphere(MeasuredBRDF(data, channel), q.theta_i_deg, q.phi_i_deg, q.n)["radiance"]
     x, y = np.asarray(arrays["x"]), np.asarray(arrays["y"])
+    X, Y = np.meshgrid(x, y)                       # rows y, columns x, as the view's
+    on = X * X + Y * Y < 1.0
+    values = np.full(X.shape, np.nan)
+    values[on] = sphere_radiance(MeasuredBRDF(data, channel), X[on], Y[on],
+                                 direction_deg(q.theta_i_deg, q.phi_i_deg))
     return _result("radiance", {"y": y, "x": x}, values, arrays["radiance"],
-                   "the table interpolated at each pixel's (l, v)",
+                   "the table interpolated at each pixel centre's (l, v)",
                    {"y": y[:, None], "x": x[None, :]})
 
 
