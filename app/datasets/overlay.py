@@ -17,7 +17,7 @@ import numpy as np
 from ..errors import ParameterError
 from ..physics.numeric import where_valid
 from ..physics.vectors import direction_deg
-from ..quantities import albedo_curve, evaluate, rusinkiewicz_directions, sphere_radiance
+from ..quantities import albedo_curve, evaluate, rusinkiewicz_directions
 from . import merl
 from .dataset import angles_deg, select, term_of_model
 
@@ -30,7 +30,7 @@ ALBEDO_TOL = 1e-6
 
 class MeasuredBRDF:
     """A MERL table in the place of a model: ``evaluate`` interpolates f (NaN where not
-    measured), so the lit sphere's own frames (quantities.sphere_radiance) apply unchanged."""
+    measured)."""
 
     def __init__(self, data, channel: str | None):
         self.data, self.channel = data, channel
@@ -133,6 +133,19 @@ def half_difference(data, brdf, arrays: dict, q, channel) -> dict:
                    {"theta_d_deg": theta_d[:, None], "theta_h_deg": theta_h[None, :]})
 
 
+def _sphere_frames(x, y, light):
+    """(l, v, n·l) in the local frames of the sphere's pixels, the view along +z: the
+    camera frame of quantities.lit_sphere (n = (x, y, √(1−x²−y²)), t = +x projected
+    onto the tangent plane, b = n × t), for data, which the compiled kernels behind
+    quantities.sphere_radiance cannot evaluate."""
+    normal = np.stack([x, y, np.sqrt(np.maximum(1.0 - x * x - y * y, 0.0))], axis=-1)
+    t = np.array([1.0, 0.0, 0.0]) - normal[:, :1] * normal
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    frame = np.stack([t, np.cross(normal, t), normal], axis=-2)
+    l, v = frame @ light, frame @ np.array([0.0, 0.0, 1.0])
+    return l, v, l[:, 2]
+
+
 def sphere(data, brdf, arrays: dict, q, channel) -> dict:
     """L_o/E of the data at the pixel centres (the model's pixels round the highlight are
     means over sub-pixels; the table's 1° cells are coarser than those anyway)."""
@@ -140,9 +153,11 @@ def sphere(data, brdf, arrays: dict, q, channel) -> dict:
     x, y = np.asarray(arrays["x"]), np.asarray(arrays["y"])
     X, Y = np.meshgrid(x, y)                       # rows y, columns x, as the view's
     on = X * X + Y * Y < 1.0
+    l, v, mu_l = _sphere_frames(X[on], Y[on], direction_deg(q.theta_i_deg, q.phi_i_deg))
+    lit = np.zeros(mu_l.shape)
+    lit[mu_l > 0] = MeasuredBRDF(data, channel).evaluate(l[mu_l > 0], v[mu_l > 0])["f"] * mu_l[mu_l > 0]
     values = np.full(X.shape, np.nan)
-    values[on] = sphere_radiance(MeasuredBRDF(data, channel), X[on], Y[on],
-                                 direction_deg(q.theta_i_deg, q.phi_i_deg))
+    values[on] = lit
     return _result("radiance", {"y": y, "x": x}, values, arrays["radiance"],
                    "the table interpolated at each pixel centre's (l, v)",
                    {"y": y[:, None], "x": x[None, :]})
