@@ -13,6 +13,7 @@ say which path answered (numpy until the compiled loops are ready).
 from __future__ import annotations
 
 import os
+import signal
 import socket
 import subprocess
 import sys
@@ -49,8 +50,10 @@ def one_round(browser, workdir: Path) -> dict:
     log_path = workdir / "server.log"
     with open(log_path, "w") as log:
         t0 = time.perf_counter()
+        # its own session: stopping it stops the compiler process it started, too
         server = subprocess.Popen([sys.executable, "-m", "app.cli", "serve", "--port", str(port)],
-                                  cwd=clone, env=env, stdout=log, stderr=subprocess.STDOUT)
+                                  cwd=clone, env=env, stdout=log, stderr=subprocess.STDOUT,
+                                  start_new_session=True)
         try:
             while not _accepting(port):
                 if time.perf_counter() - t0 > DEADLINE_S or server.poll() is not None:
@@ -63,8 +66,12 @@ def one_round(browser, workdir: Path) -> dict:
             t_drawn = time.perf_counter() - t0
             page.close()
         finally:
-            server.terminate()
-            server.wait(timeout=30)
+            os.killpg(server.pid, signal.SIGTERM)
+            try:
+                server.wait(timeout=30)
+            except subprocess.TimeoutExpired:
+                os.killpg(server.pid, signal.SIGKILL)
+                server.wait()
     lines = [ln for ln in log_path.read_text().splitlines()
              if "compiled loops" in ln or "numpy path" in ln]
     return {"accept_s": t_accept, "drawn_s": t_drawn, "log": lines}

@@ -3,8 +3,9 @@
 ``lookup(brdf)`` gives the compiled :class:`~.kernel.Kernel` of a model, or None — when
 numba is absent or switched off (BRDF_FAST=0), when a component has no scalar formula,
 or while its loops are still being compiled: a model asked for is queued and compiled
-by one background thread, and until then the caller takes the numpy path (BRDF.evaluate
-knows nothing of this package). :func:`start` queues the models the server expects,
+by one background thread (with a compiler process, so that compiling does not hold this
+process's GIL), and until then the caller takes the numpy path (BRDF.evaluate knows
+nothing of this package). :func:`start` queues the models the server expects,
 :func:`compile_now` compiles in the calling thread (tests, benchmarks, the CLI).
 The log says which path answered: one line when a model's loops are ready (compiled, or
 loaded from numba's cache, and how long it took), one when a model was first answered
@@ -18,14 +19,15 @@ import os
 import threading
 import time
 
-import numpy as np
-
 from dataclasses import replace
+
+import numpy as np
 
 from ..physics.brdf import BRDF, CompensatedBRDF, blend_lobes
 from ..physics.g2 import lambda_phi_entry
 from ..physics.ndf import SlopeSpaceNDF
 from . import compose
+from .compiler import Client
 from .compose import Components
 from .kernel import Kernel
 
@@ -46,6 +48,7 @@ _cv = threading.Condition()
 _worker: threading.Thread | None = None
 _told_numpy: set[Components] = set()
 _compile_locks: dict[Components, threading.Lock] = {}
+_compiler = Client()
 
 
 def components(brdf: BRDF) -> Components | None:
@@ -160,24 +163,35 @@ def _enqueue(cs: list[Components], front: bool = False) -> None:
 
 
 def _work() -> None:
-    """Compile queued models one by one at a lower CPU priority than the requests."""
-    try:
-        os.setpriority(os.PRIO_PROCESS, threading.get_native_id(), 10)
-    except (AttributeError, OSError):   # not Linux: same priority
-        pass
+    """Make queued models ready one by one: a model not in numba's disk cache is
+    compiled by the compiler process first (compiler.py: not under this process's GIL,
+    at a lower priority), then loaded from the cache here."""
     while True:
         with _cv:
             while not _queue:
                 _cv.wait()
             c = _queue[0]
-        _build(c)
+        note, t0 = "", time.perf_counter()
+        try:
+            module = compose.load(c)
+            if compose.cached(module):
+                reason = None
+            else:
+                reason = _compiler.compile(module.__file__)
+                note = f"compiled by the compiler process in {time.perf_counter() - t0:.1f} s, then "
+        except OSError as exc:
+            reason = f"{type(exc).__name__}: {exc}"
+        if reason is not None:
+            note = ""
+            log.warning("compiler process: %s (compiling in the server instead)", reason)
+        _build(c, note)
         with _cv:
             if c in _queue:
                 _queue.remove(c)
             _cv.notify_all()
 
 
-def _build(c: Components) -> Kernel | None:
+def _build(c: Components, note: str = "") -> Kernel | None:
     if c in _ready:
         return _ready[c]
     with _cv:
@@ -198,7 +212,7 @@ def _build(c: Components) -> Kernel | None:
             return None
         hits = sum(sum(k.stats.cache_hits.values()) for k in (module.f_loop, module.albedo_rows))
         how = "loaded from numba's cache" if hits == 2 else "compiled"
-        log.info("compiled loops ready for %s: %s in %.1f s", c.label, how,
+        log.info("compiled loops ready for %s: %s%s in %.1f s", c.label, note, how,
                  time.perf_counter() - t0)
         with _cv:
             _ready[c] = kernel

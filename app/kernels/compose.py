@@ -211,17 +211,31 @@ def kernel_dir() -> Path:
     raise OSError("no writable directory for the compiled kernels")
 
 
-def load(c: Components) -> ModuleType:
-    """Write (if absent) and import the generated module of ``c``."""
+def write(c: Components) -> Path:
+    """The generated module of ``c``, written if absent; its file name is its module name."""
     text = source(c)
-    name = f"brdf_kernel_{_fingerprint(text)}"
-    if name in sys.modules:
-        return sys.modules[name]
-    path = kernel_dir() / f"{name}.py"
+    path = kernel_dir() / f"brdf_kernel_{_fingerprint(text)}.py"
     if not path.exists() or path.read_text() != text:
         tmp = path.with_suffix(f".{os.getpid()}.tmp")
         tmp.write_text(text)
         os.replace(tmp, path)   # atomic: another process may be loading the same file
+    return path
+
+
+def cached(module: ModuleType) -> bool:
+    """Whether numba's disk cache holds both loops of a generated module (its index
+    files exist: the one signature the warm-up compiles)."""
+    return all(os.path.exists(loop._cache._cache_file._index_path)
+               for loop in (module.f_loop, module.albedo_rows))
+
+
+def load(c: Components) -> ModuleType:
+    """Write (if absent) and import the generated module of ``c`` (nothing compiles
+    until its loops are first called)."""
+    path = write(c)
+    name = path.stem
+    if name in sys.modules:
+        return sys.modules[name]
     spec = importlib.util.spec_from_file_location(name, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[name] = module   # numba's cache finds the module by this name

@@ -1,0 +1,73 @@
+"""A separate process that compiles generated kernel modules into numba's disk cache.
+
+numba compiles in Python, holding the GIL for seconds: in the server's process that
+would halve every request's share of the interpreter while the loops compile. So the
+server's background thread hands each module that is not in the cache yet to this
+process (at a lower CPU priority), one path per line on its stdin, and loads the
+result from the cache when it answers ``ok <path>`` (or ``failed <path> <reason>``).
+
+    python -c "from app.kernels.compiler import main; main()"   (paths on stdin until EOF)
+"""
+from __future__ import annotations
+
+import importlib.util
+import os
+import subprocess
+import sys
+import threading
+from pathlib import Path
+
+#: nice value of the compiling process: requests first
+NICE = 10
+
+
+def compile_module(path: Path) -> None:
+    """Import a generated module and compile (or load) its two loops."""
+    from .kernel import Kernel
+    spec = importlib.util.spec_from_file_location(path.stem, path)
+    module = importlib.util.module_from_spec(spec)
+    sys.modules[path.stem] = module
+    spec.loader.exec_module(module)
+    Kernel(None, module).warm()
+
+
+def main() -> int:
+    try:
+        os.nice(NICE)
+    except OSError:
+        pass
+    for line in sys.stdin:
+        path = Path(line.strip())
+        try:
+            compile_module(path)
+            print(f"ok {path}", flush=True)
+        except Exception as exc:   # reported to the server, which then serves numpy
+            print(f"failed {path} {type(exc).__name__}: {exc}".replace("\n", " "), flush=True)
+    return 0
+
+
+class Client:
+    """The server's handle on one compiler process, started on first use."""
+
+    def __init__(self):
+        self._proc: subprocess.Popen | None = None
+        self._lock = threading.Lock()
+
+    def compile(self, path: Path) -> str | None:
+        """None when compiled, else the reason it was not."""
+        with self._lock:
+            if self._proc is None or self._proc.poll() is not None:
+                env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
+                self._proc = subprocess.Popen(
+                    [sys.executable, "-c", "from app.kernels.compiler import main; main()"],
+                    stdin=subprocess.PIPE,
+                    stdout=subprocess.PIPE, text=True, env=env, bufsize=1)
+            try:
+                self._proc.stdin.write(f"{path}\n")
+                self._proc.stdin.flush()
+                answer = self._proc.stdout.readline().strip()
+            except (BrokenPipeError, OSError) as exc:
+                return f"compiler process: {exc}"
+        if answer == f"ok {path}":
+            return None
+        return answer or "compiler process ended"
