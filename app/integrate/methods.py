@@ -141,11 +141,9 @@ def albedo_by(brdf: BRDF, mu, phi: float = 0.0, method: str = "quadrature",
 
 
 def _table_average(brdf: BRDF) -> tuple[float, float]:
-    """E_avg from the tables: Σ_lobes w (F₀ Ē₁ + (F₉₀ − F₀) Ē_S) + E_d,avg (the diffuse
-    term's, kd for Lambert)."""
-    fresnel = brdf.fresnel
-    parts = [(1.0, None)] if fresnel.name == "none" else \
-        [(fresnel.f0, None), (fresnel.f90 - fresnel.f0, fresnel.fresnel_p)]
+    """E_avg from the tables: Σ_lobes w Σ_basis c Ē_basis (Fresnel.schlick_basis) + E_d,avg
+    (the diffuse term's, kd for Lambert)."""
+    parts = brdf.fresnel.schlick_basis()
     total, error = brdf.diffuse_albedo_avg()
     for w, lobe in brdf.lobes():
         for c, basis in parts:

@@ -1,52 +1,15 @@
 """Tables of the directional albedo E(μ, α) of one single-scattering lobe, interpolated.
 
-A table holds E at the nodes of a (√α, y) grid, each node computed by the deterministic
-quadrature :func:`app.integrate.albedo.albedo`, for one NDF (with its shape parameters),
-masking, G2 form (and λ(φ)) and one Fresnel *basis*: F = 1 (Kulla & Conty 2017 build
-their compensation from it) or the Schlick basis S = (1 − cos θ_d)^p, with which
-E = F₀ E₁ + (F₉₀ − F₀) E_S for any generalised Schlick F (E is linear in F).
-
-Axes (chosen by measurement, bench/tables.py):
-
-* r = √α (perceptual roughness, as Kulla & Conty) on [ROUGHNESS_MIN, 1] = α ∈ [1e-4, 1];
-  a uniform grid in log α put too few nodes at α ~ 0.5 (error 3e-4 with 32×32 against
-  4e-5 in √α).
-* y = √a/(1 + √a) ∈ [0, 1] with a = μ/(α sinθ) = 1/(α tanθ), Smith's variable. For
-  small α, E depends on μ through a alone (the grazing dip sits at μ ~ α), so a grid
-  uniform in μ misses it below α ~ 1/n (error 2e-2 with 32×32); in y it is a fixed
-  feature. y = 0 is μ = 0, y = 1 is μ = 1.
-
-The Schlick-basis table holds the deviation from the mirror, scaled,
-
-    D = (E_S − Ê₁ (1 − μ)^p) / w(α),   w(α) = α (1 + ln(1/α)),
-
-on the F = 1 table's (r, y) nodes (with the first r cell and the last three y cells
-split at their midpoints), Ê₁ the F = 1 table's spline, and gives E_S = D̂ w + Ê₁ (1 − μ)^p.
-For small α, E_S ≈ E₁ (1 − μ)^p (the mirror has θ_d = θ_v): E_S itself on y was wrong by
-up to 6e-2 (GGX, 32×32), since y squeezes that polynomial in μ into y ∈ [0.99, 1], while
-the deviation is O(α) and its grazing dip sits at μ ~ α, where y resolves it. At μ = 0
-it is −p α (ln(1/α) − 1.4) for GGX (the slopes' heavy tail; measured at α = 1e-4…1e-2),
-whose r² ln r a cubic in r misses in the first r cell (8e-5); w takes out most of it
-(1.5e-5) and the split first cell the rest; the split last y cells resolve the O(α²)
-deviation at μ ≳ 0.5 for α ~ 5e-3, which y compresses into its last cells (7.7e-6 →
-5.9e-6). Ê₁ is the F = 1 spline itself at every node, so no E₁ is computed again: the
-refined knots contain the F = 1 table's, so its spline is reproduced exactly.
-
-Measured by ``python bench/schlick_table.py`` (p = 5, 56×56, dense check against the
-quadrature at ~6 000 off-node points plus a sweep of μ ≤ 0.05 at α ≤ 3e-2): GGX
-height-correlated 5.9e-6 (reported bound 1.0e-5), separable 5.9e-6; Beckmann 1.4e-5,
-which is the F = 1 Beckmann table's own error (1.5e-5) inherited through Ê₁; p = 3
-alike. The ratio E_S/E₁ on (r, √μ) used before: 8.4e-4 (GGX, bound 1.3e-3) and 2.3e-4
-(Beckmann), worst at α ≈ 3e-4, μ ≈ 2e-3 (its own grazing dip), at the same build cost
-(±5 % CPU).
-
-Interpolation: a bicubic interpolating spline (scipy RectBivariateSpline, s = 0).
-Its error is measured when the table is built, against the quadrature at off-grid points
-(cell centres with a seeded jitter), and reported (``error``) as TABLE_ERROR_SAFETY times
-the largest deviation seen plus the largest quadrature error of the nodes.
-
-Whole tables are kept, persisted and built outside requests by table_store.py. Anisotropic roughness is not
-tabulated (its E depends on φ and on both α): callers refuse it.
+A table holds E at the nodes of a (r = √α, y) grid, y = √a/(1 + √a) with Smith's
+a = 1/(α tanθ), each node computed by the quadrature of ``albedo.py``, for one NDF
+(with its shape parameters), masking, G2 form and one Fresnel basis: F = 1 (Kulla &
+Conty's compensation) or S = (1 − cos θ_d)^p, with which any Fresnel on the Schlick
+basis (``Fresnel.schlick_basis``) is E = Σ c E_p. The S table holds the scaled
+deviation from the mirror, (E_S − Ê₁(1 − μ)^p)/w(α). A bicubic spline interpolates;
+its error is measured at off-grid check points when the table is built and reported
+(``error``). Derivation and measurements: docs/tables.md. Whole tables are kept,
+persisted and built outside requests by table_store.py; anisotropic roughness is not
+tabulated.
 
 References
 ----------

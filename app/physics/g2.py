@@ -8,16 +8,12 @@ With a = μ(1 + Λ) = μ + μΛ and G1 = μ/a:
 * height-direction-correlated  G2 = 1 / (1 + max(Λl, Λv) + λ(φ) min(Λl, Λv))
 * Hammon (GGX, approximation)  G2/(4 μl μv) ≈ 0.5 / lerp(2 μl μv, μl + μv, α)
 
-Each form returns G2 and the visibility V = G2 / (4 μ_l μ_v), written with μ and μΛ only
-(never Λ = μΛ/μ), so that V stays finite when one direction grazes; where both graze V
-is +inf (a true divergence) for every form but the separable one. ``scalar_V`` is V for
-one point (physics/scalar.py), with λ = λ(φ) given (0 for forms without ``needs_phi``).
+Each returns G2 and V = G2/(4 μ_l μ_v) in μ and μΛ only (never Λ = μΛ/μ): V stays finite
+when one direction grazes, +inf where both do (but separable). ``scalar_V``: V for one
+point, λ = λ(φ) given (0 for forms without ``needs_phi``).
 
-References
-----------
-Heitz 2014, JCGT 3(2), eq. 98 (separable), 99 (height-correlated) and sec. 6
-(direction- and height-direction-correlated forms); Ashikhmin, Premože, Shirley 2000
-(λ(φ)); van Ginneken, Stavridi, Koenderink 1998 (λ(φ)); Hammon 2017, GDC, "PBR Diffuse
+References: Heitz 2014, JCGT 3(2), eq. 98-99 and sec. 6; Ashikhmin, Premože, Shirley
+2000 and van Ginneken, Stavridi, Koenderink 1998 (λ(φ)); Hammon 2017, GDC, "PBR Diffuse
 Lighting for GGX+Smith Microsurfaces".
 """
 from __future__ import annotations

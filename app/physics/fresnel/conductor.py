@@ -56,7 +56,12 @@ def conductor_reflectance(cos_theta, eta, k):
                   where_valid(A - t0 > 0, [eta * k, A - t0], lambda ek, d: 2.0 * ek * ek / d, 0.0))
     b2 = np.where(pos, where_valid(A + t0 > 0, [eta * k, A + t0], lambda ek, d: 2.0 * ek * ek / d, 0.0),
                   0.5 * (A - t0))
-    a = np.sqrt(a2)
+    return _unpolarised(np.sqrt(a2), b2, c, c2, s2, A)
+
+
+@scalar
+def _unpolarised(a, b2, c, c2, s2, A):
+    """(R_s + R_p)/2 from a, b² (arrays or numbers: both paths share it)."""
     Rs = ((a - c) ** 2 + b2) / ((a + c) ** 2 + b2)
     u = A * c2 + s2 * s2
     v = 2.0 * a * c * s2
@@ -94,9 +99,4 @@ class Conductor(Fresnel):
         else:
             a2 = 2.0 * ek * ek / (A - t0) if A - t0 > 0.0 else 0.0
             b2 = 0.5 * (A - t0)
-        a = math.sqrt(a2)
-        Rs = ((a - c) ** 2 + b2) / ((a + c) ** 2 + b2)
-        u = A * c2 + s2 * s2
-        v = 2.0 * a * c * s2
-        Rp = Rs * (u - v) / (u + v)
-        return 0.5 * (Rs + Rp)
+        return _unpolarised(math.sqrt(a2), b2, c, c2, s2, A)

@@ -97,12 +97,10 @@ class SlopeSpaceNDF(NDF):
 
     * ``_D(mz, q2)``: α_x α_y D, for m_z ≥ 0, including its limit at m_z = 0;
     * ``_mu_Lambda(mu, s)``: μΛ, finite for μ ≥ 0, s ≥ 0, μ² + s² > 0;
-    * ``radial_ccdf(r2)`` / ``radial_ccdf_inv(v)``: the tail mass
-      1 − C(r̃) = ∫∫_{x̃²+ỹ²>r̃²} P22 of stretched slopes beyond radius r̃ (and its
-      inverse, returning r̃²). ``radial_cdf``/``radial_cdf_inv`` (the mass within r̃)
-      follow from them; override them where a form without cancellation exists. They
-      serve the albedo quadrature, the general Smith integral and D·cos sampling; the
-      tail form keeps its precision where the mass left is 1e-30.
+    * ``radial_ccdf(r2)`` / ``radial_ccdf_inv(v)``: the tail mass 1 − C(r̃) of stretched
+      slopes beyond r̃ (and its inverse, giving r̃²), precise where it is 1e-30;
+      ``radial_cdf``/``radial_cdf_inv`` follow (override where a form without
+      cancellation exists). The albedo, the Smith integral and sampling use them.
 
     When ``shape_invariant`` these do not depend on α (GGX, Beckmann, Student-t,
     exponential power) and anisotropy is the stretch; otherwise the NDF is isotropic

@@ -8,9 +8,8 @@ k = E(x) / E((1 − γ) x), which is continuous through both. γ = 2 is GGX.
 Not shape-invariant: isotropic only, and its Smith Λ has no closed form; ``smith``
 interpolates a table of the general Smith integral (smith_table.py).
 
-Tail mass in stretched slopes r̃ = tanθ/α (μ = cosθ = 1/√(1 + α² r̃²)), from
-∫ D cos θ dω over θ_m > θ:  1 − C = k μ² E((1−γ) L) · log(1+y)/y  with y = μ²(α² − 1),
-L = log1p(y); its inverse solves the same closed form for μ² (see radial_ccdf_inv).
+Tail mass beyond r̃ = tanθ/α: 1 − C = k μ² E((1−γ) L) log(1+y)/y, y = μ²(α² − 1),
+L = log1p(y); its inverse solves that for μ² (radial_ccdf_inv).
 
 References
 ----------

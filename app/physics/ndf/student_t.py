@@ -11,9 +11,7 @@ g(x) = c (1 + x²/(γ − 1))^{−(γ−½)}, c = Γ(γ−½) / (Γ(γ−1) √(
 μΛ = s (T₁ − a T₂) with
 T₁ = ∫_a^∞ x g = c (γ−1)/(2γ−3) (1 + a²/(γ−1))^{3/2−γ},
 T₂ = ∫_a^∞ g = ½ I_{(γ−1)/(γ−1+a²)}(γ − 1, ½)   (regularised incomplete beta).
-T₂ is computed as the tail itself, not 1 − CDF, so μΛ keeps its relative precision for
-large a. Equivalent to Ribardière et al.'s closed form; finite only for γ > 1.5, where
-the mean slope is.
+T₂ is the tail itself, not 1 − CDF (precision at large a); finite only for γ > 1.5.
 
 References
 ----------
