@@ -240,8 +240,7 @@ def predict_seconds(key: tuple) -> float:
     """Seconds a build of ``key`` is predicted to take: one probe of PROBE_POINTS E(μ) at
     α = PROBE_ALPHA, scaled to the build's points (and the Schlick basis' base table)."""
     lobe = tables._lobe_at(key, PROBE_ALPHA)
-    compiled = tables.kernels.ENABLED and tables.kernels.components(lobe) is not None
-    n = tables.TABLE_N_Y if compiled else tables.SLOW_TABLE_N
+    n = tables.TABLE_N_Y if tables.compiled(lobe) else tables.SLOW_TABLE_N
     points = tables.build_points(n, n)
     if key[-1] is not None:
         points *= 1.3 + (0 if _ready(key[:-1] + (None,)) else 1)   # split cells; the base

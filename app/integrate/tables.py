@@ -302,7 +302,9 @@ def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = B
 KERNEL_WAIT_S = 2.5
 
 
-def _compiled(lobe: BRDF) -> bool:
+def compiled(lobe: BRDF) -> bool:
+    """Whether a build of this lobe runs on its compiled loops (in a request, after waiting
+    a moment for them; elsewhere after compiling them)."""
     b = budget.current()
     if b is None:
         return kernels.compile_now(lobe) is not None
@@ -313,7 +315,7 @@ def build_for_key(key: tuple, base: ETable | None = None) -> ETable:
     """The default-size table for ``key`` (``base``: the F = 1 table of the same lobe, for
     a Schlick basis). A lobe without the compiled integrand whose SLOW_TABLE_N² table the
     budget refuses gets the COARSE_TABLE_N² one if that fits (TableTooSlow otherwise)."""
-    if _compiled(_lobe_at(key, 0.25)):
+    if compiled(_lobe_at(key, 0.25)):
         return build(key, TABLE_N_Y, TABLE_N_R, base=base)
     try:
         return build(key, SLOW_TABLE_N, SLOW_TABLE_N, base=base)
