@@ -40,9 +40,13 @@ def main() -> int:
         path = Path(line.strip())
         try:
             compile_module(path)
-            print(f"ok {path}", flush=True)
+            answer = f"ok {path}"
         except Exception as exc:   # reported to the server, which then serves numpy
-            print(f"failed {path} {type(exc).__name__}: {exc}".replace("\n", " "), flush=True)
+            answer = f"failed {path} {type(exc).__name__}: {exc}".replace("\n", " ")
+        try:
+            print(answer, flush=True)
+        except BrokenPipeError:    # the server has gone: so do we
+            return 0
     return 0
 
 
