@@ -108,6 +108,7 @@ async function materialBlock(section, status) {
   const plot = el("div", { id: "material-plot" });
   const sphere = el("div", { id: "material-sphere" });
   const errors = el("div", { id: "material-table" });
+  const source = el("p", { class: "shader-source" });
   try {
     const list = await getJson(`${API}/materials`);
     for (const kind of ["conductor", "dielectric"]) {
@@ -115,7 +116,7 @@ async function materialBlock(section, status) {
       for (const m of list.materials.filter((x) => x.kind === kind)) group.append(el("option", { value: m.slug, text: m.name }));
       select.append(group);
     }
-    section.append(el("p", { class: "shader-source", text: `Materials: ${list.source}; ${list.license}.` }));
+    source.textContent = `Materials: ${list.source}; ${list.license}.`;
   } catch (e) {
     status.textContent = `materials unavailable: ${e.message}`;
   }
@@ -143,7 +144,7 @@ async function materialBlock(section, status) {
       status.textContent = `material: ${e.message}`;
     }
   });
-  return [el("div", { class: "shader-row" }, el("label", { for: "shader-material", text: "Material " }), select),
+  return [source, el("div", { class: "shader-row" }, el("label", { for: "shader-material", text: "Material " }), select),
           el("div", { style: "display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start;" },
              el("div", { style: "flex: 1 1 520px; min-width: 0;" }, plot), sphere), errors];
 }
@@ -175,17 +176,27 @@ function conventionsBlock() {
 }
 
 async function mount() {
+  // Closed, it is one line under the figures (the column is the window's height and the
+  // panels take the rest); open, its body scrolls within 70 % of the window.
   const main = document.querySelector("main");
-  const section = el("section", { id: "shader-tools", class: "shader-tools", "aria-label": "For shader writers",
-                                  style: "grid-column: 1 / -1; clear: both; max-width: 1200px; margin: 2em auto; padding: 0 1em;" });
+  const section = el("details", { id: "shader-tools", class: "shader-tools", "aria-label": "For shader writers",
+                                  style: "flex: none; padding: 0.3em 1em; border-top: 1px solid #ddd;" });
+  const body = el("div", { style: "max-height: 70vh; overflow: auto; padding-bottom: 1em;" });
+  section.append(el("summary", { text: "For shader writers: the model as code, measured materials, roughness conventions",
+                                 style: "cursor: pointer; font-weight: 600;" }), body);
   const status = el("p", { class: "shader-status", role: "status", text: "" });
-  section.append(el("h2", { text: "For shader writers" }), ...codeBlock(section, status), status);
-  section.append(el("h3", { text: "Measured materials" }), ...(await materialBlock(section, status)));
+  body.append(...codeBlock(section, status), status);
+  body.append(el("h3", { text: "Measured materials" }), ...(await materialBlock(section, status)));
   const conventions = conventionsBlock();
-  section.append(el("h3", { text: "Which roughness? α per ecosystem" }), ...conventions.nodes);
+  body.append(el("h3", { text: "Which roughness? α per ecosystem" }), ...conventions.nodes);
   if (main) main.after(section); else document.body.append(section);
-  await conventions.draw();
-  section.dataset.ready = "1";
+  // Plotly sizes a plot by its container: draw once the section is open, not while hidden
+  section.addEventListener("toggle", async () => {
+    if (section.open && !section.dataset.ready) {
+      await conventions.draw();
+      section.dataset.ready = "1";
+    }
+  });
 }
 
 mount();

@@ -15,7 +15,18 @@ TIMEOUT = 60_000
 def _open(page, live_server, query: str = ""):
     page.goto(f"{live_server}/{query}")
     page.wait_for_load_state("networkidle")
+    page.click("#shader-tools > summary", timeout=TIMEOUT)
     page.wait_for_selector("#shader-tools[data-ready='1']", timeout=TIMEOUT)
+
+
+def test_closed_section_leaves_the_figures_their_height(page, page_log, live_server):
+    """Closed (the default) it is one line under the figures: the panels keep the window."""
+    page.set_viewport_size({"width": 1280, "height": 800})
+    page.goto(f"{live_server}/?show=lobe,slice")
+    page.wait_for_selector("#shader-tools > summary", timeout=TIMEOUT)
+    assert page.locator("#shader-tools").bounding_box()["height"] < 60
+    assert page.locator("#panels").bounding_box()["height"] > 500
+    assert page_log.problems() == []
 
 
 def test_copy_as_glsl_carries_the_page_model(page, page_log, live_server):
