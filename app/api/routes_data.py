@@ -230,22 +230,32 @@ def _overlay_query(view: View) -> type:
         difference=(bool, Field(False, description="draw (data − model)/model instead")))
 
 
+def _view_query(view: View, q):
+    """The view's own query in the overlay's: the data's channel goes to the model only
+    where the model has channels of its own (model=principled)."""
+    own = {k: getattr(q, k) for k in q.model_fields_set if k in view.figure_query.model_fields}
+    if getattr(q, "model", None) != "principled":
+        own.pop("channel", None)
+    return view.figure_query.model_validate(own)
+
+
 def _overlay(request: Request, view: View, data_id: str, q):
-    """The view run for the model, the data on its axes, and the model's figure maker."""
+    """The view run for the model, the data on its axes, and the view's own query."""
     data, info = store(request).get(data_id, "data_id", "path")
-    result = run(view, q, request.app.state.settings)
+    own = _view_query(view, q)
+    result = run(view, own, request.app.state.settings)
     spec, arrays = result.spec, result.data
     extra = (info,) if view.name == "albedo" else ()
     found = overlay.OVERLAYS[view.name](data, spec.brdf(), arrays, q, q.channel, *extra)
     default = data.channels[0] if len(data.channels) == 1 or data.kind == "term" else "luminance"
-    return spec, arrays, found, f"({q.channel or default})"
+    return spec, arrays, found, f"({q.channel or default})", own
 
 
 def _overlay_data_route(view: View):
     model = _overlay_query(view)
 
     def route(request: Request, data_id: DataId, q: Annotated[model, Query()]) -> Response:
-        _, _, found, _ = _overlay(request, view, data_id, q)
+        found = _overlay(request, view, data_id, q)[2]
         return json_response(found)
     return route
 
@@ -254,14 +264,14 @@ def _overlay_figure_route(view: View):
     model = _overlay_query(view)
 
     def route(request: Request, data_id: DataId, q: Annotated[model, Query()]) -> Response:
-        spec, arrays, found, label = _overlay(request, view, data_id, q)
+        spec, arrays, found, label, own = _overlay(request, view, data_id, q)
         if q.difference:
             return Response(figures.to_json(figure.relative_error(found, label)),
                             media_type="application/json")
-        model_figure = view.figure(arrays, spec, q)
+        model_figure = view.figure(arrays, spec, own)
         data_figure = None
         if model_figure["data"][0].get("type") not in figure.CURVES:
-            data_figure = view.figure({**arrays, **found["axes"], found["key"]: found["data"]}, spec, q)
+            data_figure = view.figure({**arrays, **found["axes"], found["key"]: found["data"]}, spec, own)
         return Response(figures.to_json(figure.with_data(model_figure, found, label, data_figure)),
                         media_type="application/json")
     return route
