@@ -18,6 +18,7 @@ from .physics.diffuse import DIFFUSES
 from .physics.fresnel import FRESNELS
 from .physics.g2 import DEFAULT_LAMBDA_PHI, G2_FORMS, LAMBDA_PHIS
 from .physics.masking import MASKINGS
+from .physics.masking import REFERENCE as MASKING_REFERENCE
 from .physics.ndf import ALPHA, ALPHA_Y, NDFS
 from .physics.params import Param
 
@@ -286,11 +287,12 @@ def _check_applicability(values: dict) -> None:
     anisotropic = values["alpha_y"] is not None and values["alpha_y"] != values["alpha"]
     if getattr(g2, "isotropic_only", False) and anisotropic:
         raise ParameterError("g2", f"g2={values['g2']} is for isotropic roughness only (alpha_y = alpha)")
-    if (values.get("multiscatter") == "kulla_conty" and values["masking"] == "smith"
+    masking = MASKINGS[values["masking"]]
+    if (values.get("multiscatter") == "kulla_conty" and masking.uses_ndf_Lambda
             and not NDFS[ndf].smith_exact):
         raise ParameterError("multiscatter", f"multiscatter=kulla_conty needs the NDF's exact Smith Λ: "
-                                         f"ndf={ndf} with masking=smith uses an approximate Λ whose "
-                                         "albedo exceeds 1 (use masking=smith_numeric)")
+                                         f"ndf={ndf} with masking={masking.name} uses an approximate Λ "
+                                         f"whose albedo exceeds 1 (use masking={MASKING_REFERENCE})")
     if anisotropic and values.get("multiscatter") == "kulla_conty":
         raise ParameterError("multiscatter", "multiscatter=kulla_conty is for isotropic roughness only "
                                          "(alpha_y = alpha): its E(μ, α) table is isotropic")

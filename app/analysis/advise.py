@@ -24,6 +24,7 @@ from ..model import OPTIONS, ModelSpec, choice_params, make_spec
 from ..physics.fresnel import FRESNELS
 from ..physics.g2 import G2_FORMS
 from ..physics.masking import MASKINGS
+from ..physics.masking import REFERENCE as MASKING_REFERENCE
 from .albedo_grid import (GRID_SAFETY, N_MU, QUAD_TOL, Grid, Scene, _affords, _cut, albedo_grid,
                           is_anisotropic, model_error)
 from .cost import CHEAPER_BELOW, COST_PAIRS, COST_SECONDS_FLOOR, seconds_per_batch
@@ -53,26 +54,36 @@ TABLE_RESERVE_SECONDS = 10.0
 RESULT_CACHE_ENTRIES = 64
 
 
+#: The simplest G2, suggested for every exact correlated form: G1(l)·G1(v).
+SIMPLEST_G2 = "separable"
+
+
+def fresnel_params(values: dict) -> dict:
+    return {p.name: values[p.name] for p in choice_params("fresnel", values["fresnel"])}
+
+
 # --------------------------------------------------------------------- the choices ---
 
 def single_changes(values: dict) -> list[dict]:
     """Option changes that make the model simpler, each {option: choice, ...}, those that
     apply to its NDF (make_spec refuses the rest later)."""
     ndf, out = values["ndf"], []
-    if values["masking"] in ("smith", "smith_numeric"):
-        for name, m in MASKINGS.items():
-            if name in (values["masking"], "smith_numeric"):
-                continue
-            if m.applies_to is None or ndf in m.applies_to:
-                out.append({"masking": name})
-    g2 = values["g2"]
-    if g2 in ("height_correlated", "direction_correlated", "height_direction_correlated"):
-        out.append({"g2": "separable"})
-    hammon = G2_FORMS["hammon"]
-    if g2 == "height_correlated" and (hammon.applies_to is None or ndf in hammon.applies_to):
-        out.append({"g2": "hammon"})            # approximates the height-correlated form
-    if values["fresnel"] in ("dielectric", "conductor"):
-        out.append({"fresnel": "schlick"})      # with the same F₀ (see recommend_dict)
+
+    def applies(entry) -> bool:
+        return entry.applies_to is None or ndf in entry.applies_to
+
+    if MASKINGS[values["masking"]].approximates is None:      # Smith's own Λ, or its integral
+        out += [{"masking": name} for name, m in MASKINGS.items()
+                if name not in (values["masking"], MASKING_REFERENCE) and applies(m)]
+    g2 = G2_FORMS[values["g2"]]
+    if g2.approximates is None and g2.name != SIMPLEST_G2:
+        out.append({"g2": SIMPLEST_G2})
+    out += [{"g2": name} for name, form in G2_FORMS.items()     # Hammon's, of the height-
+            if form.approximates == g2.name and applies(form)]  # correlated form
+    if FRESNELS[values["fresnel"]].approximates is None and \
+            FRESNELS[values["fresnel"]](**fresnel_params(values)).schlick_basis() is None:
+        # an exact form the tables cannot hold: its approximations, with the same F₀
+        out += [{"fresnel": name} for name, cls in FRESNELS.items() if cls.approximates]
     if values["multiscatter"] == "kulla_conty":
         out.append({"multiscatter": "none"})
     return out
@@ -89,9 +100,9 @@ def recommend_dict(given: dict, values: dict, changes: dict, f0: float) -> dict:
     out = {k: v for k, v in given.items()}
     out.update({option: values[option] for option in OPTIONS})
     out.update(changes)
-    if changes.get("fresnel") == "schlick":
-        for p in ("ior", "k"):
-            out.pop(p, None)
+    if "fresnel" in changes and changes["fresnel"] != values["fresnel"]:
+        for p in choice_params("fresnel", values["fresnel"]):
+            out.pop(p.name, None)
         out["f0"] = f0
     if "g2" in changes and not G2_FORMS[out["g2"]].needs_phi:
         out.pop("lambda_phi", None)
@@ -151,8 +162,7 @@ def advise(given: dict, tol: float, scene: Scene, albedo_methods: bool = False,
     values = spec.values
     if is_anisotropic(values):
         raise ParameterError("alpha_y", "advise is for isotropic models: the range replaces α")
-    fresnel = FRESNELS[values["fresnel"]](**{p.name: values[p.name]
-                                             for p in choice_params("fresnel", values["fresnel"])})
+    fresnel = FRESNELS[values["fresnel"]](**fresnel_params(values))
     f0 = float(fresnel.F(np.array(1.0)))
     current = recommend_dict(given, values, {}, f0)
     b = budget.current()
@@ -316,7 +326,7 @@ def _albedo_methods(model: dict, quad: Grid, scene: Scene, tol_left: float) -> d
     # The table's first build takes seconds (2-9 s a table measured): a build the budget
     # cuts is returned with its larger, honest error and not cached (tables.py).
     methods: list[tuple[str, dict]] = []
-    n_tables = 1 if spec.values["fresnel"] == "none" else 2
+    n_tables = len(spec.brdf().fresnel.schlick_basis() or ())
     if _affords(TABLE_RESERVE_SECONDS * n_tables):
         methods.append(("table", {}))
     else:

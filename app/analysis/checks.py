@@ -11,9 +11,8 @@ Rows (``ROW_IDS``; a request may ask for a subset), docs/identities.md §1–§4
 * ``7-loss``     1 − E_sep(μ) ≥ 1 − E_hc(μ): the separable G2 loses more energy
 * ``7-furnace``  E(μ) = 1 with F = 1 and Kulla-Conty compensation (Kulla & Conty 2017)
 
-Rows 1–4 integrate over m with app/integrate/slope_quadrature.py; rows 7 use the
-deterministic albedo quadrature on the model with fresnel=none, kd=0.
-"""
+Rows 1–4 integrate over m (app/integrate/slope_quadrature.py), rows 7 take the albedo
+quadrature of the model with fresnel=none, kd=0."""
 from __future__ import annotations
 
 import time
@@ -112,10 +111,7 @@ def _view(theta_deg: float, phi_deg: float) -> np.ndarray:
 
 def _masking_kind(brdf: BRDF) -> str:
     """'exact' where G1 is the NDF's own Smith G1, else 'approximate'."""
-    name = brdf.masking.name
-    if name == "smith_numeric" or (name == "smith" and type(brdf.ndf).smith_exact):
-        return "exact"
-    return "approximate"
+    return "exact" if brdf.masking.exact(brdf.ndf) is brdf.masking else "approximate"
 
 
 def _masking_note(brdf: BRDF) -> str:
@@ -125,9 +121,10 @@ def _masking_note(brdf: BRDF) -> str:
     if _masking_kind(brdf) == "exact":
         return (f"masking={name} is Smith's exact Λ: G1(v) = n·v / ∫ D(m)(v·m)⁺ dm "
                 f"(Heitz 2014, eq. 43)")
-    if name == "smith":
+    if brdf.masking.approximates is None:     # the NDF's closed-form Λ is the approximate one
         return (f"ndf={brdf.ndf.name}'s Λ is approximate (Walter's Beckmann substitution); "
-                "Smith's identity holds only for the NDF's own Λ (masking=smith_numeric)")
+                "Smith's identity holds only for the NDF's own Λ "
+                f"(masking={brdf.masking.exact(brdf.ndf).name})")
     return (f"masking={name} approximates Smith's Λ; the identity holds only for the NDF's "
             "own Λ, so the difference is the approximation's error")
 

@@ -1,31 +1,12 @@
 """Speed against accuracy: each albedo method run over a range of budgets, its E(μ)
-compared with a tight reference.
+compared with a tight reference (the quadrature refined to REFERENCE_TOL, cached).
 
-Quantity: the directional albedo E(μ) (docs/conventions.md §3; the only quantity for now) at a set of
-cosines μ. Methods (app/integrate/methods.py), with what "budget" means for each:
-
-* ``quadrature`` — the Gauss order N of :func:`app.integrate.albedo.albedo` with
-  ``order=N``: E from order 2N, E_error = 3 |E_2N − E_N| (a bound), evaluations of both;
-* ``mc_uniform``, ``mc_cosine``, ``mc_ndf``, ``mc_vndf`` — samples per μ, seed fixed;
-  E_error one standard error (not a bound: |E − E_ref| ≤ E_error at ~68 % of μ);
-* ``table`` — one point: the lookup in the E(μ, α) tables (no integrand evaluation);
-  budget = nodes per table. What the build cost is reported apart (``table``).
-
-Error of a point: max over μ of |E − E_ref| (and the RMS over μ); against it the
-method's own reported error, max over μ, and the fraction of μ where
-|E − E_ref| ≤ E_error + the reference's bound: 1 for an honest bound, ~0.68 for one
-standard error.
-
-Reference: the quadrature refined to REFERENCE_TOL (its own bound reported; the
-quadrature cannot claim less than its rounding floor, 1e-10), cached per model, μ and
-azimuth: it is most of the cost of a request, and the same for every budget.
-
-Time: points are run level by level across the methods (every method's smallest
-budget, then every method's next), each only if the request's time budget
-(:mod:`budget`) affords its predicted time (the method's previous point scaled by the
-growth of its cost); a method that does not fit stops, and the result says so. Timings
-are single runs of wall clock; a complete result is kept and served again (``cached``),
-so that a figure, its exports and the data agree.
+Budget: the Gauss order N of the quadrature, samples per μ of Monte Carlo, one point for
+the table (its build cost reported apart). Per point: max and RMS over μ of |E − E_ref|,
+the method's own reported error, and the share of μ where the reported error covers the
+true one (1 for a bound, ~0.68 for one standard error). Points run level by level across
+the methods while the request's time budget affords them; a complete result is kept and
+served again (``cached``). Details: docs/albedo.md §5.
 """
 from __future__ import annotations
 
@@ -109,7 +90,7 @@ def not_applicable(brdf: BRDF) -> dict[str, str]:
             out[method] = str(exc)
     if not all(lobe.ndf.isotropic for _, lobe in single.lobes()):
         out["table"] = "the E(μ, α) tables are for isotropic roughness only (alpha_y = alpha)"
-    elif single.fresnel.name not in ("none", "schlick"):
+    elif single.fresnel.schlick_basis() is None:
         out["table"] = (f"the tables hold F = 1 and the Schlick basis; fresnel="
                         f"{single.fresnel.name} is not tabulated")
     return out

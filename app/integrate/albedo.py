@@ -1,37 +1,12 @@
 """Directional albedo E(μ_v) = ∫_{H²} f(l, v) (n·l) dl, by deterministic quadrature.
 
-Method (change of variables, then Gauss-Legendre)
-------------------------------------------------
-With l the mirror of v about the microfacet normal m, dl = 4 (v·m) dm, and with
-D(m)(n·m) dm = P22(X, Y) dX dY in slope space (X, Y) (m ∝ (−X, −Y, 1)):
+The integral is taken over microfacet normals in α-stretched slope space, where a
+shape-invariant D is isotropic and its radial CDF flattens the peak; the hemisphere of l
+is a disk there, ended in closed form along each azimuth, and split where it becomes a
+half-plane at grazing v (docs/albedo.md §1, §2). The rule of order N is compared with 2N
+and the order doubles until ERROR_SAFETY × the difference is below ``tol`` (§3).
 
-    E_spec = ∫ P22(X, Y) · 4 F(v·m) V(l, v) μ_l k  dX dY,   k = (v·m)/μ_m = v_z − v_x X − v_y Y,
-
-V = G2/(4 μ_l μ_v). Two facts make this accurate at every α and μ:
-
-1. In α-stretched slopes X = α_x ρ̃ cos ψ, Y = α_y ρ̃ sin ψ the shape-invariant P22 is
-   isotropic, so P22 dX dY = (1/2π) du dψ with u = C(ρ̃) the NDF's radial CDF. The
-   peak of D is flattened: u is the variable D·cos importance sampling uses.
-2. l is in the upper hemisphere exactly when (X, Y) lies in the disk of centre
-   −(v_x, v_y)/v_z and radius 1/v_z (from μ_l = 2(v·m)μ_m − μ_v ≥ 0). Along ψ the
-   disk ends at ρ̃ = R(ψ) in closed form, so each u-integral runs over [0, C(R(ψ))],
-   where the integrand is smooth and vanishes linearly at the end.
-
-For v_z → 0 the disk becomes a half-plane: R jumps from 0 to ∞ across the two
-directions where b(ψ) = α_x v_x cos ψ + α_y v_y sin ψ changes sign, so ψ is split
-there and each half gets its own Gauss rule (which clusters nodes at the ends). At
-v_z = 0 the u-integrand grows like ρ̃ ~ (1 − u)^{-1/2} (GGX); the substitution of
-:func:`_u_rule` absorbs that, and makes ρ̃ a smooth function of the Gauss variable at
-u = 0 as well.
-
-Error estimate: the rule of order N is compared with order 2N and ERROR_SAFETY times
-the difference is reported as the error of the 2N value; the order doubles until that difference is
-below ``tol`` (or the order cap is reached, and the error says so).
-
-References
-----------
-Heitz 2014, JCGT 3(2), sec. 5 (slope space, stretch); Walter et al. 2007, eq. 14
-(the 1/(4|v·m|) Jacobian); Kulla & Conty 2017 (E(μ) as used for compensation).
+References: Heitz 2014, JCGT 3(2), sec. 5; Walter et al. 2007, eq. 14; Kulla & Conty 2017.
 """
 from __future__ import annotations
 

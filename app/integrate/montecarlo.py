@@ -1,30 +1,13 @@
 """Directional albedo E(μ_v) = ∫_{H²} f(l, v) (n·l) dl by Monte Carlo.
 
-API (what other modules use)
-----------------------------
-``albedo_mc(brdf, mu, phi=0.0, sampler="cosine", samples=1024, seed=0) -> MonteCarloResult``
-    ``mu``: cosines of v (scalar or array, each in [0, 1]); ``phi``: azimuth of v in
-    radians (as :func:`app.integrate.albedo.albedo`); ``sampler``: a name in
-    :data:`SAMPLERS` (uniform, cosine, ndf, vndf); ``samples``: directions per μ;
-    ``seed``: the seed of ``np.random.default_rng``. The result has ``mu``, ``E``,
-    ``E_error`` (one standard error: sample std / √N, per μ), ``evaluations`` (BRDF
-    evaluations, = mu.size × samples), ``seconds``, and ``sampler``, ``samples``,
-    ``seed``; ``as_dict()`` gives the same as a dict.
-    Raises ValueError ("no vndf sampler for ndf=…") when ``SAMPLERS[sampler].supports(brdf)``
-    is False, and for an unknown sampler name or samples < 2.
-``SAMPLERS``: name -> Sampler, with ``supports(brdf) -> bool`` (vndf: GGX and Beckmann).
+``albedo_mc(brdf, mu, phi=0.0, sampler="cosine", samples=1024, seed=0)`` → E and one
+standard error per μ (sample std / √N), evaluations, seconds; ValueError for a sampler
+that does not support the model (``SAMPLERS[name].supports(brdf)``), an unknown name or
+samples < 2. The same primary samples serve every μ, so E(μ) is a smooth curve
+(docs/albedo.md §4).
 
-Estimator: E ≈ (1/N) Σ f(l_k, v) μ_{l_k} / pdf(l_k), with the term 0 where l_k is below
-the horizon (f = 0 there; a sampler may put directions there). The standard error is
-the sample standard deviation of those terms over √N: 1 σ of a Gaussian for large N
-(tests/physics/test_montecarlo.py checks the coverage against quadrature).
-The same primary samples serve every μ (common random numbers), so E(μ) is a smooth
-curve; each point is an unbiased estimate with its own error.
-
-References
-----------
-Pharr, Jakob, Humphreys, "Physically Based Rendering", 4th ed., sec. 2.1-2.2 (the
-Monte Carlo estimator and its variance); Kulla & Conty 2017 (E(μ)).
+References: Pharr, Jakob, Humphreys, "Physically Based Rendering", 4th ed., sec. 2.1-2.2;
+Kulla & Conty 2017.
 """
 from __future__ import annotations
 

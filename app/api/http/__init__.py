@@ -19,7 +19,7 @@ from starlette.middleware.gzip import GZipMiddleware
 
 from ...config import Settings
 from .caching import HttpCache
-from .guard import RequestGuard, WarmUp
+from .guard import RequestGuard
 from .security import SecurityHeaders, content_security_policy, inline_script_hashes
 
 #: bodies smaller than this are not worth a gzip header (and often grow)
@@ -29,11 +29,9 @@ GZIP_MINIMUM_SIZE = 1000
 GZIP_LEVEL = 6
 
 
-def install(app: FastAPI, settings: Settings, static_dir: Path, warm_up: WarmUp | None = None) -> None:
-    """Add the middlewares (the last added runs first, outermost). ``warm_up`` is the
-    hook the guard runs before the first request's budget opens when the app is served
-    without its lifespan."""
-    app.add_middleware(RequestGuard, fastapi_app=app, settings=settings, warm_up=warm_up)
+def install(app: FastAPI, settings: Settings, static_dir: Path) -> None:
+    """Add the middlewares (the last added runs first, outermost)."""
+    app.add_middleware(RequestGuard, fastapi_app=app, settings=settings)
     app.add_middleware(GZipMiddleware, minimum_size=GZIP_MINIMUM_SIZE, compresslevel=GZIP_LEVEL)
     app.add_middleware(HttpCache, max_age=settings.cache_max_age)
     app.add_middleware(CORSMiddleware, allow_origins=list(settings.cors_origins),

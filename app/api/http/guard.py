@@ -6,25 +6,14 @@ from __future__ import annotations
 
 import json
 from collections import Counter
-from typing import Protocol
 from urllib.parse import parse_qsl
 
 from fastapi import FastAPI
-from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import Headers, MutableHeaders
 
 from ...config import Settings
 from ...integrate import budget
 from ..openapi import operations
-
-
-class WarmUp(Protocol):
-    """What must be ready before a request's budget opens (the compiled kernels, owned
-    by the kernel layer): ``done()`` is cheap, ``warm_up()`` blocks until ready."""
-
-    def done(self) -> bool: ...
-
-    def warm_up(self) -> float: ...
 
 
 def _json_error(status: int, loc: list, msg: str, kind: str) -> tuple[dict, bytes]:
@@ -52,11 +41,10 @@ class RequestGuard:
     only a JSON body is refused rather than ignored.
     """
 
-    def __init__(self, app, fastapi_app: FastAPI, settings: Settings, warm_up: WarmUp | None = None):
+    def __init__(self, app, fastapi_app: FastAPI, settings: Settings):
         self.app = app
         self.fastapi_app = fastapi_app
         self.settings = settings
-        self.warm_up = warm_up
 
     def _operation(self, scope) -> dict | None:
         return operations(self.fastapi_app).operation(scope["path"], scope["method"])
@@ -162,10 +150,6 @@ class RequestGuard:
                     MutableHeaders(scope=message)["allow"] = ", ".join(methods)
             await send(message)
 
-        if self.warm_up is not None and not self.warm_up.done():
-            # an app served without its lifespan (a test client): the warm-up hook runs
-            # before the budget's clock starts, not inside the first request's budget
-            await run_in_threadpool(self.warm_up.warm_up)
         with budget.limit(s.max_seconds) as request_budget:
             await self.app(scope, receive, send_fixed)
 

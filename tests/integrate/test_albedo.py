@@ -11,7 +11,7 @@ import pytest
 from app.integrate.albedo import albedo
 from tests.reference import albedo_brute_force
 
-from .conftest import make_brdf
+from tests.physics.conftest import make_brdf
 
 MU_GRID = np.array([0.0, 1e-3, 0.02, 0.1, 0.3, 0.5, 0.8, 1.0])
 
