@@ -18,6 +18,7 @@ from .api import routes, routes_figures, routes_pages
 from .api.routes_data import router as data_router
 from .api.routes_shader import router as shader_router
 from .api.routes_lut import router as lut_router
+from .api.routes_principled import router as principled_router
 from .config import Settings
 from .model import make_spec
 from .physics.ndf import NDFS
@@ -84,6 +85,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(shader_router)
     app.include_router(data_router)
     app.include_router(lut_router)
+    app.include_router(principled_router)
 
     @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
     def plotly_js():

@@ -21,6 +21,7 @@ from .physics.masking import MASKINGS
 from .physics.masking import REFERENCE as MASKING_REFERENCE
 from .physics.ndf import ALPHA, ALPHA_Y, NDFS
 from .physics.params import Param
+from .principled import spec as principled_spec
 
 KD = Param("kd", "k_d (diffuse weight)", 0.0, 1.0, 0.0,
            "Weight ρ of the diffuse term added to the specular lobe (kd/π for Lambert).")
@@ -36,6 +37,7 @@ LOBE_MIX = Param("lobe_mix", "w (second-lobe weight)", 0.0, 1.0, 0.0,
 
 #: Continuous parameters every model takes.
 COMMON_PARAMS: tuple[Param, ...] = (ALPHA, ALPHA_Y, KD, ROUGHNESS, ANISOTROPY, ALPHA2, LOBE_MIX)
+COMMON_NAMES = frozenset(p.name for p in COMMON_PARAMS)
 #: Those that are absent unless given (absent alpha_y = isotropic, and so on).
 OPTIONAL_PARAMS = frozenset({"alpha_y", "roughness", "anisotropy", "alpha2"})
 
@@ -110,10 +112,12 @@ class ModelSpec:
         roughness as α (no roughness/anisotropy form), only parameters that apply, no
         derived values."""
         v = self.values
+        if v.get("model") == "principled":
+            return principled_spec.as_query(v)
         out = {name: v[name] for name in OPTIONS}
         out.update({p.name: v[p.name] for p in COMMON_PARAMS
                     if p.name not in ("roughness", "anisotropy") and v.get(p.name) is not None})
-        for option in ("ndf", "fresnel"):
+        for option in ("ndf", "fresnel", "diffuse"):
             out.update({p.name: v[p.name] for p in choice_params(option, v[option])
                         if v.get(p.name) is not None})
         if v.get("lambda_phi") is not None:
@@ -125,7 +129,9 @@ class ModelSpec:
         replaced choice (Schlick's f0 when fresnel changes, λ(φ) when the new G2 does not
         take it) are dropped. Raises ParameterError for a combination that does not exist."""
         out = self.as_query()
-        for option in ("ndf", "fresnel"):
+        if out.get("model") == "principled":
+            return make_spec(**{**out, **changes})
+        for option in ("ndf", "fresnel", "diffuse"):
             if option in changes and changes[option] != out[option]:
                 for p in choice_params(option, out[option]):
                     out.pop(p.name, None)
@@ -146,6 +152,8 @@ class ModelSpec:
 
     def _build(self) -> BRDF:
         v = self.values
+        if v.get("model") == "principled":
+            return principled_spec.brdf(v)
         shape = {p.name: v[p.name] for p in choice_params("ndf", v["ndf"]) if v.get(p.name) is not None}
         fresnel_values = {p.name: v[p.name] for p in choice_params("fresnel", v["fresnel"])
                           if v.get(p.name) is not None}
@@ -179,6 +187,14 @@ def make_spec(**given) -> ModelSpec:
     used only with the choice it belongs to, one roughness form. Missing values take
     their defaults; ``None`` means not given."""
     given = {k: x for k, x in given.items() if x is not None}
+    if given.get("model", "microfacet") == "principled":
+        return ModelSpec(principled_spec.make_values(given))
+    model = given.pop("model", "microfacet")
+    if model != "microfacet":
+        raise ParameterError("model", f"model must be microfacet or principled; got {model!r}")
+    for name in principled_spec.NAMES:
+        if name in given and name not in COMMON_NAMES:
+            raise ParameterError(name, f"{name} applies only with model=principled")
     material = _material_fresnel(given)
     explicit_alpha = [n for n in ("alpha", "alpha_y") if n in given]
     values: dict = {}

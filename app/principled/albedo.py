@@ -125,7 +125,7 @@ def albedo(brdf, mu, phi: float = 0.0, tol: float = 1e-4) -> dict:
     E = channel(rgb, brdf.channel)
     E_avg = float(2.0 * np.sum(E[len(mu):] * nodes * 0.5 * w))
     return {"mu": mu, "E": E[:len(mu)], "E_error": np.full(len(mu), error), "E_rgb": rgb[:len(mu)],
-            "E_avg": E_avg, "E_avg_error": error, "method": "principled_lobes",
+            "E_avg": E_avg, "E_avg_error": error, "method": "principled_lobes", "channel": brdf.channel,
             "requested_method": "principled_lobes", "evaluations": 0,
             "lobes": {k: {"E_rgb": parts[k][0][:len(mu)], "E": channel(parts[k][0][:len(mu)], brdf.channel),
                           "E_error": parts[k][1],

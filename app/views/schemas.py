@@ -12,6 +12,7 @@ from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 from ..integrate.albedo import ORDER_MAX
 from ..integrate.methods import DEFAULT_SAMPLES, MC_METHODS, MC_SAMPLES_MAX, METHODS
 from .. import materials
+from ..principled import params as principled_params
 from ..errors import ParameterError
 from ..model import (COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, ModelSpec,
                      choice_param_names, make_spec)
@@ -107,6 +108,25 @@ def _model_fields() -> dict:
     fields["material"] = (Optional[Literal[tuple(materials.materials())]], Field(
         None, examples=["gold"], description="a measured material (GET /api/v1/materials): sets fresnel to "
         "its kind with its RGB index; /eval then answers F_rgb and f_rgb beside the luminance F, f"))
+    fields.update(principled_fields())
+    return fields
+
+
+def principled_fields() -> dict:
+    """model=principled and its own parameters (all optional: absent = the paper's default)."""
+    fields: dict = {"model": (Literal["microfacet", "principled"], Field(
+        "microfacet", description="microfacet (the options above) or principled (Burley 2012)"))}
+    fields["base_color"] = (Optional[str], Field(
+        None, pattern=r"^\s*[0-9.eE+-]+\s*,\s*[0-9.eE+-]+\s*,\s*[0-9.eE+-]+\s*$",
+        examples=["0.82,0.67,0.16"],
+        description="model=principled: base colour r,g,b in [0, 1]; default 0.82,0.67,0.16"))
+    for p in principled_params.PARAMS:
+        fields[p.name] = (Optional[float], Field(None, ge=p.lo, le=p.hi, examples=[p.default],
+                                                 description=f"model=principled: {p.description} "
+                                                             f"Default {p.default:g}."))
+    for name, (label, choices, default) in principled_params.OPTIONS.items():
+        fields[name] = (Optional[Literal[tuple(choices)]], Field(
+            None, description=f"model=principled: {label}: {', '.join(choices)}; default {default}"))
     return fields
 
 
@@ -130,10 +150,11 @@ class EvalQuery(ModelQuery):
     phi_i_deg: PhiList = [0.0]
     theta_o_deg: ThetaList = [45.0]
     phi_o_deg: PhiList = [180.0]
-    quantities: Annotated[list[Literal["f", "f_diffuse", "D", "G1_i", "G1_o", "G2", "F"]],
+    quantities: Annotated[list[Literal["f", "f_diffuse", "f_rgb", "D", "G1_i", "G1_o", "G2", "F"]],
                           BeforeValidator(_split_commas),
-                          Field(description="which quantities to return; default all "
-                                            "(f_diffuse: the diffuse term of f)")] = \
+                          Field(description="which quantities to return; default all but f_rgb "
+                                            "(f_diffuse: the diffuse term of f; f_rgb: per channel, "
+                                            "model=principled)")] = \
         ["f", "f_diffuse", "D", "G1_i", "G1_o", "G2", "F"]
 
 

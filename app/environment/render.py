@@ -1,0 +1,224 @@
+"""A sphere lit by an environment, rendered by multiple importance sampling.
+
+Orthographic camera along −z (v = +z for every pixel), sphere of radius 1; per pixel the
+local frame (t, b, n) of quantities.lit_sphere. Outgoing radiance
+L_o = ∫ f(l, v) L(l) (n·l) dω_l is estimated with three strategies and the multi-sample
+balance heuristic (Veach 1997, ch. 9): L_o ≈ Σ_i f L μ_l / Σ_k n_k p_k(l_i), over
+
+* the environment's own radiance (a piecewise-constant pdf on equal-solid-angle cells;
+  N/2 samples unless the environment is uniform) — finds soft boxes and the sun;
+* cosine-weighted directions, for the diffuse lobes;
+* the NDF's visible normals (Heitz 2018) where the NDF has a sampler, for the specular
+  lobe; the rest of N is split between these two as the lobes' energies (:func:`_shares`).
+
+Samples are stratified (a jittered grid); the environment's and the cosine strategy's are
+rotated per pixel (Cranley & Patterson 1976), so pixels' errors are independent; the
+visible normals use one set for every pixel (the NDF's sampler takes one set of u), so
+their error is shared. ``noise`` states the per-pixel standard error of the one-sample
+estimator (mean, max, relative to the mean radiance) and that of the image mean.
+"""
+from __future__ import annotations
+
+import time
+
+import numpy as np
+
+from .. import kernels
+from ..physics.vectors import direction_deg
+from .maps import ENVIRONMENTS
+
+#: Equal-solid-angle cells of the environment's pdf: rows uniform in z, columns in φ.
+PDF_ROWS, PDF_COLS = 96, 192
+#: Groups of pixels that share one set of visible-normal samples (see render).
+VNDF_GROUPS = 64
+#: The share of the environment's pdf spread uniformly over the sphere, so no direction
+#: where L > 0 has p = 0 even if its cell's centre sees L = 0 (a soft edge).
+PDF_UNIFORM_SHARE = 0.05
+
+
+def _stratified(n: int, rng) -> np.ndarray:
+    """n points in [0, 1)², one per cell of a near-square jittered grid."""
+    cols = int(np.ceil(np.sqrt(n)))
+    rows = int(np.ceil(n / cols))
+    i = np.arange(n)
+    return np.stack([(i % cols + rng.random(n)) / cols, (i // cols + rng.random(n)) / rows], axis=-1)
+
+
+def _rotated(n: int, pixels: int, rng) -> np.ndarray:
+    """(pixels, n, 2): one stratified set shifted by a random offset per pixel, mod 1."""
+    return (_stratified(n, rng)[None, :, :] + rng.random((pixels, 1, 2))) % 1.0
+
+
+def _shares(brdf) -> tuple[float, float]:
+    """(specular, diffuse) energies that split the BRDF-sampling budget: the principled
+    material's C_spec0 (+ clearcoat) against (1 − metallic)·base colour; else F̄ against
+    the diffuse term's E_avg (Kulla-Conty's broad lobe counts as diffuse)."""
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    m = getattr(brdf, "material", None)
+    if m is not None:
+        spec = float(lum @ m.specular_color) + 0.01 * m.clearcoat
+        return spec, float((1 - m.metallic) * (lum @ m.base_linear + m.sheen))
+    ms = getattr(brdf, "multiscatter", None)
+    diffuse = brdf.diffuse_albedo_avg()[0] + (ms.albedo_average() if ms is not None else 0.0)
+    return float(brdf.fresnel.F_avg()), float(diffuse)
+
+
+class EnvironmentPdf:
+    """A piecewise-constant density over the sphere ∝ luminance of L, mixed with uniform."""
+
+    def __init__(self, env, key, colour):
+        z = 1.0 - 2.0 * (np.arange(PDF_ROWS) + 0.5) / PDF_ROWS
+        phi = -np.pi + 2.0 * np.pi * (np.arange(PDF_COLS) + 0.5) / PDF_COLS
+        s = np.sqrt(1.0 - z * z)
+        w = np.stack(np.broadcast_arrays(s[:, None] * np.cos(phi), s[:, None] * np.sin(phi), z[:, None]), -1)
+        lum = env.radiance(w, key, colour) @ np.array([0.2126, 0.7152, 0.0722])
+        p = lum.ravel() / max(lum.sum(), 1e-300)
+        self.p = (1.0 - PDF_UNIFORM_SHARE) * p + PDF_UNIFORM_SHARE / p.size
+        self.cdf = np.cumsum(self.p)
+        self.cell_sr = 4.0 * np.pi / p.size
+
+    def sample(self, u, rng) -> np.ndarray:
+        """Directions for u (..., 2): the cell by u₀ on the CDF, uniform within it."""
+        cell = np.minimum(np.searchsorted(self.cdf, u[..., 0] * self.cdf[-1], side="right"), self.p.size - 1)
+        row, col = np.divmod(cell, PDF_COLS)
+        z = 1.0 - 2.0 * (row + u[..., 1]) / PDF_ROWS
+        phi = -np.pi + 2.0 * np.pi * (col + rng.random(u.shape[:-1])) / PDF_COLS
+        s = np.sqrt(np.maximum(0.0, 1.0 - z * z))
+        return np.stack([s * np.cos(phi), s * np.sin(phi), z], axis=-1)
+
+    def pdf(self, w) -> np.ndarray:
+        row = np.clip(((1.0 - w[..., 2]) * 0.5 * PDF_ROWS).astype(int), 0, PDF_ROWS - 1)
+        col = np.clip(((np.arctan2(w[..., 1], w[..., 0]) + np.pi) / (2 * np.pi) * PDF_COLS).astype(int),
+                      0, PDF_COLS - 1)
+        return self.p[row * PDF_COLS + col] / self.cell_sr
+
+
+def sphere_frames(n: int):
+    """Pixel centres on the sphere: (mask (n, n), frames (P, 3, 3) rows t, b, n)."""
+    centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
+    y, x = np.meshgrid(centres[::-1], centres, indexing="ij")
+    on = x * x + y * y < 1.0
+    normal = np.stack([x[on], y[on], np.sqrt(1.0 - x[on] ** 2 - y[on] ** 2)], axis=-1)
+    t = np.array([1.0, 0.0, 0.0]) - normal[:, :1] * normal
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    return on, np.stack([t, np.cross(normal, t), normal], axis=-2), centres
+
+
+def _f_rgb(brdf, l, v) -> np.ndarray:
+    """f per channel (..., 3): the principled material's own, else f (grey) from the
+    compiled loop when ready."""
+    if getattr(brdf, "material", None) is not None:
+        return brdf.material.f_rgb(l, v, brdf.lobe)
+    shape = l.shape[:-1]
+    f = kernels.f(brdf, l.reshape(-1, 3), np.broadcast_to(v, l.shape).reshape(-1, 3)).reshape(shape)
+    return np.repeat(f[..., None], 3, axis=-1)
+
+
+def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, samples: int,
+           colour=(1.0, 1.0, 1.0), seed: int = 0) -> dict:
+    """Linear RGB radiance (n, n, 3) of the sphere (NaN off it), the background radiance
+    (the environment behind the sphere, direction −z), and the sampling report."""
+    t0 = time.perf_counter()
+    env = ENVIRONMENTS[environment]
+    key = direction_deg(theta_deg, phi_deg)
+    colour = np.asarray(colour, dtype=float)
+    rng = np.random.default_rng(seed)
+    on, frame, centres = sphere_frames(n)
+    v = frame[:, :, 2]                                  # v = +z in each local frame
+    n_env = samples // 2 if env.sampled else 0
+    spec, diffuse = _shares(brdf)
+    rest = samples - n_env
+    n_vndf = 0
+    if getattr(brdf.ndf, "sample_visible", None) is not None and spec > 0:
+        n_vndf = int(np.clip(round(rest * spec / (spec + diffuse)), 1, rest - (diffuse > 0)))
+    n_cos = rest - n_vndf
+    dirs = []
+    if n_env:
+        env_pdf = EnvironmentPdf(env, key, colour)
+        world = env_pdf.sample(_rotated(n_env, len(v), rng), rng)              # (P, n, 3)
+        dirs.append(np.einsum("pij,psj->psi", frame, world))
+    if n_cos:
+        u = _rotated(n_cos, len(v), rng)
+        r, a = np.sqrt(u[..., 0]), 2.0 * np.pi * u[..., 1]
+        dirs.append(np.stack([r * np.cos(a), r * np.sin(a), np.sqrt(np.maximum(0.0, 1.0 - u[..., 0]))], -1))
+    if n_vndf:
+        # the sampler takes one u set per call: one set per group of pixels, groups
+        # interleaved at random, so the shared error spreads over VNDF_GROUPS sets
+        group = rng.permutation(len(v)) % VNDF_GROUPS
+        m = np.empty((len(v), n_vndf, 3))
+        for g in range(VNDF_GROUPS):
+            m[group == g] = brdf.ndf.sample_visible(v[group == g], _stratified(n_vndf, rng))
+        vm = np.einsum("pi,psi->ps", v, m)
+        dirs.append(2.0 * vm[..., None] * m - v[:, None, :])
+    l = np.concatenate(dirs, axis=1)                                    # (P, N, 3) local
+    mu_l = l[..., 2]
+    world_l = np.einsum("pji,psj->psi", frame, l)
+    pdf = n_cos * np.maximum(mu_l, 0.0) / np.pi
+    if n_env:
+        pdf = pdf + n_env * env_pdf.pdf(world_l)
+    if n_vndf:
+        pdf = pdf + n_vndf * _vndf_pdf(brdf.ndf, l, v)
+    up = (mu_l > 0) & (pdf > 0)
+    f = np.zeros(l.shape)
+    f[up] = _f_rgb(brdf, l[up], np.broadcast_to(v[:, None, :], l.shape)[up])
+    L = env.radiance(world_l, key, colour)
+    weight = np.where(up[..., None], f * L * np.where(up, mu_l, 0.0)[..., None]
+                      / np.where(up, pdf, 1.0)[..., None], 0.0)                # (P, N, 3)
+    L_o = weight.sum(axis=1)
+    lum = weight @ np.array([0.2126, 0.7152, 0.0722]) * samples        # one-sample estimates
+    std_error = lum.std(axis=1, ddof=1) / np.sqrt(samples)
+    image = np.full((n, n, 3), np.nan)
+    image[on] = L_o
+    mean = float(np.mean(L_o @ np.array([0.2126, 0.7152, 0.0722])))
+    return {"x": centres, "y": centres[::-1], "radiance": image,
+            "background": env.radiance(np.array([0.0, 0.0, -1.0]), key, colour),
+            "samples": {"per_pixel": samples, "environment": n_env, "cosine": n_cos,
+                        "visible_normals": n_vndf, "pixels": int(on.sum()), "evaluations": int(up.sum())},
+            "noise": {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
+                      "relative": float(std_error.mean() / mean) if mean > 0 else 0.0,
+                      "mean_radiance": mean,
+                      # independent pixels: √Σσ²/P; the visible normals' set shared within
+                      # a group adds a correlated part, mean σ/√VNDF_GROUPS
+                      "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / len(std_error)
+                                                   + (std_error.mean() / np.sqrt(VNDF_GROUPS)
+                                                      if n_vndf else 0.0))},
+            "seconds": time.perf_counter() - t0}
+
+
+def _vndf_pdf(ndf, l, v) -> np.ndarray:
+    """Density of l reflected about visible normals: G1(v) D(h) / (4 μ_v) (Heitz 2018),
+    0 where h does not exist or v·h ≤ 0."""
+    vb = np.broadcast_to(v[:, None, :], l.shape)
+    s = l + vb
+    norm = np.linalg.norm(s, axis=-1)
+    ok = norm > 0
+    h = np.where(ok[..., None], s / np.where(ok, norm, 1.0)[..., None], np.array([0.0, 0.0, 1.0]))
+    vh = np.sum(vb * h, axis=-1)
+    ok &= (vh > 0) & (h[..., 2] > 0)
+    D = np.zeros(l.shape[:-1])
+    D[ok] = ndf.D(h[ok])
+    mu_v = v[:, 2][:, None]
+    G1 = mu_v / (mu_v + ndf.mu_Lambda(v)[:, None])
+    return np.where(ok, G1 * D / (4.0 * mu_v), 0.0)
+
+
+#: The point light's irradiance at normal incidence: π, so a white Lambertian facing it
+#: has radiance 1 (the environments' scale).
+POINT_IRRADIANCE = np.pi
+
+
+def render_point(brdf, theta_deg: float, phi_deg: float, n: int, colour=(1.0, 1.0, 1.0)) -> dict:
+    """The sphere under one directional light (quantities.lit_sphere, in colour):
+    L_o = f(l, v) μ_l E per channel, E = π·colour; black background."""
+    t0 = time.perf_counter()
+    on, frame, centres = sphere_frames(n)
+    l = frame @ direction_deg(theta_deg, phi_deg)
+    v = frame[:, :, 2]
+    lit = l[:, 2] > 0
+    L_o = np.zeros((len(v), 3))
+    if lit.any():
+        L_o[lit] = _f_rgb(brdf, l[lit], v[lit]) * (l[lit, 2] * POINT_IRRADIANCE)[:, None] * colour
+    image = np.full((n, n, 3), np.nan)
+    image[on] = L_o
+    return {"x": centres, "y": centres[::-1], "radiance": image, "background": np.zeros(3),
+            "samples": None, "noise": None, "seconds": time.perf_counter() - t0}
