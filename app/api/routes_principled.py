@@ -28,7 +28,12 @@ from .encode import json_response
 router = APIRouter(prefix="/api/v1")
 
 
-@router.get("/principled", tags=["meta"], summary="The principled BRDF's parameters and options")
+@router.get("/principled", tags=["meta"], summary="The principled BRDF's parameters and options",
+            responses={200: {"content": {"application/json": {"example": {
+                "base_color": {"default": [0.82, 0.67, 0.16], "lo": 0.0, "hi": 1.0},
+                "params": [{"name": "metallic", "lo": 0.0, "hi": 1.0, "default": 0.0}],
+                "options": {"lobe": {"label": "Lobe shown", "default": "all", "choices": []}},
+                "reference": "Burley 2012"}}}}})
 def principled_catalogue():
     return {"base_color": {"default": list(BASE_COLOR_DEFAULT), "lo": 0.0, "hi": 1.0},
             "params": [ROUGHNESS.as_dict()] + [p.as_dict() for p in PARAMS],
