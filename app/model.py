@@ -130,6 +130,10 @@ class ModelSpec:
         take it) are dropped. Raises ParameterError for a combination that does not exist."""
         out = self.as_query()
         if out.get("model") == "principled":
+            foreign = sorted(set(changes) - set(principled_spec.NAMES))
+            if foreign:
+                raise ParameterError("model", f"this analysis changes {', '.join(foreign)} of a "
+                                              "microfacet model; it applies to model=microfacet only")
             return make_spec(**{**out, **changes})
         for option in ("ndf", "fresnel", "diffuse"):
             if option in changes and changes[option] != out[option]:

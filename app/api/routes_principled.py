@@ -22,7 +22,7 @@ from ..errors import ParameterError
 from ..model import make_spec
 from ..principled.params import BASE_COLOR_DEFAULT, OPTIONS, PARAMS
 from ..principled.spec import ROUGHNESS, parse_color
-from . import schemas
+from ..views import schemas
 from .encode import json_response
 
 router = APIRouter(prefix="/api/v1")
