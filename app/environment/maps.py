@@ -22,10 +22,11 @@ import numpy as np
 
 def _smooth_disc(w, centre, radius_deg: float, edge_deg: float) -> np.ndarray:
     """1 inside the cone of ``radius_deg`` about ``centre``, 0 outside, smoothstep over
-    ``edge_deg`` (a soft box's diffuser edge; no hard edge to alias on the sphere)."""
-    cos_angle = np.clip(w @ centre, -1.0, 1.0)
-    angle = np.degrees(np.arccos(cos_angle))
-    t = np.clip((radius_deg + edge_deg / 2 - angle) / edge_deg, 0.0, 1.0)
+    ``edge_deg`` (a soft box's diffuser edge; no hard edge to alias on the sphere). The
+    ramp is linear in cos of the angle between the two cones (no arccos per sample)."""
+    cos_in = np.cos(np.radians(radius_deg - edge_deg / 2))
+    cos_out = np.cos(np.radians(radius_deg + edge_deg / 2))
+    t = np.clip((w @ centre - cos_out) / (cos_in - cos_out), 0.0, 1.0)
     return t * t * (3.0 - 2.0 * t)
 
 

@@ -190,7 +190,7 @@ def _vndf_pdf(ndf, l, v) -> np.ndarray:
     0 where h does not exist or v·h ≤ 0."""
     vb = np.broadcast_to(v[:, None, :], l.shape)
     s = l + vb
-    norm = np.linalg.norm(s, axis=-1)
+    norm = np.sqrt(np.einsum("...i,...i->...", s, s))
     ok = norm > 0
     h = np.where(ok[..., None], s / np.where(ok, norm, 1.0)[..., None], np.array([0.0, 0.0, 1.0]))
     vh = np.sum(vb * h, axis=-1)

@@ -5,6 +5,7 @@ from __future__ import annotations
 
 from ..errors import ParameterError
 from . import advise, albedo, checks, fresnel, g1, g2, lobe, lobe3d, ndf, samples, sphere, tradeoff
+from . import principled_albedo, sphere_env
 from . import slice as half_difference
 from .pipeline import Comparison, Result, compare, run
 from .view import ROLES, View
@@ -12,7 +13,8 @@ from .view import ROLES, View
 #: Every view, in the order the page lists them.
 VIEWS: dict[str, View] = {v.name: v for v in (
     ndf.VIEW, g1.VIEW, lobe.VIEW, lobe3d.VIEW, albedo.VIEW, g2.VIEW, fresnel.VIEW,
-    sphere.VIEW, half_difference.VIEW, advise.VIEW, checks.VIEW, samples.VIEW, tradeoff.VIEW)}
+    sphere.VIEW, half_difference.VIEW, advise.VIEW, checks.VIEW, samples.VIEW, tradeoff.VIEW,
+    sphere_env.VIEW, principled_albedo.VIEW)}
 
 
 def lookup(name: str) -> View:
