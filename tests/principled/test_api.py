@@ -33,10 +33,12 @@ def test_lobes_stack_to_the_total(client):
 
 
 def test_every_view_draws_one_lobe(client):
-    for view in ("lobe", "lobe3d", "slice", "sphere", "albedo"):
+    size = {"lobe": {"n": 31}, "lobe3d": {"n_theta": 8, "n_phi": 16}, "slice": {"n": 16},
+            "sphere": {"n": 16}, "albedo": {"n": 5}}
+    for view in size:
         for lobe in ("diffuse", "specular", "clearcoat", "sheen"):
             r = client.get(f"/api/v1/{view}", params={"model": "principled", "lobe": lobe,
-                                                      "clearcoat": 1, "sheen": 1, "n": 16})
+                                                      "clearcoat": 1, "sheen": 1, **size[view]})
             assert r.status_code == 200, (view, lobe, r.text)
 
 
