@@ -35,7 +35,7 @@ def compute(spec, q) -> dict:
 
 VIEW = View(
     "principled_albedo", "Principled albedo by lobe",
-    "E(θ_v) of each lobe of the principled BRDF (diffuse, sheen, specular, clearcoat), per "
-    "channel, stacked to the total.",
+    "E(θ_v) of each lobe (diffuse, sheen, specular, clearcoat), stacked to the total: how much "
+    "each reflects.",
     PrincipledAlbedoQuery, PrincipledAlbedoQuery, compute,
     lambda data, spec, q: stacked_albedo_figure(data, "Principled BRDF: albedo by lobe"))

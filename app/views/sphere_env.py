@@ -59,7 +59,7 @@ def figure(data, spec, q) -> dict:
 
 VIEW = View(
     "sphere_env", "Sphere under an environment",
-    "Any model on a sphere in colour under a point light or a procedural environment: L_o per "
-    "pixel and channel (null off the sphere), with its samples and noise.",
+    "Any model on a sphere, in colour, under a point light or a procedural environment "
+    "(sampled; the noise is stated).",
     SphereEnvQuery, SphereEnvFigureQuery, compute, figure, limits,
     roles={"environment": "geometry", "light_color": "geometry"})
