@@ -105,10 +105,13 @@ def sphere_frames(n: int):
 
 
 def _f_rgb(brdf, l, v) -> np.ndarray:
-    """f per channel (..., 3): the principled material's own, else f (grey) from the
-    compiled loop when ready."""
+    """f per channel (..., 3): the principled material's own, a measured material's per
+    channel Fresnel, else f (grey) from the compiled loop when ready."""
     if getattr(brdf, "material", None) is not None:
         return brdf.material.f_rgb(l, v, brdf.lobe)
+    if getattr(brdf.fresnel, "channels", None) is not None:      # material=<measured metal>
+        from ..materials import evaluate_rgb
+        return evaluate_rgb(brdf, l, np.broadcast_to(v, l.shape))["f_rgb"]
     shape = l.shape[:-1]
     f = kernels.f(brdf, l.reshape(-1, 3), np.broadcast_to(v, l.shape).reshape(-1, 3)).reshape(shape)
     return np.repeat(f[..., None], 3, axis=-1)
