@@ -45,7 +45,7 @@ MC_SEED = 0
 #: Time that must be left to start a step that may build an E(μ, α) table (a Kulla-Conty
 #: model with another masking or G2, or the table method), per table. A build is not
 #: bounded by the budget (its quadratures shorten, it goes on: a Beckmann Schlick pair
-#: took 32 s under a 10 s budget at load 4, measured) and takes 1.7 s for GGX (tables.py,
+#: took 32 s under a 10 s budget on a loaded 2-core machine) and takes 1.7 s for GGX (tables.py,
 #: 56², idle), 9 s for Beckmann and the slow lobes (measured, idle). With the default
 #: BRDF_MAX_SECONDS = 10 a request never starts one and says so in its note; the CLI and
 #: Python (no budget) run every step, and a raised BRDF_MAX_SECONDS lets requests do it.

@@ -21,7 +21,7 @@ N_MU = 9
 #: Tolerance of each quadrature E (the /albedo default); its error bound enters max_error.
 QUAD_TOL = DEFAULT_TOL
 #: max_error = GRID_SAFETY × (node error); the largest |ΔE| grows between nodes. Measured
-#: (/tmp bench, as in the tests: this 6 × 9 grid against 24 α × (36 nodes in y joined with
+#: (as in tests/analysis/test_advise.py: this 6 × 9 grid against 24 α × (36 nodes in y joined with
 #: 36 uniform in θ), tol 1e-6; α ranges [1e-4, 1], [0.01, 1], [0.05, 0.5], [0.2, 0.3],
 #: [0.1, 0.5], [0.02, 0.2] with θ_max 90°, 80°, 60°, 70°, 85°; GGX, Beckmann, dielectric,
 #: conductor, direction-correlated and Kulla-Conty models; every single alternative, 67

@@ -15,9 +15,8 @@ from ..model import COMMON_PARAMS, OPTIONS, SUB_OPTIONS, choice_param_names, mak
 #: (smith_numeric: 0.3 s a run) stops repeating.
 COST_PAIRS = 16_384
 COST_REPEATS = 5
-#: ... and runs go on until this much CPU time is spent (a 0.3 ms run alone was off by
-#: up to 23 % under load; the minimum over ~60 runs, re-measured 12 times at load 2.7,
-#: spread by −0.3 % .. +0.5 %).
+#: ... and runs go on until this much CPU time is spent: a single 0.3 ms run is off by up
+#: to 23 % on a loaded machine, the minimum over ~60 runs by −0.3 % .. +0.5 % (12 repeats).
 COST_SECONDS_MIN = 0.02
 COST_SECONDS_CAP = 0.25
 COST_SEED = 0
@@ -31,10 +30,9 @@ COST_CACHE_ENTRIES = 512
 #: any real run (the fastest measured, GGX compiled: 0.44 ms).
 COST_SECONDS_FLOOR = 1e-9
 #: A choice counts as cheaper when it costs below this fraction of the current model.
-#: The cost of one model re-measured 12 times on this 2-core machine spread by −9 % .. +1 %
-#: (GGX on the compiled path, 0.31 ms, load 4.4) and −3 % .. +7 % (Karis, 2.6 ms, load
-#: 2.7): 0.85 keeps an equal-cost choice (separable G2 on the compiled path) from being
-#: recommended on noise.
+#: The cost of one model measured 12 times on a loaded 2-core machine spread by −9 % .. +1 %
+#: (GGX compiled, 0.31 ms) and −3 % .. +7 % (Karis, 2.6 ms): 0.85 keeps an equal-cost
+#: choice (separable G2, compiled) from being recommended on noise.
 CHEAPER_BELOW = 0.85
 #: Continuous values that do not change what code runs (the cost key leaves them out).
 _CONTINUOUS = {"alpha", "alpha_y", "roughness", "anisotropy", "aniso_map", "kd", "f0", "f90",

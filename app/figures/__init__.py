@@ -7,11 +7,15 @@ import base64
 import numpy as np
 import plotly.io as pio
 
+from .advise import advise_figure
+from .checks import checks_figure
 from .curves import albedo_figure, g1_figure, ndf_figure
 from .fresnel import fresnel_figure
 from .images import lit_sphere_figure, slice_figure
 from .lobes import lobe3d_figure, lobe_figure
 from .maps import g2_figure
+from .samples import samples_figure
+from .tradeoff import tradeoff_figure
 
 
 # Trace arrays of at least this many numbers go out as Plotly typed arrays of float32
@@ -45,22 +49,6 @@ def to_json(figure: dict) -> str:
     return pio.to_json({**figure, "data": data}, validate=False, remove_uids=False)
 
 
-__all__ = ["albedo_figure", "fresnel_figure", "g1_figure", "g2_figure", "lobe3d_figure",
-           "lobe_figure", "ndf_figure", "to_json",
-           "lit_sphere_figure", "slice_figure"]
-
-from .samples import samples_figure  # noqa: E402
-
-__all__ += ["samples_figure"]
-
-from .tradeoff import tradeoff_figure  # noqa: E402
-
-__all__ += ["tradeoff_figure"]
-
-from .advise import advise_figure  # noqa: E402
-
-__all__ += ["advise_figure"]
-
-from .checks import checks_figure  # noqa: E402
-
-__all__ += ["checks_figure"]
+__all__ = ["advise_figure", "albedo_figure", "checks_figure", "fresnel_figure", "g1_figure",
+           "g2_figure", "lit_sphere_figure", "lobe3d_figure", "lobe_figure", "ndf_figure",
+           "samples_figure", "slice_figure", "to_json", "tradeoff_figure"]
