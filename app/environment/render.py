@@ -154,19 +154,18 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
         vm = np.einsum("pi,psi->ps", v, m)
         dirs.append(2.0 * vm[..., None] * m - v[:, None, :])
     l = np.concatenate(dirs, axis=1)                                    # (P, N, 3) local
-    mu_l = l[..., 2]
-    world_l = np.einsum("pji,psj->psi", frame, l)
-    pdf = n_cos * np.maximum(mu_l, 0.0) / np.pi
+    up = l[..., 2] > 0                  # every term below is evaluated where l is upper only
+    pixel = np.broadcast_to(np.arange(len(v))[:, None], up.shape)[up]
+    lu, vu = l[up], v[pixel]
+    world = np.einsum("mji,mj->mi", frame[pixel], lu)
+    pdf = n_cos * lu[:, 2] / np.pi
     if n_env:
-        pdf = pdf + n_env * env_pdf.pdf(world_l)
+        pdf = pdf + n_env * env_pdf.pdf(world)
     if n_vndf:
-        pdf = pdf + n_vndf * _vndf_pdf(brdf.ndf, l, v)
-    up = (mu_l > 0) & (pdf > 0)
-    f = np.zeros(l.shape)
-    f[up] = _f_rgb(brdf, l[up], np.broadcast_to(v[:, None, :], l.shape)[up])
-    L = env.radiance(world_l, key, colour)
-    weight = np.where(up[..., None], f * L * np.where(up, mu_l, 0.0)[..., None]
-                      / np.where(up, pdf, 1.0)[..., None], 0.0)                # (P, N, 3)
+        pdf = pdf + n_vndf * _vndf_pdf(brdf.ndf, lu, vu)
+    f = _f_rgb(brdf, lu, vu)
+    weight = np.zeros(l.shape)                                          # (P, N, 3)
+    weight[up] = f * env.radiance(world, key, colour) * (lu[:, 2] / pdf)[:, None]
     L_o = weight.sum(axis=1)
     lum = weight @ np.array([0.2126, 0.7152, 0.0722]) * samples        # one-sample estimates
     std_error = lum.std(axis=1, ddof=1) / np.sqrt(samples)
@@ -189,20 +188,12 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
 
 
 def _vndf_pdf(ndf, l, v) -> np.ndarray:
-    """Density of l reflected about visible normals: G1(v) D(h) / (4 μ_v) (Heitz 2018),
-    0 where h does not exist or v·h ≤ 0."""
-    vb = np.broadcast_to(v[:, None, :], l.shape)
-    s = l + vb
-    norm = np.sqrt(np.einsum("...i,...i->...", s, s))
-    ok = norm > 0
-    h = np.where(ok[..., None], s / np.where(ok, norm, 1.0)[..., None], np.array([0.0, 0.0, 1.0]))
-    vh = np.sum(vb * h, axis=-1)
-    ok &= (vh > 0) & (h[..., 2] > 0)
-    D = np.zeros(l.shape[:-1])
-    D[ok] = ndf.D(h[ok])
-    mu_v = v[:, 2][:, None]
-    G1 = mu_v / (mu_v + ndf.mu_Lambda(v)[:, None])
-    return np.where(ok, G1 * D / (4.0 * mu_v), 0.0)
+    """Density of l reflected about visible normals, for pairs l, v (m, 3) both upper:
+    G1(v) D(h) / (4 μ_v) (Heitz 2018); h = (l + v)/‖l + v‖ exists and v·h > 0 there."""
+    s = l + v
+    h = s / np.sqrt(np.einsum("mi,mi->m", s, s))[:, None]
+    mu_v = v[:, 2]
+    return mu_v / (mu_v + ndf.mu_Lambda(v)) * ndf.D(h) / (4.0 * mu_v)
 
 
 #: The point light's irradiance at normal incidence: π, so a white Lambertian facing it
