@@ -88,9 +88,6 @@ def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_pa
     fitted_alpha = page.evaluate("() => window.__brdf.state.alpha")
     assert 0.07 < fitted_alpha < 0.1              # one GGX lobe through the two (0.06, 0.3)
     page.wait_for_function("() => window.__brdf.pending() === 0")
-    # the picture is of the data and the panels: the shader tools below them step aside
-    page.add_style_tag(content="#shader-tools { display: none; }")
-    page.wait_for_timeout(300)
     page.screenshot(path=str(DOCS / "screenshot-data.png"), full_page=False)
     assert "data (r)" in plot(page, "lobe")["names"]
     assert not [p for p in page_log.problems() if "/datasets" in p or "/fit" in p], page_log.problems()
