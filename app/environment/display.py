@@ -31,8 +31,7 @@ def sphere_figure(data: dict, exposure_ev: float, title: str) -> dict:
     return {"data": [{"type": "image", "source": f"data:image/png;base64,{encoded}",
                       "x0": -1.0 + 1.0 / n, "dx": 2.0 / n, "y0": 1.0 - 1.0 / n, "dy": -2.0 / n,
                       "hoverinfo": "skip"}],
-            "layout": {"title": {"text": title}, "xaxis": {"visible": False, "scaleanchor": "y"},
+            "layout": {"title": {"text": f"{title}<br><sub>{caption}</sub>"},
+                       "xaxis": {"visible": False, "scaleanchor": "y"},
                        "yaxis": {"visible": False, "autorange": "reversed"},
-                       "annotations": [{"text": caption, "showarrow": False, "xref": "paper",
-                                        "yref": "paper", "x": 0.5, "y": -0.05}],
-                       "margin": {"l": 10, "r": 10, "t": 40, "b": 30}}}
+                       "margin": {"l": 10, "r": 10, "t": 60, "b": 10}}}
