@@ -197,6 +197,12 @@ def test_new_models_through_the_api(throwaway):
         import ndf_t3_throwaway, fresnel_constant_throwaway
         from fastapi.testclient import TestClient
         from app.main import create_app
+        from app.model import make_spec
+        from app.integrate import tables
+        # the tables first, outside a request (as the server's background builder would):
+        # how long they take on a loaded machine is not what is tested here
+        tables.table_for(make_spec(ndf="t3_throwaway", fresnel="none", alpha=0.5).brdf())
+        tables.table_for(make_spec(fresnel="none").brdf())
         c = TestClient(create_app())
         models = c.get("/api/v1/models").json()
         text = json.dumps(models)
