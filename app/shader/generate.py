@@ -43,6 +43,9 @@ def fresnel_channels(fresnel) -> tuple[str, list[dict]]:
 
 
 def program(spec: ModelSpec) -> Program:
+    if spec.values.get("model", "microfacet") != "microfacet":
+        raise ParameterError("model", f"code generation writes model=microfacet only; got "
+                                      f"model={spec.values['model']}")
     diffuse = spec.values.get("diffuse", "lambert")
     if diffuse != "lambert":
         raise ParameterError("diffuse", f"code generation writes the diffuse term as Lambert's kd/π only; "

@@ -140,3 +140,11 @@ def test_unknown_language_is_a_422_naming_it(client):
     detail = res.json()["detail"][0]
     assert detail["loc"][-1] == "lang"
     assert all(name in detail["msg"] for name in ("glsl", "hlsl", "python"))
+
+
+@pytest.mark.parametrize("query, param", [({"model": "principled"}, "model"), ({"diffuse": "oren_nayar"}, "diffuse")])
+def test_models_it_cannot_write_are_a_422(client, query, param):
+    """A model the generator does not write is refused, never written as something else."""
+    res = client.get("/api/v1/code", params={**query, "lang": "glsl"})
+    assert res.status_code == 422, res.text[:300]
+    assert res.json()["detail"][0]["loc"][-1] == param
