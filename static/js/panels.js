@@ -20,7 +20,9 @@ function panelFields(view) {
   const geometry = new Set(reg.models.geometry.map((p) => p.name));
   const hint = hintOf(view.name);
   const own = new Set(hint.fields || []);
+  // a number without a default (the quadrature's fixed order) is the API's to choose
   return view.fields.filter((f) => (own.has(f.name) || fieldRole(f) !== "resolution") && !geometry.has(f.name)
+    && (f.default !== null && f.default !== undefined || f.type === "boolean" || !!f.enum)
     && !(hint.slice && f.name === "phi_deg")
     && (f.type === "boolean" || f.enum || ((f.type === "number" || f.type === "integer")
                                            && Number.isFinite(f.minimum) && Number.isFinite(f.maximum))));
