@@ -138,7 +138,10 @@ class DifferenceQuery(schemas.ModelQuery):
             description="relative_error = (data − model)/model where the model is positive; "
                         "max_relative_error is the largest in magnitude, `where` its angles.")
 def difference(request: Request, data_id: DataId, q: Annotated[DifferenceQuery, Query()]) -> Response:
-    spec = make_spec(**schemas.model_values(q))
+    values = schemas.model_values(q)
+    if values.get("model") != "principled":      # the data's channel, not the model's
+        values.pop("channel", None)
+    spec = make_spec(**values)
     data, _ = store(request).get(data_id, "data_id", "path")
     result = compare.difference(data, spec.brdf(), q.channel, q.max_points)
     return json_response({"id": data_id, "model": fitting.as_model(spec.values), **result})

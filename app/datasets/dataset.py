@@ -18,7 +18,6 @@ from . import merl
 
 #: Rec. 709 / sRGB luminance weights of linear R, G, B (ITU-R BT.709)
 LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
-CHANNELS = ("r", "g", "b", "luminance")
 
 
 def angles_deg(w: np.ndarray):
@@ -96,14 +95,6 @@ class BrdfData:
         else:
             l, v, values = self.l[index], self.v[index], self.f[:, index]
         return l, v, select(values, self.channels, channel), note
-
-    def at(self, l, v, channel: str | None):
-        """(f, measured) at any direction pairs: the MERL table's nearest cell; None for
-        samples, which hold values only where they were taken."""
-        if self.table is None:
-            return None
-        values = merl.lookup(self.table, l, v)
-        return select(values, self.channels, channel), (values >= 0).all(axis=0)
 
 
 @dataclass(frozen=True, eq=False)

@@ -16,7 +16,7 @@ from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
 from scipy.spatial import ConvexHull, QhullError
 
 from . import merl
-from .dataset import BrdfData, TermData, angles_deg, select
+from .dataset import BrdfData, TermData, angles_deg
 
 #: cosines μ_v of the view directions at which E is given for a MERL table
 MU = np.round(np.linspace(0.1, 1.0, 10), 6)
@@ -222,5 +222,3 @@ def _term(data: TermData) -> dict:
                                   "points − every other point|"}
     return out
 
-
-__all__ = ["summarize", "select"]
