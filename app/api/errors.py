@@ -41,6 +41,7 @@ def _safe(status_of):
                 log.exception("error handler failed for %s", type(exc).__name__)
                 return Response(b'{"detail":"error"}', status_code=status_of(exc),
                                 media_type="application/json")
+        safe.__wrapped__ = handler
         return safe
     return wrap
 
@@ -80,6 +81,15 @@ def busy_handler(exc: Busy) -> Response:
                     headers={"Retry-After": str(exc.retry_after), "Cache-Control": "no-store"})
 
 
+@_safe(lambda exc: 503)
+def memory_handler(exc: MemoryError) -> Response:
+    """Out of memory is the machine's state, not the input's fault (the cost model refuses
+    what could never fit): busy, retry."""
+    log.warning("out of memory answering a request: %r", exc)
+    return busy_handler.__wrapped__(Busy("the server has not enough free memory for this "
+                                         "request now: retry", retry_after=5, what="memory"))
+
+
 async def internal_error_handler(request: Request, exc: Exception) -> Response:
     # Never a stack trace or a file path in a response: the trace goes to the log.
     log.exception("unhandled error in %s %s", request.method, request.url.path)
@@ -90,6 +100,7 @@ def install(app) -> None:
     app.add_exception_handler(RequestValidationError, validation_handler)
     app.add_exception_handler(ParameterError, parameter_handler)
     app.add_exception_handler(Busy, busy_handler)
+    app.add_exception_handler(MemoryError, memory_handler)
     app.add_exception_handler(Exception, internal_error_handler)
 
 

@@ -1,7 +1,8 @@
 """The request guard: refuse what no route should see (a query string too long, a
-scalar parameter given twice, a body too large, a query string sent to a body-only
-operation), list every method of a path in a 405, and open the request's time budget
-(BRDF_MAX_SECONDS)."""
+scalar parameter given twice, a number written as no client writes one, a body too large,
+with both Content-Length and Transfer-Encoding, or not strict JSON (strict.py), a query
+string sent to a body-only operation), list every method of a path in a 405, and open
+the request's time budget (BRDF_MAX_SECONDS)."""
 from __future__ import annotations
 
 import json
@@ -14,6 +15,7 @@ from starlette.datastructures import Headers, MutableHeaders
 from ...config import Settings
 from ...integrate import budget
 from ..openapi import operations
+from . import strict
 
 
 def _json_error(status: int, loc: list, msg: str, kind: str) -> tuple[dict, bytes]:
@@ -45,6 +47,7 @@ class RequestGuard:
         self.app = app
         self.fastapi_app = fastapi_app
         self.settings = settings
+        self._numeric_names: frozenset[str] | None = None
 
     def _operation(self, scope) -> dict | None:
         return operations(self.fastapi_app).operation(scope["path"], scope["method"])
@@ -90,6 +93,12 @@ class RequestGuard:
                                   f"{k}: this endpoint takes its parameters in the JSON body, "
                                   "not the query string", "extra_forbidden")
                 return
+            try:
+                strict.check_query(parse_qsl(qs.decode("latin-1"), keep_blank_values=True),
+                                   self._operation(scope))
+            except strict.Refusal as r:
+                await _send_error(send, r.status, r.loc, r.message, r.kind)
+                return
             repeated = sorted(k for k, c in counts.items() if c > 1)
             if repeated:
                 lists = self._list_params(scope)
@@ -102,12 +111,20 @@ class RequestGuard:
                     return
         limit_name = self._body_limit(scope)
         limit = getattr(s, limit_name)
-        length = Headers(scope=scope).get("content-length")
+        headers = Headers(scope=scope)
+        length = headers.get("content-length")
+        if length is not None and "transfer-encoding" in headers:
+            # RFC 9112 6.1: a request with both is a smuggling vector; refused, not guessed
+            await _send_error(send, 400, ["header", "transfer-encoding"],
+                              "Content-Length and Transfer-Encoding together: send one",
+                              "ambiguous_length")
+            return
         if length is not None and length.isdigit() and int(length) > limit:
             await _send_error(send, 413, ["body"], self._body_message(int(length), limit_name),
                               "body_too_large")
             return
-        if length is None and scope["method"] in ("POST", "PUT", "PATCH"):
+        judge = self._json_body(scope, headers)
+        if (length is None or judge) and scope["method"] in ("POST", "PUT", "PATCH"):
             # Chunked: read up to the limit before the route sees any of it (the route's
             # body reader would turn an error raised mid-stream into a vague 400).
             messages, received = [], 0
@@ -121,6 +138,14 @@ class RequestGuard:
                     return
                 if message["type"] != "http.request" or not message.get("more_body", False):
                     break
+            if judge:
+                try:
+                    await run_in_threadpool(strict.parse_json,
+                                            b"".join(m.get("body", b"") for m in messages),
+                                            self._numeric(), s.max_batch)
+                except strict.Refusal as r:
+                    await _send_error(send, r.status, r.loc, r.message, r.kind)
+                    return
             replay = iter(messages)
 
             async def receive_buffered():
@@ -152,6 +177,18 @@ class RequestGuard:
 
         with budget.limit(s.max_seconds) as request_budget:
             await self.app(scope, receive, send_fixed)
+
+    def _json_body(self, scope, headers: Headers) -> bool:
+        """A JSON body for an operation that reads one: judged (strict.py) before the route."""
+        op = self._operation(scope)
+        content = ((op or {}).get("requestBody") or {}).get("content", {})
+        kind = headers.get("content-type", "application/json").split(";")[0].strip().lower()
+        return "application/json" in content and kind in ("application/json", "")
+
+    def _numeric(self) -> frozenset[str]:
+        if self._numeric_names is None:
+            self._numeric_names = strict.numeric_names(self.fastapi_app.openapi())
+        return self._numeric_names
 
     def _body_limit(self, scope) -> str:
         """The Settings field that limits this operation's body: ``x-body-limit`` of the
