@@ -53,6 +53,9 @@ IN_REQUEST_SHARE = 0.25
 #: μ values of the probe that predicts a build's cost (at α = PROBE_ALPHA).
 PROBE_POINTS = 4
 PROBE_ALPHA = 0.25
+#: Build time assumed for the start-up tables (compiled, 56²: 1–3 s idle), for the
+#: Retry-After of a request that arrives while they build
+STARTUP_GUESS_SECONDS = 5.0
 #: Retry-After when a build's remaining time is unknown (another worker holds its lock).
 RETRY_UNKNOWN = 5
 
@@ -357,8 +360,8 @@ def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) 
                         path, exc)
     for key in (keys or []):
         if _ready(key) is None:
-            try:
-                _queue_build(key, predict_seconds(key))
+            try:    # not probed: start-up is not delayed; the builder takes its time
+                _queue_build(key, STARTUP_GUESS_SECONDS)
             except Busy:
                 break
     return _state["directory"]
