@@ -8,9 +8,10 @@ it must hold at once (outputs, one chunk of work). Then :func:`require`:
 * predicted beyond the whole time budget (BRDF_MAX_SECONDS + GRACE_SECONDS) or the memory budget
   (BRDF_MAX_REQUEST_BYTES): the input asks too much whatever the load — ``TooLarge``
   (413) naming the parameter and the setting, before any work;
-* within the budget but beyond what is left of it (the request waited for a worker
-  thread, or an earlier part of it took the time): the machine is busy — ``Busy``
-  (503 + Retry-After).
+* within the budget but beyond what is left of it before the request's first work (it
+  waited for a worker thread): the machine is busy — ``Busy`` (503 + Retry-After).
+  Later parts of a request are not refused (that would throw away what was computed):
+  adaptive loops cut themselves short, fixed work in chunks stops at the deadline.
 
 Outside a request there is no budget and nothing is refused.
 """
@@ -94,7 +95,11 @@ def require(seconds: float, nbytes: int, param: str, what: str) -> None:
         raise TooLarge(param, f"{what} is predicted to take ~{predicted:.1f} s, beyond "
                               f"BRDF_MAX_SECONDS={b.seconds:g}: ask for less")
     left = b.seconds + GRACE_SECONDS - b.elapsed()
-    if predicted > left:
+    worked = getattr(b, "worked", False)
+    b.worked = True
+    # Busy only before the request's first work: afterwards a refusal would throw away
+    # what was computed, and the adaptive loops cut themselves short instead.
+    if predicted > left and not worked:
         raise Busy(f"{what} needs ~{predicted:.1f} s and this request has {max(left, 0):.1f} s "
                    f"of BRDF_MAX_SECONDS={b.seconds:g} left (the server is busy): retry",
                    retry_after=int(np.ceil(predicted)), what="time budget")
