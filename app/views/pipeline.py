@@ -7,7 +7,7 @@ from dataclasses import dataclass
 
 from ..config import Settings
 from ..errors import ParameterError
-from ..figures.overlay import overlay
+from ..figures.overlay import overlay, overlayable
 from ..figures.style import model_title
 from ..model import OPTIONS, ModelSpec
 from . import schemas
@@ -47,6 +47,8 @@ def compare(view: View, queries: list, labels: list[str] | None, caption: str | 
     (None: what differs between the models), titled "<the view's figure title> —
     <caption>" (None: the labels compared). A figure that is not a curve is refused
     naming ``param``; an error of query k is prefixed by ``where[k]`` when given."""
+    if len(queries) > 1:
+        _refuse_unoverlayable(view, queries[0], settings, param)
     results = []
     for k, query in enumerate(queries):
         try:
@@ -60,6 +62,22 @@ def compare(view: View, queries: list, labels: list[str] | None, caption: str | 
     figures = [r.figure() for r in results]
     title = None if caption is None else f"{_title_text(figures[0]).split(' — ')[0]} — {caption}"
     return Comparison(results, labels, overlay(figures, labels, title, param))
+
+
+#: grid and curve sizes of the probe that tells, in milliseconds, whether a view's figures
+#: can be overlaid at all (a 3-D surface cannot): eight 500×500 lobes took 34 s to compute
+#: before that answer
+PROBE_SIZE = 5
+
+
+def _refuse_unoverlayable(view: View, query, settings: Settings, param: str) -> None:
+    small = {k: PROBE_SIZE for k in ("n", "n_theta", "n_phi") if k in type(query).model_fields}
+    try:
+        probe = run(view, query.model_copy(update=small), settings).figure()
+    except ParameterError:
+        return          # the query's own error is reported by the loop, with its place
+    if not overlayable(probe):
+        overlay([probe, probe], ["", ""], None, param)    # raises, with overlay's reason
 
 
 def difference_labels(specs: list[dict]) -> list[str]:

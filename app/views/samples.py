@@ -13,8 +13,9 @@ from .view import View, limit
 
 def _check_samples(q, s: Settings):
     limit("n", q.n, s.max_samples, "BRDF_MAX_SAMPLES")
+    brdf = schemas.spec_of(q).brdf()         # a model error names its own parameter
     try:
-        SAMPLERS[q.sampler].check(schemas.spec_of(q).brdf())
+        SAMPLERS[q.sampler].check(brdf)
     except ValueError as exc:
         raise ParameterError("sampler", str(exc)) from None
 
