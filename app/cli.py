@@ -28,9 +28,10 @@ def _serve(argv: list[str]) -> int:
     args = parser.parse_args(argv)
     import uvicorn
 
-    from .server import HTTP_PROTOCOL
+    from .server import HTTP_PROTOCOL, WORKER_HEALTHCHECK_S
     uvicorn.run("app.main:app", host=args.host, port=args.port, http=HTTP_PROTOCOL,
-                workers=None if args.reload else args.workers, reload=args.reload)
+                workers=None if args.reload else args.workers, reload=args.reload,
+                timeout_worker_healthcheck=WORKER_HEALTHCHECK_S)
     return 0
 
 

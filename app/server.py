@@ -26,3 +26,11 @@ class NoDelayHTTPProtocol(AutoHTTPProtocol):
             with contextlib.suppress(OSError):
                 sock.setsockopt(socket.IPPROTO_TCP, socket.TCP_NODELAY, 1)
         super().connection_made(transport)
+
+
+#: Seconds uvicorn's supervisor waits for a worker to answer its health check before it
+#: kills and restarts it (uvicorn's default is 5). A worker computing under heavy load
+#: answers late but is alive: the soak (bench/soak.py, load average 20 on 2 cores) saw
+#: four workers killed mid-request at 5 s, each a dropped connection. Three times the
+#: longest a request may compute (BRDF_MAX_SECONDS + 1 s, default 10 s).
+WORKER_HEALTHCHECK_S = 33

@@ -34,6 +34,8 @@ from pathlib import Path
 import common  # first: puts the checkout on sys.path
 import httpx
 
+from app.server import WORKER_HEALTHCHECK_S
+
 SLIDER = [
     "/api/v1/figures/lobe?theta_i_deg={t}&alpha={a}",
     "/api/v1/figures/ndf?alpha={a}",
@@ -180,6 +182,7 @@ def main() -> None:
     log_path = Path(tempfile.gettempdir()) / f"brdf-soak-{os.getpid()}.log"
     proc = subprocess.Popen(
         [sys.executable, "-m", "uvicorn", "--factory", "app.main:create_app", "--workers", "2",
+         "--timeout-worker-healthcheck", str(WORKER_HEALTHCHECK_S),
          "--host", "127.0.0.1", "--port", str(port), "--log-level", "warning"],
         cwd=common.ROOT, stdout=open(log_path, "wb"), stderr=subprocess.STDOUT,
         env={**os.environ, "PYTHONPATH": str(common.ROOT), "BRDF_CACHE_DIR": cache})
