@@ -30,7 +30,8 @@ class NoDelayHTTPProtocol(AutoHTTPProtocol):
 
 #: Seconds uvicorn's supervisor waits for a worker to answer its health check before it
 #: kills and restarts it (uvicorn's default is 5). A worker computing under heavy load
-#: answers late but is alive: the soak (bench/soak.py, load average 20 on 2 cores) saw
-#: four workers killed mid-request at 5 s, each a dropped connection. Three times the
-#: longest a request may compute (BRDF_MAX_SECONDS + 1 s, default 10 s).
+#: answers late but is alive: in the soak (bench/soak.py, load average 20 on 2 cores) a
+#: worker was restarted four times (its memory dropped to a fresh process's) with three
+#: dropped connections, and no crash in the log: the 5 s check is what restarts a live
+#: worker. Three times the longest a request may compute (BRDF_MAX_SECONDS + 1 s).
 WORKER_HEALTHCHECK_S = 33
