@@ -10,6 +10,7 @@ from collections import Counter
 from urllib.parse import parse_qsl
 
 from fastapi import FastAPI
+from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import Headers, MutableHeaders
 
 from ...config import Settings
