@@ -152,3 +152,18 @@ def test_without_a_started_store_a_slow_table_is_busy_and_nothing_builds(monkeyp
     with budget.limit(10.0), pytest.raises(Busy) as busy:
         table_store.table(_ggx_key(ndf="beckmann"))
     assert "no background builder" in busy.value.message and table_store.building() == []
+
+
+def test_the_code_digest_ignores_kernels_generated_at_run_time(monkeypatch):
+    """Kernels write app/kernels/_generated/*.py as models compile: a worker that compiled
+    one more model must still find the tables another worker saved."""
+    generated = Path(table_store.__file__).resolve().parents[1] / "kernels" / "_generated"
+    monkeypatch.setattr(table_store, "_version", [])
+    before = table_store.code_version()
+    extra = generated / "brdf_kernel_test_digest.py"
+    extra.write_text("# written by a test\n")
+    try:
+        monkeypatch.setattr(table_store, "_version", [])
+        assert table_store.code_version() == before
+    finally:
+        extra.unlink()
