@@ -124,7 +124,7 @@ def albedo_cache() -> dict:
     import warnings
     warnings.simplefilter("ignore")
     from fastapi.testclient import TestClient
-    from app.api import views
+    from app.views import albedo as views
     from app.config import Settings
     from app.main import create_app
     c = TestClient(create_app(Settings()))
@@ -172,7 +172,8 @@ def main() -> None:
         for seconds in ((10.0,) if args.quick else (1e9, 10.0)):
             key = f"{name} [budget {'off' if seconds > 1e6 else f'{seconds:g} s'}]"
             common.log(key)
-            result["cases"][key] = run_case(case, seconds)
+            result["cases"][key] = r = run_case(case, seconds)
+            common.log(f"  {r['status']} wall {r['wall']:.2f} s, request {r['request_mb']:.0f} MB")
     result["albedo_cache"] = albedo_cache()
     result["gzip_plotly_js"] = gzip_levels()
     if args.json:
