@@ -22,6 +22,7 @@ from pydantic import BaseModel, ConfigDict, Field, ValidationError
 from .. import figures
 from ..errors import ParameterError
 from ..export import build
+from ..figures.titles import file_stem
 from ..export.image import ImageRenderer, get_renderer
 from ..views import VIEWS, View, compare, lookup, schemas
 
@@ -44,14 +45,15 @@ _UNAVAILABLE = {"description": "No Chromium on the server: the message says what
 
 
 def _filename(view: View, q, ext: str) -> str:
-    """lobe-ggx-alpha0.3.svg: the kind and the model, safe for any file system."""
-    parts = [view.name, getattr(q, "ndf", "") or ""]
+    """The view and every parameter that differs from the defaults (the model's and the
+    view's own), as the figure's title names them: two slides never share a file name."""
+    values = schemas.spec_of(q).values      # valid: the route computed it already
     if getattr(q, "vary", None):
-        parts.append(f"vary-{q.vary}")
-    elif getattr(q, "alpha", None) is not None:
-        parts.append(f"alpha{q.alpha:g}")
-    name = "-".join(p for p in parts if p)
-    return re.sub(r"[^A-Za-z0-9._-]", "_", name) + f".{ext}"
+        return f"{file_stem(view.name, values)}-vary-{re.sub(r'[^A-Za-z0-9._-]', '_', q.vary)}.{ext}"
+    own = {name: getattr(q, name) for name in view.fields()
+           if name not in build.EXPORT_FIELDS and name in q.model_fields_set}
+    defaults = {name: f.default for name, f in type(q).model_fields.items()}
+    return f"{file_stem(view.name, values, own, defaults)}.{ext}"
 
 
 def _timing(**seconds: float) -> str:
