@@ -53,7 +53,7 @@ def test_svg_of_every_view_parses(image_client, kind):
     root = ET.fromstring(r.content)
     assert root.tag == f"{SVG_NS}svg"
     assert (root.get("width"), root.get("height")) == ("640", "400")
-    texts = " ".join(t.text or "" for t in root.iter(f"{SVG_NS}text"))
+    texts = " ".join("".join(t.itertext()) for t in root.iter(f"{SVG_NS}text"))  # tspans too
     assert texts.strip()                       # titles and tick labels were drawn
 
 
