@@ -121,6 +121,13 @@ fallback = APIRouter(prefix="/api/v1")
 
 
 @fallback.api_route("/{name}", methods=["GET", "POST"], include_in_schema=False)
-def unknown(name: str):
-    lookup(name)
-    raise HTTPException(405, "Method Not Allowed")       # a view's data route takes GET
+def unknown(request: Request, name: str):
+    """A path that exists with other methods is a 405 naming them (POST /api/v1/health);
+    an unknown name is a 404 listing the views; a view's data route takes GET only."""
+    path = f"/api/v1/{name}"
+    operations = request.app.openapi().get("paths", {}).get(path, {})   # built once, cached
+    allowed = sorted(m.upper() for m in operations if m in ("get", "post", "put", "delete"))
+    if not allowed:
+        lookup(name)
+        allowed = ["GET"]
+    raise HTTPException(405, "Method Not Allowed", headers={"Allow": ", ".join(allowed)})

@@ -29,3 +29,12 @@ def test_name_spells_the_differences(client):
     for part in ("lobe", "ggx", "dielectric", "ior1.33", "theta_i_deg60"):
         assert part in name, name
     assert re.fullmatch(r"[A-Za-z0-9._-]+\.csv", name)
+
+
+def test_a_get_only_path_answers_post_with_405_and_allow(client):
+    """POST to a path that exists only as GET is 405 naming GET, not a 404 'unknown view'."""
+    for path in ("/api/v1/health", "/api/v1/models", "/api/v1/lobe"):
+        r = client.post(path, json={})
+        assert r.status_code == 405, (path, r.status_code, r.text)
+        assert r.headers["allow"] == "GET"
+    assert client.post("/api/v1/no_such_view", json={}).status_code == 404
