@@ -41,6 +41,10 @@ def _check_advise(q: AdviseQuery, s: Settings):
         raise ParameterError("alpha_min", f"alpha_min={q.alpha_min:g} is above alpha_max="
                                       f"{q.alpha_max:g}: the range needs alpha_min ≤ alpha_max")
     given = schemas.model_values(q)
+    if given.get("material"):
+        raise ParameterError("material", "material: advise compares one Fresnel per choice, not a "
+                             "measured material's three channels; give fresnel=conductor with "
+                             "ior and k (or fresnel=dielectric with ior) instead")
     if is_anisotropic(schemas.spec_of(q).values):
         name = "anisotropy" if "anisotropy" in given else "alpha_y"
         raise ParameterError(name, f"{name}: advise is for isotropic models (alpha_y = alpha): the "

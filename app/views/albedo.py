@@ -61,7 +61,13 @@ def limits(q, s: Settings) -> None:
         raise ParameterError("samples", f"{count} μ values × samples={q.samples} = "
                              f"{count * q.samples} Monte Carlo evaluations exceed the limit "
                              f"{s.max_mc_evaluations} (setting BRDF_MAX_MC_EVALUATIONS)")
-    worst = max_evaluations(schemas.spec_of(q).brdf(), count)
+    brdf = schemas.spec_of(q).brdf()
+    fresnel = getattr(brdf, "fresnel", None)
+    if q.method == "table" and fresnel is not None and fresnel.schlick_basis() is None:
+        # decided here, before any work (the table method would refuse it after computing)
+        raise ParameterError("method", "method=table needs a Fresnel on the Schlick basis (none "
+                             f"or schlick: E is tabulated per basis function); got fresnel={fresnel.name}")
+    worst = max_evaluations(brdf, count)
     if worst > s.max_evaluations:
         raise ParameterError(where, f"{count} μ values may need up to {worst:.3g} integrand "
                              "evaluations (every μ refined to the highest order); the limit is "

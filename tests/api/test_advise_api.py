@@ -87,3 +87,12 @@ def test_figure_is_a_table_with_the_recommendation_highlighted(client):
     chosen = 0 if not d["changes"] else 1 + [e["changes"] for e in d["alternatives"]].index(d["changes"])
     assert fills[chosen] == RECOMMENDED_FILL and fills.count(RECOMMENDED_FILL) == 1
     assert "Recommended" in fig["layout"]["title"]["text"]
+
+
+def test_material_is_refused_before_work_not_a_500(client):
+    """advise with a measured material (RGB Fresnel) raised KeyError('ior'): a 500."""
+    r = client.get("/api/v1/advise", params={"material": "aluminum", "albedo_methods": "true"})
+    assert r.status_code == 422, r.text
+    assert r.json()["detail"][0]["loc"] == ["query", "material"]
+    r = client.get("/api/v1/albedo", params={"material": "aluminum", "method": "table"})
+    assert r.status_code == 422 and r.json()["detail"][0]["loc"] == ["query", "method"]
