@@ -41,6 +41,9 @@ def _check_advise(q: AdviseQuery, s: Settings):
         raise ParameterError("alpha_min", f"alpha_min={q.alpha_min:g} is above alpha_max="
                                       f"{q.alpha_max:g}: the range needs alpha_min ≤ alpha_max")
     given = schemas.model_values(q)
+    if given.get("model", "microfacet") != "microfacet":
+        raise ParameterError("model", "this analysis changes alpha, alpha_y of a microfacet "
+                             "model; it applies to model=microfacet only")
     if given.get("material"):
         raise ParameterError("material", "material: advise compares one Fresnel per choice, not a "
                              "measured material's three channels; give fresnel=conductor with "
