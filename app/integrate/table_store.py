@@ -68,7 +68,6 @@ _queue: "queue.Queue[tuple]" = queue.Queue(QUEUE_SIZE)
 _state = {"directory": None, "thread": None, "accepting": False}
 
 
-# ------------------------------------------------------------------ keys and versions
 
 def default_keys(brdfs) -> list[tuple]:
     """The tables of ``brdfs`` (the server passes its default models: GGX and Beckmann):
@@ -122,7 +121,6 @@ def _path(key: tuple) -> Path | None:
     return directory / f"table-{digest}.npz"
 
 
-# ----------------------------------------------------------------------- disk
 
 def _save(path: Path, key: tuple, t: tables.ETable) -> None:
     tmp = path.with_suffix(f".{os.getpid()}.tmp")
@@ -169,7 +167,6 @@ class _FileLock:
         self.f.close()
 
 
-# --------------------------------------------------------------------- memory
 
 def _nbytes(t: tables.ETable) -> int:
     coeffs = t.spline.get_coeffs()
@@ -199,7 +196,6 @@ def _ready(key: tuple) -> tables.ETable | None:
     return None
 
 
-# ----------------------------------------------------------------------- build
 
 def _build(key: tuple) -> tables.ETable:
     """Build (or, under the lock, find another worker's file), persist and remember."""
