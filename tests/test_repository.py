@@ -47,3 +47,12 @@ def test_no_pointer_to_documents_outside_the_repository():
             for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1)
             if FOREIGN.search(line) and p.name != "test_readme.py"]
     assert hits == []
+
+
+def test_every_folder_of_app_is_a_package_the_wheel_ships():
+    """setup.py lists the packages find_packages finds: a folder of modules without an
+    __init__.py (a namespace package) would work from the source tree and be missing from
+    the installed wheel (app.environment and app.lut once were)."""
+    folders = {p.parent for p in (ROOT / "app").rglob("*.py")
+               if "_generated" not in p.parts and "__pycache__" not in p.parts}
+    assert sorted(str(f.relative_to(ROOT)) for f in folders if not (f / "__init__.py").is_file()) == []
