@@ -172,7 +172,7 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
     image = np.full((n, n, 3), np.nan)
     image[on] = L_o
     mean = float(np.mean(L_o @ np.array([0.2126, 0.7152, 0.0722])))
-    return {"x": centres, "y": centres[::-1], "radiance": image,
+    return {"y": centres[::-1], "x": centres, "radiance": image,   # rows (y), then columns (x)
             "background": env.radiance(np.array([0.0, 0.0, -1.0]), key, colour),
             "samples": {"per_pixel": samples, "environment": n_env, "cosine": n_cos,
                         "visible_normals": n_vndf, "pixels": int(on.sum()), "evaluations": int(up.sum())},
@@ -214,5 +214,6 @@ def render_point(brdf, theta_deg: float, phi_deg: float, n: int, colour=(1.0, 1.
         L_o[lit] = _f_rgb(brdf, l[lit], v[lit]) * (l[lit, 2] * POINT_IRRADIANCE)[:, None] * colour
     image = np.full((n, n, 3), np.nan)
     image[on] = L_o
-    return {"x": centres, "y": centres[::-1], "radiance": image, "background": np.zeros(3),
+    return {"y": centres[::-1], "x": centres, "radiance": image,   # rows (y), then columns (x)
+            "background": np.zeros(3),
             "samples": None, "noise": None, "seconds": time.perf_counter() - t0}

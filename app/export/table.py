@@ -9,6 +9,9 @@ Layout rules, the same for every view (so a view added later exports unchanged):
   order the payload lists them (rows, then columns), and the table is "long": one row
   per grid point, ``theta_deg, phi_deg, f_per_sr`` (numpy C order, the last axis
   fastest). A grid dimension with no axis array of its length gets an index column;
+* a colour grid (an N-D array, N ≥ 3, whose last axis has the 3 channels of linear
+  RGB: the lit sphere's radiance) is three grids, ``radiance_r_per_sr``, ``_g_``, ``_b_``;
+  beside it a 3-vector (its background colour) is a scalar, ``0.02,0.02,0.02``;
 * scalars (E_avg, method, timing) go above the header as ``# name = value`` comment
   lines, with the model and view parameters (``pandas.read_csv(comment="#")`` and
   ``numpy.loadtxt`` skip them);
@@ -42,15 +45,28 @@ def _not_a_table(reason: str) -> ParameterError:
                           loc="path")
 
 
+#: the channels of a colour grid, in the order of its last axis
+CHANNELS = ("r", "g", "b")
+
+
 def column_name(key: str) -> str:
+    """``radiance`` → ``radiance_per_sr``; a channel keeps its unit last:
+    ``radiance_r`` → ``radiance_r_per_sr``."""
+    base, _, channel = key.rpartition("_")
+    if channel in CHANNELS and base in UNIT_SUFFIX:
+        return f"{base}_{channel}{UNIT_SUFFIX[base]}"
     return key + UNIT_SUFFIX.get(key, "")
 
 
 def json_key(column: str) -> str:
-    """The payload key a CSV column came from (inverse of :func:`column_name`)."""
+    """The payload key a CSV column came from (inverse of :func:`column_name`; a
+    channel's column gives ``radiance_r``)."""
     for key, suffix in UNIT_SUFFIX.items():
         if column == key + suffix:
             return key
+        for channel in CHANNELS:
+            if column == f"{key}_{channel}{suffix}":
+                return f"{key}_{channel}"
     return column
 
 
@@ -70,15 +86,31 @@ def _as_float(value) -> np.ndarray:
                     dtype=float).reshape(np.shape(value))
 
 
+def _is_colour_grid(a: np.ndarray) -> bool:
+    return a.ndim >= 3 and a.shape[-1] == len(CHANNELS)
+
+
 def split(payload: dict) -> tuple[dict[str, np.ndarray], dict]:
-    """Arrays (as float64) and scalars of a view's payload, in payload order."""
+    """Arrays (as float64) and scalars of a view's payload, in payload order; a colour
+    grid becomes one grid per channel, and a 3-vector beside it a scalar (the layout
+    rules above)."""
     arrays, scalars = {}, {}
     for key, value in payload.items():
         if _is_array(value):
             arrays[key] = _as_float(value)
         else:
             scalars[key] = value
-    return arrays, scalars
+    if not any(_is_colour_grid(a) for a in arrays.values()):
+        return arrays, scalars
+    out = {}
+    for key, a in arrays.items():
+        if _is_colour_grid(a):
+            out.update({f"{key}_{c}": a[..., i] for i, c in enumerate(CHANNELS)})
+        elif a.shape == (len(CHANNELS),):
+            scalars[key] = ",".join(_format_number(x) for x in a)
+        else:
+            out[key] = a
+    return out, scalars
 
 
 def columns(payload: dict) -> dict[str, np.ndarray]:

@@ -58,6 +58,15 @@ def test_csv_columns_match_the_json(client, kind):
         assert [r[i] for r in rows] == labels[k]
     keys = keys[len(labels):]
     rows = [r[len(labels):] for r in rows]
+    # a colour grid (last axis: r, g, b) is one column per channel; a 3-vector beside
+    # it (the background colour) is a comment
+    for k, a in list(arrays.items()):
+        if a.ndim >= 3 and a.shape[-1] == 3:
+            del arrays[k]
+            arrays.update({f"{k}_{c}": a[..., i] for i, c in enumerate("rgb")})
+    if any(k.endswith("_r") for k in arrays):
+        for k in [k for k, a in arrays.items() if a.shape == (3,)]:
+            assert [float(x) for x in comments[k].split(",")] == arrays.pop(k).tolist()
     # every array of the payload is a column, named after its key (plus its unit)
     assert set(keys) == set(arrays), (header, list(arrays))
     cols = {k: np.array([cell(r[i]) for r in rows]) for i, k in enumerate(keys)}
