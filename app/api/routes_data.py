@@ -158,9 +158,11 @@ class SamplesExportQuery(schemas.ModelQuery):
                         "direction below the horizon are marked not measured. ~35 MB.",
             responses={200: {"content": {"application/octet-stream": {
                 "schema": {"type": "string", "format": "binary"}}}},
-                       503: {"description": "The table would take longer than the request's "
-                                            "time budget (BRDF_MAX_SECONDS); Retry-After says "
-                                            "about how long it takes"}})
+                       413: {"description": "The table of this model takes longer than the "
+                                            "request's whole time budget (BRDF_MAX_SECONDS)"},
+                       503: {"description": "The table would take longer than what is left of "
+                                            "the request's time budget; Retry-After says about "
+                                            "how long it takes"}})
 def export_merl(q: Annotated[schemas.ModelQuery, Query()]) -> Response:
     spec = make_spec(**schemas.model_values(q))
     content = tabulate.merl_bytes(spec.brdf())
@@ -207,7 +209,9 @@ FIT_SHARE = 0.8
 @router.post("/fit", tags=["datasets"], summary="Fit a model to a data set (least squares)",
              description="Answers the fitted parameters with standard errors from the Jacobian "
                          "at the optimum, the residual, evaluations and seconds, and `model`: the "
-                         "whole fitted model, to send to any endpoint as it is.")
+                         "whole fitted model, to send to any endpoint as it is.",
+             responses={404: {"description": "No data set has the id in `data`"},
+                        410: {"description": "The data set in `data` has expired (evicted or deleted)"}})
 def fit(request: Request, body: Annotated[FitBody, Body(openapi_examples={"GGX to a MERL file": {
         "summary": "α, F0 and kd of GGX, red channel, log measure",
         "value": {"data": "3e071955855cb1a4a828bf3b009a1d2b", "model": {"ndf": "ggx", "alpha": 0.3},

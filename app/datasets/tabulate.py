@@ -7,7 +7,7 @@ import time
 
 import numpy as np
 
-from ..errors import Busy
+from ..errors import Busy, TooLarge
 from ..integrate import budget
 from ..physics.vectors import direction_deg
 from ..physics.brdf import BRDF
@@ -45,11 +45,13 @@ def merl_table(brdfs: list[BRDF]) -> np.ndarray:
 
 
 def _affordable(brdfs: list[BRDF]) -> None:
-    """Busy (503) before any work when the request's time budget (BRDF_MAX_SECONDS)
-    would not cover the table: its time is predicted from a few thousand pairs."""
+    """Before any work, refuse a table the request's time budget (BRDF_MAX_SECONDS) would
+    not cover, its time predicted from a few thousand pairs: 413 beyond the whole budget
+    (no retry helps), 503 beyond what is left of it."""
     request_budget = budget.current()
     if request_budget is None:
         return
+    spent_before = request_budget.elapsed()         # waiting, or earlier work of this request
     rng = np.random.default_rng(0)
     l, v = (direction_deg(rng.uniform(0, 90, CALIBRATION_PAIRS), rng.uniform(0, 360, CALIBRATION_PAIRS))
             for _ in range(2))
@@ -58,6 +60,11 @@ def _affordable(brdfs: list[BRDF]) -> None:
         brdf.f(l, v)
     # ~76 % of the cells are above the horizon (the others are not evaluated)
     predicted = (time.perf_counter() - start) * 0.76 * merl.CELLS / CALIBRATION_PAIRS
+    if request_budget.elapsed() - spent_before + predicted > request_budget.seconds:
+        raise TooLarge("model", f"a MERL table of this model takes ~{predicted:.1f} s here, beyond "
+                                f"the request's whole time budget (BRDF_MAX_SECONDS="
+                                f"{request_budget.seconds:g}): a model with closed-form masking "
+                                f"and one lobe is faster, or the server's budget can be raised")
     if not request_budget.affords(predicted):
         raise Busy(f"a MERL table of this model takes ~{predicted:.1f} s here, more than is left "
                    f"of the request's time budget (BRDF_MAX_SECONDS={request_budget.seconds:g})",

@@ -140,6 +140,15 @@ def test_the_store_is_bounded_and_says_when_an_id_expired():
     assert client.get(f"/api/v1/datasets/{ids[-1]}").status_code == 200
 
 
+def test_merl_export_beyond_the_whole_budget_is_413_naming_the_model():
+    # 1.46 M cells cannot be tabulated in 1 ms on any machine: no retry helps, so not 503
+    from app.config import Settings
+    with TestClient(create_app(Settings(max_seconds=0.001))) as tiny:
+        response = tiny.get("/api/v1/export/model.binary", params=known.model("r"))
+    assert response.status_code == 413, response.text
+    assert detail(response)["loc"] == ["query", "model"] and "BRDF_MAX_SECONDS" in detail(response)["msg"]
+
+
 def test_export_a_model_as_merl_and_as_samples(client):
     model = known.model("r")
     response = client.get("/api/v1/export/model.binary", params=model)
