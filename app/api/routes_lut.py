@@ -12,6 +12,7 @@ from ..errors import TooLarge
 from ..lut import build, check, export
 from ..lut.table import KINDS, QUANTISATIONS, make, orientation
 from ..model import make_spec
+from ..physics.ndf import NDFS
 from ..shader.generate import model_query
 from ..views import schemas
 from .encode import json_response
@@ -38,12 +39,25 @@ class LutQuery(schemas.ModelQuery):
     quantisation: Annotated[Literal[tuple(QUANTISATIONS)], Field(
         description="how the values are stored: unorm8, unorm16, float16, float32")] = "unorm16"
 
+    def check(self) -> None:
+        """The rules the schema cannot state, before any work (the fuzz test's oracle calls
+        this too): an option only where it applies, exact Smith masking."""
+        schemas.applies_where_given(self)
+        values = schemas.spec_of(self).values
+        build.check_masking(NDFS[values["ndf"]], values["masking"])
+
 
 class LutFileQuery(LutQuery):
     format: Annotated[Literal[export.FORMATS], Field(
         description="json (values and error), png (unorm8/16; RG tables in R and G), csv, c (header), "
                     "glsl, hlsl (array literals), f16 (zip: raw little-endian float16 + JSON side-car)")] = "json"
     per_texel: Annotated[bool, Field(description="json: include the per-texel error maps")] = True
+
+    def check(self) -> None:
+        """:meth:`LutQuery.check`, and a file format that holds the quantisation."""
+        super().check()
+        if self.format != "json":
+            export.check_format(self.format, self.quantisation)
 
 
 def _lut(q: LutQuery):
@@ -64,9 +78,11 @@ def _lobe_query(spec) -> str:
 
 @router.get("/lut", tags=["code"], summary="A lookup table users ship (split sum, DFG, Kulla-Conty) with its error",
             description="Texel centres on both axes; every answer carries its error against the converged "
-                        "integral: of the table, after quantisation, and after bilinear lookup.")
+                        "integral: of the table, after quantisation, and after bilinear lookup.",
+            responses={200: {"content": {"application/json": {},
+                                         **{media.split(";")[0]: {} for media in export.MEDIA.values()}}}})
 def lut(q: Annotated[LutFileQuery, Query()]) -> Response:
-    schemas.applies_where_given(q)
+    q.check()
     spec, table = _lut(q)
     errors = table.errors(q.quantisation)
     meta = _meta(spec, table, q, errors)
@@ -96,6 +112,7 @@ def lut(q: Annotated[LutFileQuery, Query()]) -> Response:
                          "(kind, axes, model). The answer names a flip, transpose, channel swap or 0–255 "
                          "storage that fits much better than the table as given.")
 async def lut_check(request: Request, q: Annotated[LutQuery, Query()]) -> Response:
+    q.check()
     body = await request.body()
     if len(body) > UPLOAD_MAX_BYTES:
         raise TooLarge("body", f"the upload has {len(body)} bytes; the limit is {UPLOAD_MAX_BYTES}", loc="body")

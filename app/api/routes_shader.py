@@ -28,6 +28,10 @@ EXTENSIONS = {"glsl": "glsl", "hlsl": "hlsl", "python": "py"}
 
 
 class CodeQuery(schemas.ModelQuery):
+    model: Annotated[Literal["microfacet"], Field(
+        description="code generation writes the microfacet model (the options above) only")] = "microfacet"
+    diffuse: Annotated[Literal["lambert"], Field(
+        description="code generation writes the diffuse term as Lambert's kd/π only")] = "lambert"
     lang: Annotated[Literal[LANGS], Field(
         description="glsl: GLSL ES 3.00 (WebGL2), `vec3 brdf(vec3 n, vec3 l, vec3 v)`; hlsl: "
                     "`float3 brdf(float3 n, float3 l, float3 v)`; python: numpy, `brdf(n, l, v)` "
@@ -77,16 +81,32 @@ class ConsistencyQuery(schemas.ModelQuery):
                                     "evaluated with, [1e-4, 1]; D uses the model's alpha")]
     n: Annotated[int, Field(ge=2, le=65, description="μ_k = k/(n−1), k = 0..n−1")] = 17
 
+    def check(self) -> None:
+        """The rules the schema cannot state (before any work): one isotropic lobe, no
+        compensation. The fuzz test's oracle calls this too."""
+        _one_isotropic_lobe(self, "the check", compensation=True)
+
+
+def _one_isotropic_lobe(q: schemas.ModelQuery, what: str, compensation: bool) -> None:
+    """Refuse, naming the parameter that makes it so, a model with anisotropic roughness,
+    a weighted second lobe or (``compensation``) multiple-scattering compensation."""
+    brdf = schemas.spec_of(q).brdf()
+    given = q.model_fields_set
+    if not brdf.ndf.isotropic:
+        param = next((p for p in ("alpha_y", "anisotropy") if p in given), "alpha_y")
+        raise ParameterError(param, f"{what} is for isotropic roughness (no alpha_y or anisotropy)")
+    if brdf.lobe2 is not None and brdf.lobe_mix > 0:
+        raise ParameterError("lobe_mix", f"{what} is for one lobe (lobe_mix = 0)")
+    if compensation and getattr(brdf, "multiscatter", None) is not None:
+        raise ParameterError("multiscatter", f"{what} is for single scattering (multiscatter=none)")
+
 
 @router.get("/conventions/check", tags=["code"], summary="A model whose D and G use different α: the albedo error",
             description="The bug class of mixed conventions (D at α = r², G at another α): E(μ) and E_avg "
                         "with G at alpha_G against the consistent model, F as configured.")
 def conventions_check(q: Annotated[ConsistencyQuery, Query()]) -> Response:
-    spec = make_spec(**schemas.model_values(q))
-    brdf = spec.brdf()
-    if not brdf.ndf.isotropic or getattr(brdf, "multiscatter", None) is not None or brdf.lobe2 is not None:
-        raise ParameterError("alpha_G", "the check is for one isotropic lobe without compensation "
-                                    "(no alpha_y, alpha2 or multiscatter)")
+    q.check()
+    brdf = schemas.spec_of(q).brdf()
     mu = np.linspace(0.0, 1.0, q.n)
     out = conventions.consistency(brdf, q.alpha_G, mu)
     out["flag"] = None if out["consistent"] else (
@@ -107,7 +127,13 @@ def materials_route() -> Response:
 
 
 class MaterialFresnelQuery(schemas.ModelQuery):
+    material: Annotated[Literal[tuple(materials.materials())], Field(
+        examples=["gold"], description="the measured material (GET /api/v1/materials lists them)")]
     n: Annotated[int, Field(ge=2, le=721, description="angles θ = 0..90°, both ends")] = 91
+
+    def check(self) -> None:
+        """The E_avg comparison is for isotropic roughness (before any work)."""
+        _one_isotropic_lobe(self, "the E_avg comparison", compensation=False)
 
 
 @router.get("/materials/fresnel", tags=["code"],
@@ -115,13 +141,9 @@ class MaterialFresnelQuery(schemas.ModelQuery):
             description="Per channel: F(θ) of each form, its error against the exact one, and E_avg of the "
                         "configured model's lobe with each form (adaptive quadrature; bounds given).")
 def material_fresnel_route(q: Annotated[MaterialFresnelQuery, Query()]) -> Response:
-    if q.material is None:
-        raise ParameterError("material", "give material=<slug> (GET /api/v1/materials lists them)")
-    spec = make_spec(**schemas.model_values(q))
-    brdf = spec.brdf()
+    q.check()
+    brdf = schemas.spec_of(q).brdf()
     lobe = brdf.single() if hasattr(brdf, "single") else brdf
-    if not lobe.ndf.isotropic:
-        raise ParameterError("alpha_y", "the E_avg comparison is for isotropic roughness (no alpha_y)")
     return json_response(materials.comparison(q.material, lobe.lobes()[0][1], q.n,
                                               lambda b: albedo_average(b, tol=1e-5)))
 

@@ -69,11 +69,7 @@ class LobeKey:
     @classmethod
     def of(cls, brdf: BRDF) -> "LobeKey":
         ndf = brdf.ndf
-        if brdf.masking.name not in ("smith", "smith_numeric") or (
-                brdf.masking.name == "smith" and not ndf.smith_exact):
-            raise ParameterError("masking", f"LUTs are tabulated for exact-Smith models: masking=smith "
-                                 f"(with an NDF whose Λ is exact, not blinn_phong) or smith_numeric; "
-                                 f"got ndf={ndf.name}, masking={brdf.masking.name}")
+        check_masking(type(ndf), brdf.masking.name)
         shape = tuple((p.name, getattr(ndf, p.name)) for p in ndf.shape_params)
         return cls(type(ndf), shape, brdf.masking, brdf.g2, brdf.lambda_phi)
 
@@ -81,6 +77,14 @@ class LobeKey:
         fresnel = FRESNELS["none"]() if basis_p is None else FRESNELS["schlick"](f0=0.0, f90=1.0, fresnel_p=basis_p)
         return BRDF(self.ndf_class(alpha, None, **dict(self.shape)), self.masking, self.g2, fresnel,
                     lambda_phi=self.lambda_phi)
+
+
+def check_masking(ndf_class: type, masking: str) -> None:
+    """LUTs tabulate exact Smith masking (refused before any work otherwise)."""
+    if masking not in ("smith", "smith_numeric") or (masking == "smith" and not ndf_class.smith_exact):
+        raise ParameterError("masking", f"LUTs are tabulated for exact-Smith models: masking=smith "
+                             f"(with an NDF whose Λ is exact, not blinn_phong) or smith_numeric; "
+                             f"got ndf={ndf_class.name}, masking={masking}")
 
 
 @dataclass(frozen=True, eq=False)
@@ -101,7 +105,7 @@ def _refuse_if_slow(what: str, n: int, seconds_per_row: float, rows: int) -> Non
     b = budget.current()
     predicted = seconds_per_row * rows
     if b is not None and not b.affords(predicted):
-        raise TooLarge("size", f"the {what} LUT of size {n} would take ~{predicted:.0f} s to compute, beyond "
+        raise TooLarge("size", f"the {what} LUT of size {n} would take ~{predicted:.2g} s to compute, beyond "
                                f"this request's time budget (setting BRDF_MAX_SECONDS={b.seconds:g}); "
                                "ask a smaller size (builds are kept, so a size once built is instant), "
                                "or build it outside the server (python bench/lut.py)")

@@ -41,13 +41,22 @@ def _grid(values: np.ndarray) -> np.ndarray:
     return values[None, ...] if values.ndim == 2 else values
 
 
+def check_format(fmt: str, q: str) -> None:
+    """Refuse a file format that cannot hold the quantisation asked (before any work)."""
+    if fmt not in FORMATS:
+        raise ParameterError("format", f"format must be one of {', '.join(FORMATS)}; got {fmt!r}")
+    if fmt == "png" and q not in ("unorm8", "unorm16"):
+        raise ParameterError("format", f"format=png stores unsigned normalised integers: give "
+                                       f"quantisation=unorm8 or unorm16, not {q}")
+    if fmt == "f16" and q != "float16":
+        raise ParameterError("format", f"format=f16 stores float16: give quantisation=float16, not {q}")
+
+
 def render(fmt: str, values: np.ndarray, meta: dict) -> bytes:
     q = meta["quantisation"]
+    check_format(fmt, q)
     lines = describe(meta)
     if fmt == "png":
-        if q not in ("unorm8", "unorm16"):
-            raise ParameterError("format", f"format=png stores unsigned normalised integers: give "
-                                           f"quantisation=unorm8 or unorm16, not {q}")
         grid = _integers(_grid(values), q)
         if grid.shape[-1] == 2:                                   # RG in an RGB image, B = 0
             grid = np.concatenate([grid, np.zeros(grid.shape[:-1] + (1,), np.int64)], axis=-1)
@@ -57,8 +66,6 @@ def render(fmt: str, values: np.ndarray, meta: dict) -> bytes:
     if fmt in ("c", "glsl", "hlsl"):
         return _source(fmt, values, meta, lines).encode()
     if fmt == "f16":
-        if q != "float16":
-            raise ParameterError("format", f"format=f16 stores float16: give quantisation=float16, not {q}")
         buf = io.BytesIO()
         side = {k: meta[k] for k in ("kind", "model_query", "channels", "orientation", "usage")}
         side.update({"dtype": "float16", "byte_order": "little", "shape": list(values.shape),
@@ -68,7 +75,7 @@ def render(fmt: str, values: np.ndarray, meta: dict) -> bytes:
             z.writestr("lut.f16", values.astype("<f2").tobytes())
             z.writestr("lut.json", json.dumps(side, indent=1))
         return buf.getvalue()
-    raise ParameterError("format", f"format must be one of {', '.join(FORMATS)}; got {fmt!r}")
+    raise AssertionError(f"check_format let format={fmt!r} through")
 
 
 def _csv(values: np.ndarray, meta: dict, lines: list[str]) -> str:
