@@ -43,8 +43,17 @@ def _split(loop, n: int, work: int, before: tuple, after: tuple) -> None:
         loop(*before, 0, n, *after)
         return
     edges = np.linspace(0, n, k + 1).astype(np.int64)
-    futures = [_pool.submit(loop, *before, int(a), int(b), *after)
-               for a, b in zip(edges[:-1], edges[1:]) if b > a]
+    blocks = [(int(a), int(b)) for a, b in zip(edges[:-1], edges[1:]) if b > a]
+    futures = []
+    for i, (a, b) in enumerate(blocks):
+        try:
+            futures.append(_pool.submit(loop, *before, a, b, *after))
+        except RuntimeError:
+            # the interpreter is exiting (concurrent.futures' atexit hook has shut the pool)
+            # while a daemon thread (the table builder) still computes: finish here
+            for a_, b_ in blocks[i:]:
+                loop(*before, a_, b_, *after)
+            break
     for f in futures:
         f.result()
 

@@ -56,7 +56,10 @@ def test_smith_numeric_costs_one_table_not_an_integral_per_direction(client, url
     r = client.get(url)
     assert r.status_code == 200, r.text
     assert r.json().get("complete", True)
-    assert 0 < quadrature_directions[0] <= 2 * TABLE_BUILD
+    # the table was built, by this request (counted) or by the start-up builder thread
+    # (not counted: it may come first on a loaded machine), and nothing else was integrated
+    assert smith_table._table.cache_info().currsize >= 1
+    assert quadrature_directions[0] <= 2 * TABLE_BUILD
 
 
 def test_a_full_batch_with_smith_numeric(client, quadrature_directions):
