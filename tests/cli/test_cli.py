@@ -9,8 +9,8 @@ import pytest
 
 from app.cli import main
 
-from .conftest import read_csv
-from .test_images import png_size
+from tests.export.conftest import read_csv
+from tests.export.test_images import png_size
 
 
 def test_export_writes_csv_json_html(tmp_path, client):
