@@ -1,7 +1,5 @@
-"""Measured materials (physicallybased.info, CC0): RGB complex indices of metals, real
-indices of dielectrics, and the Fresnel forms artists use in their place.
-
-Per channel (linear sRGB), for a conductor of index n + ik:
+"""Measured materials (physicallybased.info, CC0): RGB complex indices n + ik of metals, real
+indices of dielectrics, and per channel (linear sRGB) the Fresnel forms used in their place:
 
 * exact       Born & Wolf (the registry's ``conductor``), F₀ = ((n − 1)² + k²)/((n + 1)² + k²)
 * schlick     F₀ + (1 − F₀)(1 − μ)^5 from that F₀ (Schlick 1994)
@@ -13,6 +11,7 @@ Per channel (linear sRGB), for a conductor of index n + ik:
 
 A channel with F₀ = 1 (gold's and silver's red: n = 0) reflects everything at every angle;
 every form gives F = 1 there (Gulbrandsen's n, k diverge: the limit is used).
+(derivation: docs/fresnel.md §2)
 """
 from __future__ import annotations
 

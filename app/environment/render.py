@@ -1,21 +1,17 @@
 """A sphere lit by an environment, rendered by multiple importance sampling.
 
 Orthographic camera along −z (v = +z for every pixel), sphere of radius 1; per pixel the
-local frame (t, b, n) of quantities.lit_sphere. Outgoing radiance
-L_o = ∫ f(l, v) L(l) (n·l) dω_l is estimated with three strategies and the multi-sample
-balance heuristic (Veach 1997, ch. 9): L_o ≈ Σ_i f L μ_l / Σ_k n_k p_k(l_i), over
-
-* the environment's own radiance (a piecewise-constant pdf on equal-solid-angle cells;
-  N/2 samples unless the environment is uniform) — finds soft boxes and the sun;
-* cosine-weighted directions, for the diffuse lobes;
-* the NDF's visible normals (Heitz 2018) where the NDF has a sampler, for the specular
-  lobe; the rest of N is split between these two as the lobes' energies (:func:`_shares`).
-
-Samples are stratified (a jittered grid); the environment's and the cosine strategy's are
-rotated per pixel (Cranley & Patterson 1976), so pixels' errors are independent; the
-visible normals use one set for every pixel (the NDF's sampler takes one set of u), so
-their error is shared. ``noise`` states the per-pixel standard error of the one-sample
-estimator (mean, max, relative to the mean radiance) and that of the image mean.
+local frame (t, b, n) of quantities.lit_sphere. L_o = ∫ f(l, v) L(l) (n·l) dω_l is
+estimated with the multi-sample balance heuristic (Veach 1997, ch. 9) over three
+strategies: the environment's radiance (a piecewise-constant pdf on equal-solid-angle
+cells; N/2 samples unless the environment is uniform), cosine-weighted directions (diffuse
+lobes) and the NDF's visible normals (Heitz 2018; specular lobe), the last two splitting
+the rest of N as the lobes' energies (:func:`_shares`). Samples are stratified; the
+environment's and the cosine ones are rotated per pixel (Cranley & Patterson 1976), so
+pixels' errors are independent; the visible normals take one set per group of pixels
+(VNDF_GROUPS), so their error is correlated within a group. ``noise`` states the per-pixel
+standard error of the one-sample estimator (mean, max, relative to the mean radiance) and
+that of the image mean. (derivation: docs/principled.md §3.1)
 """
 from __future__ import annotations
 

@@ -1,22 +1,18 @@
 """SVG and PNG of a Plotly figure, rendered by kaleido in ONE headless Chromium per
 process, started on the first export and kept alive between requests.
 
-Why not ``kaleido.start_sync_server()``: its worker thread dies silently when Chromium
-cannot start, and every later call then waits forever on its queue; and it pairs
-results with callers through one shared queue, so two threads exporting at once could
-receive each other's image. Here the browser lives on an asyncio loop in one daemon
-thread and each export is a coroutine submitted with ``run_coroutine_threadsafe``: its
-own future carries its own result (or exception), with a time limit, and kaleido's tab
-queue serialises the rendering.
+The browser lives on an asyncio loop in one daemon thread; each export is a coroutine
+submitted with ``run_coroutine_threadsafe``, whose own future carries its own result (or
+exception), with a time limit; kaleido's tab queue serialises the rendering. (Not
+``kaleido.start_sync_server()``: its thread dies silently when Chromium cannot start, and
+its one queue for all callers can hand two threads each other's image.)
 
-Exports have their own bounded queue: TABS render and WAITING wait for a tab; one more
-is refused at once (:class:`ExportQueueFull`, 503 + Retry-After) instead of holding a
-server thread that cheap requests need (100 concurrent PNGs made a /lobe wait 90 s).
-A route takes its place with ``renderer.slot()`` before it computes the figure.
-
-Without Chromium, :class:`ExportUnavailable` says what to install; the API answers 503
-and the page falls back to Plotly's in-browser export.
-"""
+Exports have their own bounded queue: TABS render and WAITING wait for a tab; one more is
+refused at once (:class:`ExportQueueFull`, 503 + Retry-After) rather than hold a server
+thread that cheap requests need. A route takes its place with ``renderer.slot()`` before it
+computes the figure. Without Chromium, :class:`ExportUnavailable` says what to install;
+the API answers 503 and the page falls back to Plotly's in-browser export.
+(derivation: docs/robustness.md §1, "Image exports")"""
 from __future__ import annotations
 
 import asyncio

@@ -1,23 +1,18 @@
-"""The numbers behind a figure as CSV: a header row naming each column with its unit.
+"""The numbers behind a figure as CSV: a header row naming each column with its unit, by
+layout rules that hold for every view (so a view added later exports unchanged):
 
-Layout rules, the same for every view (so a view added later exports unchanged):
-
-* every array in the payload of the same length as the first 1-D array is a column
-  (a "wide" table: ``theta_deg, D_per_sr``); a list of texts of that length (a row's
-  id or label) is a column too, first;
-* a payload with an N-D array (N ≥ 2) is a grid: its 1-D arrays are its axes, in the
-  order the payload lists them (rows, then columns), and the table is "long": one row
-  per grid point, ``theta_deg, phi_deg, f_per_sr`` (numpy C order, the last axis
-  fastest). A grid dimension with no axis array of its length gets an index column;
-* a colour grid (an N-D array, N ≥ 3, whose last axis has the 3 channels of linear
-  RGB: the lit sphere's radiance) is three grids, ``radiance_r_per_sr``, ``_g_``, ``_b_``;
-  beside it a 3-vector (its background colour) is a scalar, ``0.02,0.02,0.02``;
-* scalars (E_avg, method, timing) go above the header as ``# name = value`` comment
-  lines, with the model and view parameters (``pandas.read_csv(comment="#")`` and
-  ``numpy.loadtxt`` skip them);
-* a divergence (±inf) and a gap (NaN, e.g. a pixel outside the lit sphere) are
-  empty cells — CSV has no infinity that every reader agrees on.
-"""
+* every array of the payload as long as its first 1-D array is a column ("wide":
+  ``theta_deg, D_per_sr``); a list of texts of that length (a row's id or label) too, first;
+* an N-D array (N ≥ 2) is a grid: the 1-D arrays are its axes in payload order (rows, then
+  columns); the table is "long", one row per point (``theta_deg, phi_deg, f_per_sr``, numpy
+  C order); a grid dimension with no axis array of its length gets an index column;
+* a colour grid (N ≥ 3, last axis the 3 channels of linear RGB: the lit sphere's radiance)
+  is three grids, ``radiance_r_per_sr``, ``_g_``, ``_b_``; a 3-vector beside it (its
+  background colour) is a scalar, ``0.02,0.02,0.02``;
+* scalars (E_avg, method, timing) and the model and view parameters go above the header as
+  ``# name = value`` lines (``pandas.read_csv(comment="#")``, ``numpy.loadtxt`` skip them);
+* ±inf (a divergence) and NaN (a gap, e.g. a pixel off the lit sphere) are empty cells:
+  CSV has no infinity that every reader agrees on."""
 from __future__ import annotations
 
 import csv

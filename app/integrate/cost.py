@@ -1,19 +1,17 @@
 """What a computation will cost, known before it starts, against the request's limits.
 
-A request's work is predicted from what it asks: the number of BRDF (or integrand)
-evaluations × the seconds one evaluation of the chosen model takes, measured once per
-model family by a probe (:func:`seconds_per_evaluation`); and its memory from the values
-it must hold at once (outputs, one chunk of work). Then :func:`require`:
+A request's work is predicted from what it asks: BRDF (or integrand) evaluations × the
+seconds one evaluation of the chosen model takes, measured once per model family by a probe
+(:func:`seconds_per_evaluation`); its memory from the values it must hold at once (outputs,
+one chunk of work). Then :func:`require` (outside a request there is no budget: no refusal):
 
-* predicted beyond the whole time budget (BRDF_MAX_SECONDS + GRACE_SECONDS) or the memory budget
-  (BRDF_MAX_REQUEST_BYTES): the input asks too much whatever the load — ``TooLarge``
+* predicted beyond the whole time budget (BRDF_MAX_SECONDS + GRACE_SECONDS) or the memory
+  budget (BRDF_MAX_REQUEST_BYTES): the input asks too much whatever the load — ``TooLarge``
   (413) naming the parameter and the setting, before any work;
 * within the budget but beyond what is left of it before the request's first work (it
-  waited for a worker thread): the machine is busy — ``Busy`` (503 + Retry-After).
-  Later parts of a request are not refused (that would throw away what was computed):
-  adaptive loops cut themselves short, fixed work in chunks stops at the deadline.
-
-Outside a request there is no budget and nothing is refused.
+  waited for a worker thread): the machine is busy — ``Busy`` (503 + Retry-After). Later
+  parts of a request are not refused (that would throw away what was computed): adaptive
+  loops cut themselves short, fixed work in chunks stops at the deadline.
 """
 from __future__ import annotations
 

@@ -1,22 +1,18 @@
-"""The directional albedo by a chosen method, with its error and cost.
-
-``method``:
+"""The directional albedo by a chosen ``method``, with its error and cost:
 
 * ``quadrature`` — the deterministic reference (albedo.py); ``order`` fixes the Gauss
   order (one comparison N vs 2N), otherwise it refines to ``tol``. E_error is a bound.
 * ``mc_uniform``, ``mc_cosine``, ``mc_ndf``, ``mc_vndf`` — Monte Carlo (montecarlo.py)
-  with ``samples`` directions per μ and ``seed``; E_error is one standard error.
+  with ``samples`` directions per μ; E_error is one standard error.
 * ``table`` — the interpolated E(μ, α) tables (tables.py): F = 1 or generalised Schlick,
   isotropic; E_error is the table's measured error bound; no integrand evaluations at
   lookup (the build's are reported under ``table``).
-* ``auto`` — the cheapest of those whose error bound meets ``tol``: the table if it
-  applies and its bound is ≤ tol, else the quadrature at ``tol``. Monte Carlo is never
-  chosen: one standard error is not a bound. The response names the method used.
+* ``auto`` — the cheapest whose error bound meets ``tol``: the table if it applies and its
+  bound is ≤ tol, else the quadrature at ``tol``; never Monte Carlo (one standard error is
+  not a bound). The response names the method used.
 
-With Kulla-Conty compensation the single-scattering part is computed by the method and
-the multiple-scattering part added in closed form (its albedo is F_ms (1 − Ê(μ)) exactly,
-compensation.py): E = E_single + E_ms, and E_single, F_avg and Ē are reported too.
-"""
+With Kulla-Conty the method gives E_single and the multiple-scattering albedo F_ms (1 − Ê(μ))
+is added exactly (compensation.py, docs/kulla_conty.md §3); E_single, F_avg, Ē are reported."""
 from __future__ import annotations
 
 import time

@@ -1,27 +1,18 @@
-"""Direction samplers for Monte Carlo integrals over l, each with its pdf.
+"""Samplers of light directions l for a view v, for Monte Carlo integrals over l, with pdfs.
 
-Every sampler draws light directions l for a view direction v and gives the density
-of l in the solid-angle measure, over the FULL sphere of l (a sampler may put
-directions below the horizon; an estimator counts them as 0). Samplers:
+Each pdf is in the solid-angle measure over the FULL sphere of l (a sampler may put l below
+the horizon; estimators count it as 0). Two-lobe models are sampled as the mixture, pdf
+Σ w_k pdf_k; a sampler whose ``supports(brdf)`` is False raises ValueError.
+(derivation: docs/albedo.md §6)
 
-* ``uniform``: the upper hemisphere, pdf = 1/(2π) (Pharr, Jakob, Humphreys,
-  "Physically Based Rendering" 4th ed., sec. A.5.2).
-* ``cosine``: Malley's method, a uniform point on the unit disk lifted to the
-  hemisphere, pdf = μ_l/π (PBR 4th ed., sec. A.5.3).
-* ``ndf``: a microfacet normal m with density D(m)(n·m) by inverting the NDF's radial
-  CDF in α-stretched slope space (Walter et al. 2007, eq. 35-36), then
-  l = 2(v·m)m − v; the Jacobian dl = 4|v·m| dm (Walter et al. 2007, eq. 14) gives
-  pdf(l) = D(m)(n·m) / (4|v·m|), m = ±h the upper one of the two normals mirroring v to l.
-* ``vndf``: visible normals D_v(m) = G1(v) (v·m)⁺ D(m) / (n·v) (Heitz 2014, eq. 38),
-  then the same reflection: pdf(l) = G1(v) D(h) / (4 n·v) = D(h) / (4 (μ_v + μΛ(v)))
-  (finite at μ_v = 0). GGX by Heitz 2018, "Sampling the GGX Distribution of Visible
-  Normals", JCGT 7(4); Beckmann by the slope-space method of Heitz & d'Eon 2014,
-  "Importance Sampling Microfacet-Based BSDFs using the Distribution of Visible Normals",
-  EGSR (sec. 4, with the 1-D slope marginal inverted by bisection).
-
-Two-lobe models are sampled as the mixture: the lobe is chosen with its weight, and the
-pdf is Σ w_k pdf_k. A sampler whose ``supports(brdf)`` is False raises ValueError.
-"""
+* ``uniform`` (pdf 1/(2π)), ``cosine`` (Malley's method, pdf μ_l/π): the upper hemisphere
+  (Pharr, Jakob, Humphreys, "Physically Based Rendering" 4th ed., sec. A.5.2-A.5.3);
+* ``ndf``: m with density D(m)(n·m) in α-stretched slopes (Walter et al. 2007), then
+  l = 2(v·m)m − v: pdf(l) = D(m)(n·m) / (4|v·m|), m = ±h the upper normal mirroring v to l;
+* ``vndf``: visible normals (Heitz 2014, eq. 38): pdf(l) = D(h) / (4 (μ_v + μΛ(v))), finite
+  at μ_v = 0. GGX by Heitz 2018, "Sampling the GGX Distribution of Visible Normals"; Beckmann
+  by Heitz & d'Eon 2014, "Importance Sampling Microfacet-Based BSDFs using the Distribution
+  of Visible Normals" (1-D slope marginal inverted by bisection)."""
 from __future__ import annotations
 
 from dataclasses import dataclass

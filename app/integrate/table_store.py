@@ -1,26 +1,18 @@
-"""E(μ, α) tables out of the request path: built in the background, persisted, shared.
+"""E(μ, α) tables out of the request path: built in the background, persisted, reused.
 
-A table (tables.py) takes about a second to build for the compiled lobes and 10–30 s for
-the others: too long to build inside a request on a loaded machine. The store keeps whole
-tables
-
-1. in memory, least recently used first out, bounded in bytes (MEMORY_BYTES);
-2. on disk, when :func:`start` gave it a directory (the server does: ``BRDF_CACHE_DIR``,
-   default ``<user cache>/brdf-explorer``): one ``.npz`` per table, named by a digest of
-   its key, its grid settings and the code that computes it (:func:`code_version`), so a
-   restart or a second worker reads what another built, and changed code never reads a
-   stale table. Workers share a directory through a lock file per table (one builds,
-   the others wait for its file). An unwritable directory leaves the store in memory,
-   with a log line.
+A build (tables.py) takes about 1 s for the compiled lobes and 10–30 s for the others: too
+long inside a request on a loaded machine. Whole tables are kept in memory (least recently
+used first out, MEMORY_BYTES) and, given a directory by :func:`start` (``BRDF_CACHE_DIR``;
+unwritable: memory only, logged), on disk as ``.npz`` named by a digest of key, grid and
+code (:func:`code_version`): a restart or another worker reads what one built, changed code
+never reads a stale table; a lock file per table lets one worker build while others wait.
 
 :func:`start` queues the default models' tables (:func:`default_keys`) for one background
-thread, and from then on any table a request needs. A request whose table is not ready
-builds it in place only when its predicted
-cost (one probe E(μ) at mid roughness × the build's points) fits IN_REQUEST_SHARE of the
-time left; otherwise the table is queued and :class:`~app.errors.Busy` says which and
-when to retry (503 + Retry-After), and ``method=auto`` takes the quadrature instead.
-Outside a request (the CLI, scripts) a table is built in place, as always.
-"""
+thread, then any table a request needs. A request builds a missing table in place only if
+its predicted cost fits IN_REQUEST_SHARE of its time left; otherwise the table is queued,
+:class:`~app.errors.Busy` (503 + Retry-After) names it and ``method=auto`` takes the
+quadrature. Outside a request (the CLI, scripts) it is built in place.
+(derivation: docs/tables.md §4)"""
 from __future__ import annotations
 
 import fcntl

@@ -7,15 +7,12 @@ Conty's compensation) or S = (1 − cos θ_d)^p, with which any Fresnel on the S
 basis (``Fresnel.schlick_basis``) is E = Σ c E_p. The S table holds the scaled
 deviation from the mirror, (E_S − Ê₁(1 − μ)^p)/w(α). A bicubic spline interpolates;
 its error is measured at off-grid check points when the table is built and reported
-(``error``). Derivation and measurements: docs/tables.md. Whole tables are kept,
-persisted and built outside requests by table_store.py; anisotropic roughness is not
-tabulated.
+(``error``). Whole tables are kept, persisted and built outside requests by
+table_store.py; anisotropic roughness is not tabulated.
+(derivation and measurements: docs/tables.md §1–§3)
 
-References
-----------
-Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks" (32×32 table of
-E(μ, r)); Heitz 2014 (a = 1/(α tanθ)); Dierckx 1993 (bicubic splines, FITPACK).
-"""
+References: Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks" (32×32
+table of E(μ, r)); Heitz 2014 (a = 1/(α tanθ)); Dierckx 1993 (bicubic splines, FITPACK)."""
 from __future__ import annotations
 
 import time

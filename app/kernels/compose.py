@@ -12,8 +12,7 @@ names: the composition is the import list.
 
 The loops mirror ``BRDF.evaluate`` (physics/brdf.py) and ``albedo._integrate_order``
 (integrate/albedo.py) operation for operation; tests/kernels checks every registered
-model against them to 1e-12.
-"""
+model against them to 1e-12."""
 from __future__ import annotations
 
 import hashlib

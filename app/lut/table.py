@@ -11,9 +11,8 @@ Kinds (E₁ = ∫ f cos with F = 1, E_S = the same with F = (1 − v·h)^5; sing
 Error, per texel and as a maximum per channel, always against the converged integral
 plus that integral's own bound: ``table`` (the stored float64 values), ``quantised`` (at
 the texel centres after quantisation) and ``lookup`` (bilinear interpolation of the
-quantised texels, at the centre and half a texel along each axis and both: where linear
-interpolation is furthest from the nodes).
-"""
+quantised texels at the centre, half a texel along each axis and both: where linear
+interpolation is furthest from the nodes)."""
 from __future__ import annotations
 
 from dataclasses import dataclass

@@ -10,12 +10,9 @@ With a = μ(1 + Λ) = μ + μΛ and G1 = μ/a:
 
 Each returns G2 and V = G2/(4 μ_l μ_v) in μ and μΛ only (never Λ = μΛ/μ): V stays finite
 when one direction grazes, +inf where both do (but separable). ``scalar_V``: V for one
-point, λ = λ(φ) given (0 for forms without ``needs_phi``).
-
-References: Heitz 2014, JCGT 3(2), eq. 98-99 and sec. 6; Ashikhmin, Premože, Shirley
-2000 and van Ginneken, Stavridi, Koenderink 1998 (λ(φ)); Hammon 2017, GDC, "PBR Diffuse
-Lighting for GGX+Smith Microsurfaces".
-"""
+point, λ = λ(φ) given (0 for forms without ``needs_phi``). References: Heitz 2014, JCGT
+3(2), eq. 98-99 and sec. 6; Ashikhmin, Premože, Shirley 2000 and van Ginneken, Stavridi,
+Koenderink 1998 (λ(φ)); Hammon 2017, GDC, "PBR Diffuse Lighting for GGX+Smith Microsurfaces"."""
 from __future__ import annotations
 
 import math

@@ -1,23 +1,17 @@
 """The general Smith masking integral, by quadrature, for any slope-space NDF.
 
-G1(ω) = μ / A(ω) with A(ω) = ∫ D(m) (ω·m)⁺ dm (Heitz 2014, eq. 43), so μΛ = A − μ.
-In α-stretched slope space (r̃, ψ), with a = μ/s and s = α(φ) sinθ, the ψ-integral of
-(ω·m)⁺ is analytic, and with ∫P22 = 1, ∫ x̃ P22 = 0 what remains is one integral over
-the NDF's radial CDF u = C(r̃):
+G1(ω) = μ / A(ω) with A(ω) = ∫ D(m) (ω·m)⁺ dm (Heitz 2014, eq. 43), so μΛ = A − μ. In
+α-stretched slopes, with a = μ/s and s = α(φ) sinθ, that is one integral over the NDF's
+radial CDF u = C(r̃):
 
-    μΛ = (s/π) ∫_{C(a)}^{1} [ √(r̃² − a²) − a·atan(√(r̃² − a²)/a) ] du,   r̃ = C⁻¹(u).
+    μΛ = (s/π) ∫_{C(a)}^{1} [ √(r̃² − a²) − a·atan(√(r̃² − a²)/a) ] du,   r̃ = C⁻¹(u),
 
-(The integrand is 0 for r̃ ≤ a: those facets are never back-facing.) This is
-Λ(a) = (1/a)∫_a^∞ (x − a) g(x) dx (docs/conventions.md §5), with the marginal g
-integrated out in polar form.
-
-Quadrature over the tail mass v = 1 − u ∈ (0, v₀], v₀ = 1 − C(a) (the NDF's
-``radial_ccdf``, exact even where v₀ is 1e-300): v = v₀ (1 − t)^k with
-t = sin²(πσ/2), Gauss-Legendre in σ. The integrand grows like r̃ ~ v^{−β}
-(``tail_beta``: ½ for GGX, up to 1 for Student-t as γ → 1.5); since 1 − t ~ (1 − σ)²,
-k = 1/(1 − β) makes integrand·dv vanish linearly at σ = 1 for every tail. Where v₀
-underflows to 0 no facet is back-facing and μΛ = 0. Accuracy is measured against every closed
-form we have (GGX, Beckmann, Student-t) in tests/physics/test_smith_integral.py.
+i.e. Λ(a) = (1/a)∫_a^∞ (x − a) g(x) dx (docs/conventions.md §5). It is integrated over the
+tail mass v = 1 − u ∈ (0, 1 − C(a)] (``radial_ccdf``, exact where it is 1e-300), with a
+substitution graded by ``tail_beta`` so that the integrand vanishes at the end for every
+tail; μΛ = 0 where that mass underflows. It is the reference the Λ table (smith_table.py)
+is built from; tests/physics/test_smith_integral.py checks it against every closed form.
+(derivation: docs/smith.md §1, §2)
 """
 from __future__ import annotations
 

@@ -1,27 +1,17 @@
 """μΛ from the general Smith integral, tabulated once per NDF shape and interpolated.
 
-For a slope-space NDF, h = μΛ/s is a function of a = μ/s alone once the shape is fixed
-(for a non-shape-invariant NDF — GTR, Blinn-Phong — the shape includes α). It is
-tabulated at TABLE_NODES points uniform in x = ln a over [A_MIN, A_MAX] with the
-reference integral (smith_integral.py), value and exact slope, and interpolated by a
-cubic Hermite in x (monotone PCHIP, Fritsch & Carlson 1980, where the exact slopes
-would leave the monotone region). Uniform in ln a because GTR at small α changes character
-at a ~ 1/α (where tanθ ~ 1): nodes uniform in a/(1 + a) were 50% apart there and missed
-by 1e-3 in G1 at α = 1e-3; in ln a the spacing is 1.3%.
-
-Outside the table: below A_MIN, linear from the exact grazing value h(0) (a horizontal
-direction is tabulated too: E(μ = 0) = 1 for height-correlated G2 depends on it); above
-A_MAX, h(A_MAX)·A_MAX/a, exact for the r̃⁻⁴ tails of GTR (Λ ~ a⁻²) and below 1e-300 for
-the exponential ones.
-
-Error and cost: |ΔG1| ≤ TABLE_G1_ERROR (1e-9) against the direct integral, for every NDF at its
-parameter extremes (tests/robustness/test_smith_numeric.py); a build is TABLE_NODES ×
-ORDER integrand evaluations, 20–600 ms (exponential power at p = 4 the slowest), and a
-lookup costs about as much as a closed-form Λ. ``smith`` uses it where Λ has no closed
-form, ``smith_numeric`` for every NDF.
-
-The interpolant is a :class:`LambdaTable`: plain arrays on a uniform grid, so a compiled
-loop evaluates exactly what :meth:`LambdaTable.h` does.
+For a slope-space NDF, h = μΛ/s is a function of a = μ/s alone once the shape is fixed (for
+GTR and Blinn-Phong, not shape-invariant, the shape includes α). It is tabulated at
+TABLE_NODES points uniform in x = ln a over [A_MIN, A_MAX] from the reference integral
+(smith_integral.py), value and exact slope, and interpolated by a cubic Hermite in x
+(monotone PCHIP, Fritsch & Carlson 1980, where the exact slopes would leave the monotone
+region). Outside the table: linear from the exact grazing value h(0) below A_MIN, and
+h(A_MAX)·A_MAX/a above A_MAX. |ΔG1| ≤ TABLE_G1_ERROR (1e-9) against the direct integral for
+every NDF at its parameter extremes (tests/robustness/test_smith_numeric.py), and a lookup
+costs about what a closed-form Λ costs: ``smith`` uses it where Λ has no closed form,
+``smith_numeric`` for every NDF. The interpolant is a :class:`LambdaTable`: plain arrays on
+a uniform grid, so a compiled loop evaluates exactly what :meth:`LambdaTable.h` does.
+(derivation: docs/smith.md §3)
 """
 from __future__ import annotations
 

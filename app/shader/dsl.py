@@ -12,8 +12,7 @@ and the Python that the tests run against the API is the same algorithm as the s
 
 There are no branches or loops: tables are indexed directly (their axes are uniform in
 a known variable). numpy evaluates both sides of a ``sel``; the generated Python silences
-floating-point warnings for that, and the value not selected is discarded.
-"""
+floating-point warnings for that, and the value not selected is discarded."""
 from __future__ import annotations
 
 import math

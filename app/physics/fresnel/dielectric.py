@@ -38,18 +38,16 @@ def dielectric_reflectance(cos_theta, eta):
     """Exact unpolarised Fresnel reflectance F = (r_s² + r_p²)/2 for light from index 1
     onto index η ≥ 1 (Born & Wolf sec. 1.5.2; pbrt-v4 FrDielectric).
 
-    With c = cos θ, d = η² − 1 = (η − 1)(η + 1) and g = η cos θ_t = √(d + c²) (Snell:
-    η² sin²θ_t = sin²θ), the amplitude ratios r_s = (c − g)/(c + g) and
-    r_p = (η² c − g)/(η² c + g) are written with numerator and denominator multiplied by
-    the denominator, and the squares expanded with g² = d + c²:
+    With c = cos θ, d = η² − 1 = (η − 1)(η + 1) and g = η cos θ_t = √(d + c²), the amplitude
+    ratios are written with numerator and denominator multiplied by the denominator:
 
         r_s = −d / (d + 2c(c + g)),
         r_p = d((η² + 1)c² − 1) / (d + c² + η²c(η²c + 2g)).
 
-    Nothing cancels when η → 1 (d is formed from η − 1), every denominator term is ≥ 0,
-    and at c = 0 both are −d/d = −1 exactly, so F(0) = 1 exactly. A denominator is 0
-    only when d = 0 and c = 0 (or they underflow): no interface, F = 0 (its limit along
-    c). η = +inf (a perfect mirror, F₀ = 1) gives F = 1.
+    Nothing cancels when η → 1 (d is formed from η − 1); at c = 0 both are −1 exactly, so
+    F(0) = 1 exactly. A denominator is 0 only when d = 0 and c = 0 (or they underflow): no
+    interface, F = 0 (its limit along c). η = +inf (a perfect mirror, F₀ = 1) gives F = 1.
+    (derivation: docs/fresnel.md §1)
     """
     c = _cos(cos_theta)
     eta = np.asarray(eta, dtype=float)

@@ -90,22 +90,19 @@ class NDF:
 class SlopeSpaceNDF(NDF):
     """An NDF written in α-stretched slope space (Heitz 2014, sec. 5).
 
-    D(m) = P22(x̃, ỹ) / (α_x α_y cos⁴θ_m) with stretched slopes x̃ = −m_x/(α_x m_z),
-    ỹ = −m_y/(α_y m_z), and Smith's Λ(ω) as a function of μ and
-    s = √(α_x² ω_x² + α_y² ω_y²) = α(φ) sinθ (so a = μ/s). Subclasses give, as methods
-    of q² = m_x²/α_x² + m_y²/α_y² (r̃² = q²/m_z²) and of (μ, s):
+    D(m) = P22(x̃, ỹ) / (α_x α_y cos⁴θ_m), x̃ = −m_x/(α_x m_z), ỹ = −m_y/(α_y m_z); Smith's
+    Λ(ω) depends on μ and s = α(φ) sinθ (``stretched_sin``; a = μ/s). Subclasses give, in
+    q² = m_x²/α_x² + m_y²/α_y² (r̃² = q²/m_z²) and in (μ, s):
 
     * ``_D(mz, q2)``: α_x α_y D, for m_z ≥ 0, including its limit at m_z = 0;
     * ``_mu_Lambda(mu, s)``: μΛ, finite for μ ≥ 0, s ≥ 0, μ² + s² > 0;
-    * ``radial_ccdf(r2)`` / ``radial_ccdf_inv(v)``: the tail mass 1 − C(r̃) of stretched
-      slopes beyond r̃ (and its inverse, giving r̃²), precise where it is 1e-30;
-      ``radial_cdf``/``radial_cdf_inv`` follow (override where a form without
-      cancellation exists). The albedo, the Smith integral and sampling use them.
+    * ``radial_ccdf(r2)`` / ``radial_ccdf_inv(v)``: the tail mass 1 − C(r̃) beyond r̃ and its
+      inverse (giving r̃²), precise at 1e-30, for the albedo, the Smith integral and sampling;
+      ``radial_cdf``/``radial_cdf_inv`` follow (override where a form avoids cancellation).
 
-    When ``shape_invariant`` these do not depend on α (GGX, Beckmann, Student-t,
-    exponential power) and anisotropy is the stretch; otherwise the NDF is isotropic
-    (α_x = α_y) and the methods may use α (GTR, Blinn-Phong).
-    """
+    When ``shape_invariant`` (GGX, Beckmann, Student-t, exponential power) these do not depend
+    on α and anisotropy is the stretch; otherwise the NDF is isotropic (α_x = α_y) and the
+    methods may use α (GTR, Blinn-Phong). (derivation: docs/ndfs.md §1)"""
 
     shape_invariant: ClassVar[bool] = True
 

@@ -3,16 +3,14 @@
 D(m) = (α_p + 2)/(2π) (n·m)^{α_p},  α_p = 2/α_b² − 2  (Walter et al. 2007, eq. 30, 33).
 
 Not shape-invariant, so isotropic only. Its Smith Λ has no closed form; ``smith`` uses
-Walter 2007's substitution a = √(0.5 α_p + 1)/tanθ into Beckmann's Λ — and since
-0.5 α_p + 1 = 1/α_b², that is Beckmann's Λ at α_b exactly. It is an approximation of
-Blinn-Phong's own Smith Λ: ``masking=smith_numeric`` shows the difference.
+Walter 2007's substitution a = √(0.5 α_p + 1)/tanθ into Beckmann's Λ, which is Beckmann's
+Λ at α_b exactly: an approximation of Blinn-Phong's own Smith Λ (``masking=smith_numeric``
+shows the difference). Tail mass in stretched slopes r̃ = tanθ/α_b:
+1 − C(r̃) = (1 + α_b² r̃²)^{−1/α_b²} (the mass of normals beyond θ, cos^{α_p+2}θ).
+(derivation: docs/ndfs.md §5)
 
-In stretched slopes r̃ = tanθ/α_b the mass of normals beyond θ is cos^{α_p+2}θ:
-1 − C(r̃) = (1 + α_b² r̃²)^{−1/α_b²}, which tends to Beckmann's e^{−r̃²} as α_b → 0.
-
-References
-----------
-Blinn 1977; Walter et al. 2007, eq. 30-32 (normalisation, α_p, Λ).
+References: Blinn 1977; Walter et al. 2007, "Microfacet Models for Refraction through
+Rough Surfaces", eq. 30-32 (normalisation, α_p, Λ).
 """
 from __future__ import annotations
 

@@ -1,18 +1,14 @@
-"""Exponential-power NDF: p = 1 is Beckmann.
+"""Exponential-power NDF: p = 1 is Beckmann; p < 1 gives longer tails, p > 1 shorter.
 
-P22(r̃) = p / (π Γ(1/p)) · exp(−(r̃²)^p) in stretched slopes (normalised:
-∫ 2π r P22 dr = p/Γ(1/p) ∫ e^{−t^p} dt = 1), so D(m) carries the exponent
-((1 − (n·m)²)/(α² (n·m)²))^p = (tan²θ_m/α²)^p. p is the kurtosis knob: p < 1 gives
-longer tails than Beckmann, p > 1 shorter.
+P22(r̃) = p / (π Γ(1/p)) · exp(−(r̃²)^p) in stretched slopes (normalised), so D(m) carries
+the exponent (tan²θ_m/α²)^p. The mass beyond r̃ is the regularised upper incomplete gamma
+Q(1/p, r̃^{2p}). Its Smith Λ (Heitz 2014, eq. 72, from the marginal slope density) has no
+closed form: ``smith`` interpolates a table of the general Smith integral, one per p (the
+NDF is shape-invariant).
+(derivation: docs/ndfs.md §4)
 
-The mass beyond r̃ is the regularised upper incomplete gamma Q(1/p, r̃^{2p}).
-Its Smith Λ(a) = (1/a) ∫_a^∞ (x − a) g(x) dx (Heitz 2014, eq. 72; g the marginal slope
-density) has no closed form: ``smith`` interpolates a table of the general Smith
-integral, one per p (the NDF is shape-invariant).
-
-References
-----------
-Heitz 2014, JCGT 3(2), sec. 5 (shape invariance) and eq. 72 (Λ from the slopes).
+References: Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based
+BRDFs", JCGT 3(2), sec. 5 (shape invariance) and eq. 72 (Λ from the slopes).
 """
 from __future__ import annotations
 

@@ -1,20 +1,16 @@
-"""Generalized Trowbridge-Reitz (GTR, Burley 2012).
+"""Generalized Trowbridge-Reitz (GTR, Burley 2012): γ = 2 is GGX.
 
-D(m) = k(α, γ) / (π (1 + (n·m)² (α² − 1))^γ),
-k(α, γ) = (γ − 1)(α² − 1) / (1 − (α²)^{1−γ})   (γ ≠ 1, α ≠ 1),
-with removable singularities at γ = 1 and α = 1. With x = ln α² and E(y) = (e^y − 1)/y,
-k = E(x) / E((1 − γ) x), which is continuous through both. γ = 2 is GGX.
+D(m) = k(α, γ) / (π (1 + (n·m)² (α² − 1))^γ). The normalisation k has removable
+singularities at γ = 1 and α = 1, so it is formed as k = E(x) / E((1 − γ) x) with
+x = ln α² and E(y) = (e^y − 1)/y, which is continuous through both.
 
 Not shape-invariant: isotropic only, and its Smith Λ has no closed form; ``smith``
-interpolates a table of the general Smith integral (smith_table.py).
+interpolates a table of the general Smith integral (smith_table.py). The tail mass beyond
+r̃ = tanθ/α is in closed form, and radial_ccdf_inv solves it for μ².
+(derivation: docs/ndfs.md §2)
 
-Tail mass beyond r̃ = tanθ/α: 1 − C = k μ² E((1−γ) L) log(1+y)/y, y = μ²(α² − 1),
-L = log1p(y); its inverse solves that for μ² (radial_ccdf_inv).
-
-References
-----------
-Burley 2012, "Physically-Based Shading at Disney", SIGGRAPH course notes, eq. 8 and
-appendix B (normalisation, sampling).
+References: Burley 2012, "Physically-Based Shading at Disney", SIGGRAPH course notes,
+eq. 8 and appendix B (normalisation, sampling).
 """
 from __future__ import annotations
 

@@ -1,22 +1,16 @@
-"""Student-t NDF: between GGX (γ = 2) and Beckmann (γ → ∞).
+"""Student-t NDF (Ribardière et al. 2017): between GGX (γ = 2) and Beckmann (γ → ∞).
 
-In stretched slopes the α = 1 slope density is
-P22(r̃) = (1/π) (1 + r̃²/(γ − 1))^{−γ},
-normalised (∫ 2π r P22 dr = 1), and 1 − C(r̃) = (1 + r̃²/(γ − 1))^{1−γ}. Written this
-way, (γ − 1)^γ — which overflows for large γ — never appears.
+In stretched slopes P22(r̃) = (1/π) (1 + r̃²/(γ − 1))^{−γ}, with tail mass
+1 − C(r̃) = (1 + r̃²/(γ − 1))^{1−γ}: written so that (γ − 1)^γ, which overflows for large
+γ, never appears. Smith Λ in closed form (Heitz 2014, eq. 72, from the marginal slope
+density g, a scaled Student-t): μΛ = s (T₁ − a T₂) with T₁ = ∫_a^∞ x g =
+c (γ−1)/(2γ−3) (1 + a²/(γ−1))^{3/2−γ} (c: g's normalisation) and T₂ = ∫_a^∞ g =
+½ I_{(γ−1)/(γ−1+a²)}(γ − 1, ½) (regularised incomplete beta), computed as the tail
+itself, not 1 − CDF (precision at large a); finite only for γ > 1.5.
+(derivation: docs/ndfs.md §3)
 
-Smith Λ from the marginal slope density, a Student-t with ν = 2γ − 2 scaled by 1/√2:
-g(x) = c (1 + x²/(γ − 1))^{−(γ−½)}, c = Γ(γ−½) / (Γ(γ−1) √(π(γ−1))), and
-Λ(a) = (1/a) ∫_a^∞ (x − a) g(x) dx (Heitz 2014, eq. 72), so
-μΛ = s (T₁ − a T₂) with
-T₁ = ∫_a^∞ x g = c (γ−1)/(2γ−3) (1 + a²/(γ−1))^{3/2−γ},
-T₂ = ∫_a^∞ g = ½ I_{(γ−1)/(γ−1+a²)}(γ − 1, ½)   (regularised incomplete beta).
-T₂ is the tail itself, not 1 − CDF (precision at large a); finite only for γ > 1.5.
-
-References
-----------
-Ribardière, Bringier, Meneveaux, Simonot 2017, "STD: Student's t-Distribution of Slopes
-for Microfacet Based BRDFs", Computer Graphics Forum 36(2).
+References: Ribardière, Bringier, Meneveaux, Simonot 2017, "STD: Student's t-Distribution
+of Slopes for Microfacet Based BRDFs", Computer Graphics Forum 36(2).
 """
 from __future__ import annotations
 
