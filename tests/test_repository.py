@@ -1,7 +1,8 @@
-"""What holds for the repository as a whole: small modules, and no pointer to documents a
-user does not have (the project's own derivations live in docs/)."""
+"""What holds for the repository as a whole: small modules, short docstrings, and no pointer
+to documents a user does not have (the project's own derivations live in docs/)."""
 from __future__ import annotations
 
+import ast
 import re
 from pathlib import Path
 
@@ -11,6 +12,9 @@ ROOT = Path(__file__).resolve().parents[1]
 #: The longest a module under app/ or static/ may be: one job per module.
 MAX_LINES = 400
 SOURCE = (".py", ".js", ".css", ".html")
+#: The longest a docstring under app/ may be, counted from its opening quotes to its
+#: closing ones: what and why; a derivation goes to docs/, a measurement to BENCHMARKS.md.
+MAX_DOCSTRING_LINES = 15
 #: A private working document, its section numbers (a parenthesised "3-17"), or the
 #: internal sources it was drawn from; built from parts so that this file does not match
 #: itself.
@@ -56,3 +60,19 @@ def test_every_folder_of_app_is_a_package_the_wheel_ships():
     folders = {p.parent for p in (ROOT / "app").rglob("*.py")
                if "_generated" not in p.parts and "__pycache__" not in p.parts}
     assert sorted(str(f.relative_to(ROOT)) for f in folders if not (f / "__init__.py").is_file()) == []
+
+
+def test_no_docstring_is_longer_than_15_lines():
+    """Every module, class and function docstring under app/ (the generated kernels aside)
+    states what and why in at most MAX_DOCSTRING_LINES lines; a derivation goes to docs/,
+    cited by section."""
+    files = _files("app", suffixes=(".py",))
+    assert files
+    long = []
+    for path in files:
+        for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
+            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
+                doc = ast.get_docstring(node, clean=False)
+                if doc is not None and (n := len(doc.split("\n"))) > MAX_DOCSTRING_LINES:
+                    long.append(f"{path.relative_to(ROOT)}: {getattr(node, 'name', '(module)')}, {n} lines")
+    assert long == []
