@@ -308,10 +308,11 @@ def consistent(case) -> None:
 #: (ModelQuery: the same pydantic model and make_spec behind every route)
 MODEL_WALKERS = {"GET /api/v1/eval", "POST /api/v1/eval"}
 #: elsewhere a shared parameter's coverage case is sent only when it puts the model at an
-#: edge of its range (the view's numbers at α → 0, γ → its bound), or a choice other than
-#: a measured material (each view with each NDF, masking, G2, Fresnel): what a wrong type,
-#: an out-of-range value or one of 110 materials does is decided before any view's code
-EDGES = {"minimum_value", "maximum_value", "near_boundary_number", "enum_value"}
+#: end of its range (the view's numbers at α → 0, γ → its bound) or makes a choice other
+#: than a measured material (each view with each NDF, masking, G2, Fresnel): what a wrong
+#: type, an out-of-range value or one of 110 materials does is decided by the shared
+#: model before any view's code
+EDGES = {"minimum_value", "maximum_value", "enum_value"}
 #: positive requests already sent, after :func:`consistent` (identical ones answer alike)
 SENT: set[tuple] = set()
 
