@@ -163,13 +163,15 @@ def test_a_table_too_slow_for_the_request_is_built_outside_it(monkeypatch):
     table_store.start(None, keys=[])        # the builder a served app starts, no defaults
     # the queued build itself is not this test's subject: it fails at once
     monkeypatch.setattr(tables, "build_for_key", lambda key, base=None: 1 / 0)
-    # the request may probe a few E(μ) but never build a table grid (counted, not timed:
-    # the machine's load is not this test's subject; the builder's own path fails above)
+    # the request may probe a few E(μ) but never build this lobe's table grid (counted,
+    # not timed: the machine's load is not this test's subject; the builder's own path
+    # fails above, and another test's queued build may still run in the builder thread)
     real_build, built_here = tables.build, []
 
-    def counted_build(*args, **kwargs):
-        built_here.append(args[0])
-        return real_build(*args, **kwargs)
+    def counted_build(key, *args, **kwargs):
+        if ("gamma", 1.37) in key[1]:
+            built_here.append(key)
+        return real_build(key, *args, **kwargs)
 
     monkeypatch.setattr(tables, "build", counted_build)
     r = tight.get("/api/v1/lobe?n=5&ndf=gtr&gamma=1.37&alpha=0.4&g2=direction_correlated"
