@@ -16,7 +16,7 @@ from app.errors import Busy
 from app.export import image
 from app.integrate import budget, cost
 from app.main import create_app
-from app.physics import smith_integral, smith_table
+from app.physics import lambda_table, smith_integral, smith_table
 from tests.budget import settings_for_tests
 
 
@@ -38,6 +38,7 @@ def quadrature_directions(monkeypatch):
 
     monkeypatch.setattr(smith_integral, "_integral", counted)
     smith_table._table.cache_clear()
+    lambda_table._packed.cache_clear()    # holds the packed tables the compiled loops read
     return count
 
 
