@@ -116,7 +116,7 @@ def g1_curve(brdf: BRDF, phi_deg: float, n: int) -> dict:
         return G1(w[..., 2], brdf.masking.mu_Lambda(brdf.ndf, w))
 
     seeds = np.concatenate([np.linspace(0.0, 90.0, n), ladder(90.0, _width_deg(brdf) / 2, 0.0, 90.0)])
-    theta, g1, report = refine_curve(value, seeds, max_added=_added(n))
+    theta, g1, report = refine_curve(value, seeds, max_added=_added(n), locate=False)
     report.pop("located")
     w = direction_deg(theta, phi_deg)
     ml = brdf.masking.mu_Lambda(brdf.ndf, w)

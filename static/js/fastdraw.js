@@ -4,9 +4,10 @@
  * margins are measured again (10–20 ms of main thread a panel). When the new answer has
  * the same traces (same types, names, styles: only the arrays differ), the same layout,
  * and its data fits the autoranged axes as drawn (inside the range and filling at least
- * FILL of it), Plotly.animate with redraw: false moves the traces alone, in Plotly's
- * next animation frame, and a newer call interrupts an older one. Anything else (a
- * range that must change, a legend text, an image, a 3-D surface) goes through react.
+ * FILL of it), the traces alone are moved: their SVG paths rewritten in the next
+ * animation frame (svgpaths.js), or where that cannot place them, Plotly.animate with
+ * redraw: false. Anything else (a range that must change, an image, a 3-D surface)
+ * goes through react.
  */
 const ARRAY_KEYS = new Set(["x", "y", "r", "theta", "customdata", "text", "hovertext"]);
 const ANIMATABLE = new Set(["scatter", "scatterpolar"]);
@@ -156,15 +157,17 @@ export function canAnimate(gd, data, styles) {
 }
 
 export function animateData(gd, data) {
-  const names = new Map(data.map((t, i) => [i, t.name]));
   return Plotly.animate(gd, { data, traces: data.map((_, i) => i) },
                         { mode: "immediate", transition: { duration: 0 }, frame: { duration: 0, redraw: false } })
-    .then(() => {
-      for (const g of gd.querySelectorAll(".legend .traces")) {
-        const i = g.__data__?.[0]?.trace?.index, text = g.querySelector(".legendtext");
-        if (text && names.has(i) && names.get(i) !== undefined && text.textContent !== String(names.get(i))) {
-          text.textContent = String(names.get(i));
-        }
-      }
-    });
+    .then(() => renameLegend(gd, data));
+}
+
+/** A legend entry whose trace's name changed (E_avg = 0.0488 → 0.0505) gets its new
+ * text in place (a data-only redraw leaves the legend as drawn). */
+export function renameLegend(gd, data) {
+  for (const g of gd.querySelectorAll(".legend .traces")) {
+    const i = g.__data__?.[0]?.trace?.index, text = g.querySelector(".legendtext");
+    const name = data[i]?.name;
+    if (text && name !== undefined && text.textContent !== String(name)) text.textContent = String(name);
+  }
 }

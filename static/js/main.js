@@ -143,7 +143,8 @@ const resizeObserver = new ResizeObserver((entries) => {
   for (const { target: div, contentRect: { width, height } } of entries) {
     if (!div._fullLayout || div.offsetParent === null || width < 10 || height < 10) continue;
     if (Math.abs(div._fullLayout.width - width) < 1 && Math.abs(div._fullLayout.height - height) < 1) continue;
-    Promise.resolve(Plotly.Plots.resize(div)).catch(() => {});
+    const panel = panels.find((p) => p.div === div);
+    Promise.resolve(panel?.sync()).then(() => Plotly.Plots.resize(div)).catch(() => {});
   }
 });
 

@@ -9,10 +9,14 @@ import { ctx } from "./state.js";
 import { compareModels } from "./pins.js";
 import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
-import { canAnimate, animateData, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges } from "./fastdraw.js";
+import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges } from "./fastdraw.js";
+import { canWrite, writePaths } from "./svgpaths.js";
 import { exportBar } from "./exports.js";
 
 const LOADING_DELAY_MS = 300;
+// After paths written directly, Plotly's own state is brought up to date (Panel.sync)
+// when the plot is used (hover, resize, export), or once the page has been quiet this long.
+const SYNC_IDLE_MS = 1500;
 
 /** The view's fields a panel sets itself: toggles, menus and bounded numbers that are
  * not geometry (the sidebar's θ_i, φ_i) nor resolution (left at the API's defaults). */
@@ -98,8 +102,11 @@ export class Panel {
     this.status = el("div", { class: "panel-status", role: "status", "aria-live": "polite" });
     this.div = el("div", { class: "plot", id: `plot-${view.name}` });
     const caption = el("p", { class: "caption", id: `cap-${view.name}` }, richText(this.hint.caption || view.summary || ""));
-    const bar = exportBar(() => ({ kind: view.name, params: compact(this.params(ctx.state)), div: this.div,
-                                   title: viewTitle(view) }), (k, t) => this.report?.(k, t));
+    this.div.addEventListener("pointerenter", () => this.sync());
+    const bar = exportBar(() => {
+      this.sync();                                    // its image export reads Plotly's state
+      return { kind: view.name, params: compact(this.params(ctx.state)), div: this.div, title: viewTitle(view) };
+    }, (k, t) => this.report?.(k, t));
     bar.classList.add("panel-export");
     const buttons = el("div", { class: "panel-buttons" });
     if (this.hint.pin || this.hint.tails) {
@@ -197,7 +204,47 @@ export class Panel {
     if (rest !== this.rest || !rangesFit(this.ranges, ranges) || !canAnimate(this.div, data, this.styles)) return null;
     this.setSub(sub);
     this.styles = data.map(traceStyle);
+    if (canWrite(this.div, data)) {
+      this.shown_();
+      return this.writeInFrame(data);
+    }
     return this.drawn_(animateData(this.div, data));
+  }
+
+  /** Writes the newest data's paths in the next animation frame (one write a frame
+   * however many answers land before it); Plotly draws it if the paths cannot take it. */
+  writeInFrame(data) {
+    this.toWrite = data;
+    this.writing ||= new Promise((resolve) => requestAnimationFrame(() => {
+      const d = this.toWrite;
+      this.toWrite = null;
+      this.writing = null;
+      if (writePaths(this.div, d)) {
+        renameLegend(this.div, d);
+        this.stale = d;
+        clearTimeout(this.syncTimer);
+        this.syncTimer = setTimeout(() => this.sync(), SYNC_IDLE_MS);
+        this.announce();
+        resolve();
+      } else {
+        resolve(Plotly.react(this.div, d, this.layout, PLOT_CONFIG).then(() => this.announce()));
+      }
+    }));
+    return this.writing;
+  }
+
+  /** Plotly's state (read by hover, zoom, resize and its image export) brought to the
+   * data shown, after paths were written directly; the pixels stay as they are. */
+  sync() {
+    clearTimeout(this.syncTimer);
+    if (!this.stale) return Promise.resolve();
+    if (this.drawing || this.writing) {            // a draw under way: try again after it
+      this.syncTimer = setTimeout(() => this.sync(), SYNC_IDLE_MS);
+      return Promise.resolve();
+    }
+    const data = this.stale;
+    this.stale = null;
+    return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
   }
 
   setSub(sub) {
@@ -210,6 +257,8 @@ export class Panel {
   draw({ data, layout, uirevision, sub }) {
     this.setSub(sub);
     this.styles = data.map(traceStyle);
+    this.stale = null;
+    clearTimeout(this.syncTimer);
     const { ranges, rest } = splitRanges(layout);
     const same = rest === this.rest && uirevision === this.uirev;
     const drawn = withHeadroom(same ? this.serverRanges : null, ranges);
@@ -217,13 +266,19 @@ export class Panel {
     return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
 
-  drawn_(promise) {
+  shown_() {
     this.drawn = true;
     this.error = null;
     this.setStatus(null);
     this.section.classList.remove("empty");
-    // one event per finished draw, whichever way it was drawn (the benchmark counts them)
-    return promise.then(() => this.div.dispatchEvent(new CustomEvent("brdf-drawn")));
+  }
+
+  // one event per finished draw, whichever way it was drawn (the benchmark counts them)
+  announce() { this.div.dispatchEvent(new CustomEvent("brdf-drawn")); }
+
+  drawn_(promise) {
+    this.shown_();
+    return promise.then(() => this.announce());
   }
 
   fail(message) {
