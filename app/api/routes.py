@@ -10,8 +10,9 @@ from ..errors import ParameterError
 from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_params
 from ..views import VIEWS, View, lookup, run, schemas
 from .encode import json_response
+from .http.query_route import QueryModelRoute
 
-router = APIRouter(prefix="/api/v1")
+router = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
 
 GEOMETRY = [
     {"name": "theta_i_deg", "label": "θ_i (incidence, degrees)", "lo": 0.0, "hi": 90.0,
@@ -117,7 +118,7 @@ for _view in VIEWS.values():
 
 
 #: Included last (app/main.py): any other /api/v1 path is a 404 that lists the views.
-fallback = APIRouter(prefix="/api/v1")
+fallback = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
 
 
 @fallback.api_route("/{name}", methods=["GET", "POST"], include_in_schema=False)

@@ -21,8 +21,9 @@ from ..model import make_spec
 from ..views import schemas
 from .encode import json_response
 from ..views import VIEWS, View, run
+from .http.query_route import QueryModelRoute
 
-router = APIRouter(prefix="/api/v1")
+router = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
 
 _STORE_LOCK = threading.Lock()
 DataId = Annotated[str, Path(pattern=r"^[0-9a-f]{32}$", description="a data set's id (32 hex digits)",

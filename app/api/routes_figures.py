@@ -25,8 +25,9 @@ from ..export import build
 from ..figures.titles import file_stem
 from ..export.image import ImageRenderer, get_renderer
 from ..views import VIEWS, View, compare, lookup, schemas
+from .http.query_route import QueryModelRoute
 
-router = APIRouter(prefix="/api/v1/figures")
+router = APIRouter(prefix="/api/v1/figures", route_class=QueryModelRoute)
 Renderer = Annotated[ImageRenderer, Depends(get_renderer)]
 
 MEDIA = {"svg": "image/svg+xml", "png": "image/png", "csv": "text/csv; charset=utf-8",

@@ -16,8 +16,9 @@ from ..physics.ndf import NDFS
 from ..shader.generate import model_query
 from ..views import schemas
 from .encode import json_response
+from .http.query_route import QueryModelRoute
 
-router = APIRouter(prefix="/api/v1")
+router = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
 
 #: bytes an uploaded LUT may have: a 256² RG table as 16-bit PNG is ~0.4 MB, as JSON ~3 MB
 UPLOAD_MAX_BYTES = 4 * 1024 * 1024

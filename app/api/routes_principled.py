@@ -7,8 +7,9 @@ from fastapi import APIRouter
 
 from ..principled.params import BASE_COLOR_DEFAULT, OPTIONS, PARAMS
 from ..principled.spec import ROUGHNESS
+from .http.query_route import QueryModelRoute
 
-router = APIRouter(prefix="/api/v1")
+router = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
 
 
 @router.get("/principled", tags=["meta"], summary="The principled BRDF's parameters and options",

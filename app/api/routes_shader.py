@@ -21,8 +21,9 @@ from ..shader.dsl import LANGS
 from ..shader.generate import generate
 from ..views import schemas
 from .encode import json_response
+from .http.query_route import QueryModelRoute
 
-router = APIRouter(prefix="/api/v1")
+router = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
 
 EXTENSIONS = {"glsl": "glsl", "hlsl": "hlsl", "python": "py"}
 
