@@ -12,6 +12,12 @@
 const ARRAY_KEYS = new Set(["x", "y", "r", "theta", "customdata", "text", "hovertext"]);
 const ANIMATABLE = new Set(["scatter", "scatterpolar"]);
 const FILL = 0.6;
+// While a slider is held the axes stay put unless the data leaves them: the data need
+// fill only HELD_FILL of a range, and a range that must grow gets HELD_HEADROOM of its
+// span beyond the data (a drag over α sweeps the lobe's peak over decades: each re-layout
+// is a full Plotly draw, 20–40 ms). The panel fits its axes again on release.
+export const HELD_FILL = 0.1;
+export const HELD_HEADROOM = 0.5;
 
 const DTYPES = { f4: Float32Array, f8: Float64Array, i1: Int8Array, u1: Uint8Array, i2: Int16Array,
                  u2: Uint16Array, i4: Int32Array, u4: Uint32Array };
@@ -57,7 +63,7 @@ function widen(ext, ax, values, plus, minus) {
 }
 
 /** Does `data` fit the drawn figure's autoranged axes as they are? */
-function fitsAxes(gd, data) {
+function fitsAxes(gd, data, fill) {
   const fl = gd._fullLayout;
   const extents = new Map();
   const ext = (ax) => {
@@ -76,7 +82,7 @@ function fitsAxes(gd, data) {
   for (const [ax, { lo, hi }] of extents) {
     if (ax.autorange !== true || !Array.isArray(ax.range) || lo > hi) continue;
     const r0 = Math.min(...ax.range), r1 = Math.max(...ax.range);
-    if (lo < r0 || hi > r1 || hi - lo < FILL * (r1 - r0)) return false;
+    if (lo < r0 || hi > r1 || hi - lo < fill * (r1 - r0)) return false;
   }
   return true;
 }
@@ -103,7 +109,7 @@ export function splitRanges(layout) {
  * beyond it, so that the next moves in that direction still fit the axes as drawn.
  * An axis that does not move (θ from 0 to 90°) is drawn as the server gives it. */
 const HEADROOM = 0.1;
-export function withHeadroom(previous, next) {
+export function withHeadroom(previous, next, headroom = HEADROOM) {
   const out = {};
   for (const [k, w] of Object.entries(next)) {
     const p = previous?.[k];
@@ -111,7 +117,7 @@ export function withHeadroom(previous, next) {
       out[k] = w;
       continue;
     }
-    const pad = HEADROOM * Math.abs(w[1] - w[0]) * Math.sign(w[1] - w[0]);
+    const pad = headroom * Math.abs(w[1] - w[0]) * Math.sign(w[1] - w[0]);
     out[k] = [p[0] === w[0] ? w[0] : w[0] - pad, p[1] === w[1] ? w[1] : w[1] + pad];
   }
   return out;
@@ -130,7 +136,7 @@ export function withRanges(layout, ranges) {
 /** The server's new ranges are close enough to the drawn ones to keep the axes: each
  * inside the drawn range and spanning at least FILL of it (in the axis's own units,
  * log10 on a log axis, as Plotly keeps them). */
-export function rangesFit(drawn, wanted) {
+export function rangesFit(drawn, wanted, fill = FILL) {
   const keys = Object.keys(wanted);
   if (keys.length !== Object.keys(drawn).length) return false;
   return keys.every((k) => {
@@ -138,14 +144,14 @@ export function rangesFit(drawn, wanted) {
     if (!d || d.length !== 2 || w.length !== 2) return false;
     const d0 = Math.min(...d), d1 = Math.max(...d), w0 = Math.min(...w), w1 = Math.max(...w);
     const slack = 1e-9 * (d1 - d0);
-    return w0 >= d0 - slack && w1 <= d1 + slack && w1 - w0 >= FILL * (d1 - d0);
+    return w0 >= d0 - slack && w1 <= d1 + slack && w1 - w0 >= fill * (d1 - d0);
   });
 }
 
 /** Can `data` replace what `gd` shows by a data-only redraw? styles: the traceStyle of
  * each trace drawn last. A plain-text legend name may change (E_avg = 0.0488 → 0.0505):
  * its legend entry is rewritten in place. */
-export function canAnimate(gd, data, styles) {
+export function canAnimate(gd, data, styles, fill = FILL) {
   if (!gd._fullLayout || !styles || styles.length !== data.length) return false;
   for (let i = 0; i < data.length; i++) {
     if (!ANIMATABLE.has(data[i].type || "scatter")) return false;
@@ -153,7 +159,7 @@ export function canAnimate(gd, data, styles) {
     if (traceStyle({ ...data[i], name: JSON.parse(styles[i]).name }) !== styles[i]) return false;
     if (/[<&]/.test(String(data[i].name))) return false;
   }
-  return fitsAxes(gd, data);
+  return fitsAxes(gd, data, fill);
 }
 
 export function animateData(gd, data) {

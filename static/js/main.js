@@ -6,7 +6,7 @@ import { el, $, richText, getJSON, copyText, flash } from "./dom.js";
 import { setModels, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "./model.js";
 import { ctx, stateFromSearch, scheduleUrlWrite, urlPending } from "./state.js";
 import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
-import { HINTS, PANEL_ORDER } from "./views.js";
+import { HINTS, PANEL_ORDER, PAGE_DEFAULTS } from "./views.js";
 import { Panel, panelBar, fieldApplies } from "./panels.js";
 import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows } from "./sidebar.js";
 import { Scheduler } from "./scheduler.js";
@@ -123,7 +123,11 @@ function onStateChange() {
 function onHold(held) {
   if (ctx.held === held) return;
   ctx.held = held;
-  if (!held) for (const p of panels) scheduler.touch(p);
+  if (held) return;
+  for (const p of panels) {
+    p.release();
+    scheduler.touch(p);
+  }
 }
 
 // Panels are fetched only when in the viewport: some of their area in it (a panel whose
@@ -185,7 +189,7 @@ async function boot() {
   });
   Object.assign(ctx.defaultState, modelDefaults(), { pins: [], vary: null, values: null, extra: {},
     show: ctx.views.map((v) => v.name).filter((n) => HINTS[n]?.shown) });
-  for (const [key, loc] of ctx.locals) ctx.defaultState[key] = loc.field.default;
+  for (const [key, loc] of ctx.locals) ctx.defaultState[key] = PAGE_DEFAULTS[loc.view]?.[loc.field.name] ?? loc.field.default;
   if (reg.models.version) $("#version").textContent = `v${reg.models.version}`;
   buildSidebar({ change: onStateChange, hold: onHold, notices: showNotices, pin: pinCurrent,
                  clearPins: () => setPins([]) });

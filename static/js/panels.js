@@ -9,7 +9,8 @@ import { ctx } from "./state.js";
 import { compareModels } from "./pins.js";
 import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
-import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges } from "./fastdraw.js";
+import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
+         HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { canWrite, writePaths } from "./svgpaths.js";
 import { exportBar } from "./exports.js";
 
@@ -201,7 +202,9 @@ export class Panel {
   quick({ data, layout, uirevision, sub }) {
     if (!this.drawn || this.error || uirevision !== this.uirev) return null;
     const { ranges, rest } = splitRanges(layout);
-    if (rest !== this.rest || !rangesFit(this.ranges, ranges) || !canAnimate(this.div, data, this.styles)) return null;
+    const fill = ctx.held ? HELD_FILL : undefined;
+    if (rest !== this.rest || !rangesFit(this.ranges, ranges, fill) || !canAnimate(this.div, data, this.styles, fill)) return null;
+    if (ctx.held && !rangesFit(this.ranges, ranges)) this.loose = true;
     this.setSub(sub);
     this.styles = data.map(traceStyle);
     if (canWrite(this.div, data)) {
@@ -247,6 +250,13 @@ export class Panel {
     return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
   }
 
+  /** The slider let go: axes left loose by the drag are fitted to the data again (the
+   * panel asks again; the answer's ranges then decide between a data-only and a full draw). */
+  release() {
+    if (this.loose) this.drawnKey = null;
+    this.loose = false;
+  }
+
   setSub(sub) {
     if (this.subText === sub) return;
     this.subText = sub;
@@ -261,8 +271,8 @@ export class Panel {
     clearTimeout(this.syncTimer);
     const { ranges, rest } = splitRanges(layout);
     const same = rest === this.rest && uirevision === this.uirev;
-    const drawn = withHeadroom(same ? this.serverRanges : null, ranges);
-    Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn });
+    const drawn = withHeadroom(same ? this.serverRanges : null, ranges, ctx.held ? HELD_HEADROOM : undefined);
+    Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn, loose: ctx.held && same });
     return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
 

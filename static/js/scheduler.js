@@ -2,19 +2,21 @@
  *
  * touch(panel) after every state change: a panel that is wanted (shown and in or near
  * the viewport) and whose request differs from what it drew fetches at once; all
- * panels touched by one change fetch together. At most one request per panel is in
- * flight: a change meanwhile marks it dirty, and the newest state is fetched as soon as
- * the answer lands (so a drag costs the server one request per panel at a time, and
- * every answer is newer than the last one drawn). Answers are drawn in animation
- * frames: at most one draw per panel per frame, the newest answer wins (an older one
- * waiting is dropped), and a frame stops drawing after FRAME_BUDGET_MS so that the
- * next input event is not kept waiting; the rest draw in the next frame.
+ * panels touched by one change fetch together. At most MAX_IN_FLIGHT requests per panel
+ * are in flight: a change beyond that marks it dirty, and the newest state is fetched as
+ * soon as one lands (so a drag costs the server at most two requests per panel at a time,
+ * the second sent while the first is answered: a round trip no longer halves the redraw
+ * rate); an answer older than one already drawn or waiting is dropped. Answers are drawn
+ * in animation frames: at most one draw per panel per frame, the newest answer wins (an
+ * older one waiting is dropped), and a frame stops drawing after FRAME_BUDGET_MS so that
+ * the next input event is not kept waiting; the rest draw in the next frame.
  *
  * The panel supplies: wanted(), request() -> {key, url, init}, receive(req, res, body)
  * -> {retry: true} | drawable (throws an Error to show), draw(drawable) -> Promise,
  * fail(message).
  */
 const FRAME_BUDGET_MS = 10;
+const MAX_IN_FLIGHT = 2;
 
 export class Scheduler {
   constructor() {
@@ -24,14 +26,23 @@ export class Scheduler {
   }
 
   touch(panel) {
+    const flights = (panel.flights ||= []);
     if (!panel.wanted()) {
-      if (panel.inflight) panel.inflight.ctrl.abort();
+      for (const f of flights) f.ctrl.abort();
+      flights.length = 0;
+      panel.inflight = null;
       panel.dirty = false;
       return;
     }
     const req = panel.request();
-    if (panel.inflight) {
-      panel.dirty = panel.inflight.key !== req.key;
+    if (flights.length) {
+      panel.dirty = false;
+      if (flights[flights.length - 1].key === req.key) return;     // asked already
+      if (flights.length >= MAX_IN_FLIGHT) {
+        panel.dirty = true;
+        return;
+      }
+      this.fetch(panel, req);
       return;
     }
     const waiting = this.ready.get(panel);
@@ -41,7 +52,9 @@ export class Scheduler {
 
   async fetch(panel, req) {
     const ctrl = new AbortController();
-    panel.inflight = { key: req.key, ctrl };
+    const flight = { key: req.key, ctrl, seq: (panel.seq = (panel.seq || 0) + 1) };
+    panel.flights.push(flight);
+    panel.inflight = flight;
     panel.loading(true);
     let result;
     try {
@@ -53,14 +66,20 @@ export class Scheduler {
         throw new Error("Cannot reach the server.");
       }
       const body = await res.json().catch(() => null);
-      if (ctrl.signal.aborted) return;
+      if (ctrl.signal.aborted || flight.seq < (panel.newestSeq || 0)) return;   // a newer answer is in
       const out = panel.receive(req, res, body);
       if (out.retry) panel.dirty = true;
-      else result = { key: req.key, drawable: out };
+      else result = { key: req.key, seq: flight.seq, drawable: out };
     } catch (e) {
-      if (!ctrl.signal.aborted) result = { key: req.key, error: e.message || String(e) };
+      if (!ctrl.signal.aborted) result = { key: req.key, seq: flight.seq, error: e.message || String(e) };
     } finally {
-      if (panel.inflight && panel.inflight.ctrl === ctrl) panel.inflight = null;
+      panel.flights = panel.flights.filter((f) => f !== flight);
+      if (result) {
+        panel.newestSeq = result.seq;
+        for (const f of panel.flights) if (f.seq < result.seq) f.ctrl.abort();   // older: not needed
+        panel.flights = panel.flights.filter((f) => f.seq > result.seq);
+      }
+      panel.inflight = panel.flights[panel.flights.length - 1] || null;
       if (result && !result.error && !panel.drawing && this.quick(panel, result)) {
         this.ready.delete(panel);          // an older answer waiting: this one is newer
       } else if (result) {
@@ -109,6 +128,7 @@ export class Scheduler {
         panel.drawnKey = r.key;
         continue;
       }
+      if (this.quick(panel, r)) continue;      // it came while a full draw ran: maybe data-only now
       panel.drawing = Promise.resolve(panel.draw(r.drawable))
         .catch((e) => panel.fail(e.message || String(e)))
         .finally(() => {

@@ -30,7 +30,7 @@ export function stateToSearch(s) {
   for (const p of [...activeParams(s), ...reg.models.geometry]) {
     if (PRESENCE.has(p.name) || s[p.name] !== p.default) q.set(p.name, String(s[p.name]));
   }
-  for (const [key, loc] of ctx.locals) if (s[key] !== loc.field.default) q.set(key, String(s[key]));
+  for (const key of ctx.locals.keys()) if (s[key] !== ctx.defaultState[key]) q.set(key, String(s[key]));
   const shown = ctx.views.filter((v) => s.show.includes(v.name)).map((v) => v.name);
   if (shown.join(",") !== ctx.defaultState.show.join(",")) q.set("show", shown.join(",") || "none");
   if (s.vary) {
