@@ -1,5 +1,7 @@
 """Arrays → Plotly figure dicts. No physics here: builders take what ``quantities``
-computed. ``to_json`` encodes large numpy arrays as Plotly typed arrays (compact)."""
+computed. ``to_json`` encodes large numpy arrays as Plotly typed arrays (compact) and
+writes indexed symbols as Plotly subscripts (``markup``: "θ_v" → "θ<sub>v</sub>"), also
+in figures built outside this package."""
 from __future__ import annotations
 
 import base64
@@ -14,6 +16,7 @@ from .fresnel import fresnel_figure
 from .images import lit_sphere_figure, slice_figure
 from .lobes import lobe3d_figure, lobe_figure
 from .maps import g2_figure
+from .markup import markup, subscripts
 from .samples import samples_figure
 from .tradeoff import tradeoff_figure
 
@@ -45,10 +48,11 @@ def _compact(value):
 
 
 def to_json(figure: dict) -> str:
+    figure = markup(figure)
     data = [{k: _compact(v) for k, v in trace.items()} for trace in figure.get("data", [])]
     return pio.to_json({**figure, "data": data}, validate=False, remove_uids=False)
 
 
 __all__ = ["advise_figure", "albedo_figure", "checks_figure", "fresnel_figure", "g1_figure",
-           "g2_figure", "lit_sphere_figure", "lobe3d_figure", "lobe_figure", "ndf_figure",
-           "samples_figure", "slice_figure", "to_json", "tradeoff_figure"]
+           "g2_figure", "lit_sphere_figure", "lobe3d_figure", "lobe_figure", "markup", "ndf_figure",
+           "samples_figure", "slice_figure", "subscripts", "to_json", "tradeoff_figure"]

@@ -3,6 +3,7 @@ albedo error over the scene's range, its measured relative cost and whether it i
 tol; the recommended row highlighted (and the recommended albedo method, when rated)."""
 from __future__ import annotations
 
+from .markup import subscripted
 from .style import base_layout
 
 #: Row fills: the recommended model, the recommended albedo method, every other row.
@@ -29,6 +30,7 @@ def _method_chosen(row: dict, data: dict) -> bool:
             and row["changes"].get("samples") == m.get("samples"))
 
 
+@subscripted
 def advise_figure(data: dict, spec: dict) -> dict:
     current = {"label": "current model", "max_error": 0.0, "relative_cost": 1.0,
                "within_tol": True, "kind": "current", "changes": {}}

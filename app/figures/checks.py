@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import math
 
+from .markup import subscripted
 from .style import base_layout, model_title
 from .titles import option_label
 
@@ -62,6 +63,7 @@ def _identity(text: str) -> str:
     return f"{head}<br>({tail}" if sep else text
 
 
+@subscripted
 def checks_figure(data: dict, spec: dict) -> dict:
     rows = range(len(data["id"]))
     identity, value, expected, difference, error, holds, fill = [], [], [], [], [], [], []

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .markup import subscripted
 from .style import PALETTE, axis, base_layout, gaps, log_axis, model_title
 from .titles import option_label
 
@@ -11,6 +12,7 @@ D_DECADES = 10
 LAMBDA_DECADES = 8
 
 
+@subscripted
 def ndf_figure(data: dict, spec: dict, log: bool = True) -> dict:
     theta = np.asarray(data["theta_deg"])
     key, label = ("D_cos", "D(θ_m)·cos θ_m") if "D_cos" in data else ("D", "D(θ_m)")
@@ -27,6 +29,7 @@ def ndf_figure(data: dict, spec: dict, log: bool = True) -> dict:
     }
 
 
+@subscripted
 def g1_figure(data: dict, spec: dict) -> dict:
     """G1 with Λ on a log right axis; for an approximate masking, G1 with the exact Smith
     G1 dotted and the error G1 − G1_exact on the right axis instead."""
@@ -95,6 +98,7 @@ def albedo_y_range(lows, highs, y_range: str = "fit") -> list[float]:
     return [max(0.0, mid - span * (0.5 + ALBEDO_PAD)), mid + span * (0.5 + ALBEDO_PAD)]
 
 
+@subscripted
 def albedo_figure(data: dict, spec: dict, y_range: str = "fit") -> dict:
     """E(μ) with its error band; ``y_range`` "fit" (the data's span) or "unit" (0-1)."""
     mu = np.asarray(data["mu"])

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .markup import subscripted
 from .style import PALETTE, axis, base_layout
 from .titles import fresnel_text
 
@@ -12,6 +13,7 @@ def fresnel_title(spec: dict) -> str:
     return f"Fresnel F(θ_d) — {fresnel_text(spec)}"
 
 
+@subscripted
 def fresnel_figure(data: dict, spec: dict) -> dict:
     theta = np.asarray(data["theta_deg"])
     traces = [{"type": "scatter", "mode": "lines", "name": f"F (F̄ = {data['F_avg']:.4f})",

@@ -7,6 +7,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .markup import subscripted
 from .style import DIRECTION_COLORS, axis, base_layout, gaps, model_title
 
 # Sequential and readable with colour-vision deficiency (Nuñez, Anderton, Renslow 2018,
@@ -44,6 +45,7 @@ def srgb_encode(linear: np.ndarray) -> np.ndarray:
     return np.where(small, 12.92 * c, 1.055 * np.power(c, 1 / 2.4, where=~small, out=np.zeros_like(c)) - 0.055)
 
 
+@subscripted
 def lit_sphere_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: float,
                       display: str = "heatmap", exposure: float = 0.0) -> dict:
     x, y = np.asarray(data["x"]), np.asarray(data["y"])
@@ -95,6 +97,7 @@ def lit_sphere_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: flo
     return {"data": [trace, *guides], "layout": layout}
 
 
+@subscripted
 def slice_figure(data: dict, spec: dict, phi_d_deg: float, log: bool = True) -> dict:
     key = "f_cos" if "f_cos" in data else "f"
     name = "f·cos θ_l" if key == "f_cos" else "f"

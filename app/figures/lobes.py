@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .markup import subscripted
 from .style import DIRECTION_COLORS, PALETTE, base_layout, gaps, model_title
 
 # Decades below the peak shown by the log-scale polar lobe.
@@ -19,6 +20,7 @@ def _polar_radius_range(r: np.ndarray, log: bool):
     return [0, float(finite.max()) * 1.05]
 
 
+@subscripted
 def lobe_figure(data: dict, spec: dict, theta_i_deg: float, log: bool = False) -> dict:
     key = "f_cos" if "f_cos" in data else "f"
     theta_o = np.asarray(data["theta_o_deg"])
@@ -63,6 +65,7 @@ def lobe_figure(data: dict, spec: dict, theta_i_deg: float, log: bool = False) -
     }
 
 
+@subscripted
 def lobe3d_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: float,
                   log: bool = False) -> dict:
     theta = np.deg2rad(np.asarray(data["theta_deg"]))[:, None]

@@ -3,6 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .markup import subscripted
 from .style import axis, base_layout, gaps, model_title
 from .titles import option_label as _option_label
 
@@ -22,6 +23,7 @@ def g2_title(spec: dict, phi_deg: float) -> str:
     return f"G2(θ_l, θ_v), {form} — {model_title(spec)}, φ={phi_deg:g}°"
 
 
+@subscripted
 def g2_figure(data: dict, spec: dict, phi_deg: float) -> dict:
     theta_l = np.asarray(data["theta_l_deg"])
     theta_v = np.asarray(data["theta_v_deg"])

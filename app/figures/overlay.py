@@ -11,6 +11,7 @@ from __future__ import annotations
 import copy
 
 from ..errors import ParameterError
+from .markup import subscripted
 from .style import PALETTE
 
 OVERLAY_TRACES = {"scatter", "scatterpolar"}
@@ -60,6 +61,7 @@ def comparison_title(figures: list[dict], labels: list[str]) -> str:
     return f"{head} — {' vs '.join(labels)}" if head else " vs ".join(labels)
 
 
+@subscripted
 def overlay(figures: list[dict], labels: list[str], title: str | None = None,
             param: str = "vary") -> dict:
     """One figure with the curves of ``figures`` (label k belongs to figure k), headed

@@ -11,12 +11,14 @@ from __future__ import annotations
 import numpy as np
 
 from .maps import SEQUENTIAL
+from .markup import subscripted
 from .style import axis, base_layout, model_title
 
 #: bins per axis of the two heatmaps (cos θ, φ): Plotly's histogram2d bins client-side
 FIGURE_BINS = (24, 48)
 
 
+@subscripted
 def samples_figure(data: dict, spec: dict, theta_i_deg: float) -> dict:
     z = np.asarray(data["z"], dtype=float)
     upper = z >= 0

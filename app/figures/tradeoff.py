@@ -13,6 +13,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .markup import subscripted
 from .style import PALETTE, base_layout, log_axis, model_title
 
 #: Decades the error axis spans at most (errors reach the rounding floor, 1e-16).
@@ -54,6 +55,7 @@ def _hover(method: str) -> str:
             "<extra></extra>")
 
 
+@subscripted
 def tradeoff_figure(data: dict, spec: dict, x: str = "evaluations") -> dict:
     methods = list(data.get("methods", []))
     per_point = np.asarray(data["method_index"], dtype=int)

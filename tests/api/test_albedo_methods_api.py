@@ -120,7 +120,7 @@ def test_albedo_figure_shows_both_curves_with_compensation(client):
     fig = get(client, "/api/v1/figures/albedo?n=5&alpha=0.8&multiscatter=kulla_conty")
     names = [t.get("name", "") for t in fig["data"]]
     assert any(n.startswith("E(μ) with compensation") for n in names)
-    assert any(n.startswith("E_single") for n in names)
+    assert any(n.startswith("E<sub>single</sub>") for n in names)
     plain = get(client, "/api/v1/figures/albedo?n=5&alpha=0.8&method=mc_ndf")
     assert any("standard error" in t.get("name", "") for t in plain["data"])
 

@@ -128,7 +128,7 @@ def test_figure_has_one_curve_per_method_and_labelled_axes(client):
         assert [t["legendgroup"] for t in named] == ["quadrature", "mc_vndf", "table"]
         layout = fig["layout"]
         assert layout["xaxis"]["type"] == "log" and layout["yaxis"]["type"] == "log"
-        assert x in layout["xaxis"]["title"]["text"] and "E_ref" in layout["yaxis"]["title"]["text"]
+        assert x in layout["xaxis"]["title"]["text"] and "E<sub>ref</sub>" in layout["yaxis"]["title"]["text"]
         assert "GGX α=0.5" in layout["title"]["text"]
         quad = named[0]
         rows = [i for i, m in enumerate(data["method"]) if m == "quadrature"]

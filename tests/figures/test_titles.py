@@ -53,7 +53,7 @@ def test_comparison_heading_reads_as_a_heading():
     figs = [{"data": [{"type": "scatter", "x": [0, 1], "y": [0, 1]}],
              "layout": {"title": {"text": f"D(θ_m) — {name}"}}} for name in ("GGX α=0.2", "Beckmann α=0.2")]
     heading = overlay(figs, ["ggx", "beckmann"])["layout"]["title"]["text"]
-    assert heading == "D(θ_m) — ggx vs beckmann"
+    assert heading == "D(θ<sub>m</sub>) — ggx vs beckmann"      # θ_m as Plotly's subscript
 
 
 def test_albedo_axis_fits_the_data_or_spans_zero_to_one():
