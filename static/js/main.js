@@ -7,8 +7,9 @@ import { setModels, reg, modelDefaults, fixApplicability, choiceDefaults, choice
 import { ctx, stateFromSearch, scheduleUrlWrite, urlPending } from "./state.js";
 import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
 import { HINTS, PANEL_ORDER, PAGE_DEFAULTS } from "./views.js";
+import { lightDrag } from "./spheredrag.js";
+import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows, controls } from "./sidebar.js";
 import { Panel, panelBar, fieldApplies } from "./panels.js";
-import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows } from "./sidebar.js";
 import { Scheduler } from "./scheduler.js";
 
 const state = ctx.state;
@@ -181,6 +182,15 @@ async function boot() {
     return p;
   });
   for (const p of panels) p.report = report(p);
+  for (const p of panels) {
+    if (!HINTS[p.name]?.lightDrag) continue;
+    lightDrag(p.div, { hold: onHold, set: (theta, phi) => {
+      if (state.theta_i_deg === theta && state.phi_i_deg === phi) return;
+      Object.assign(state, { theta_i_deg: theta, phi_i_deg: phi });
+      for (const k of ["theta_i_deg", "phi_i_deg"]) controls.get(k)?.set(state[k]);
+      onStateChange();
+    } });
+  }
   panelBar(ctx.views, (name, on) => {
     state.show = ctx.views.map((v) => v.name).filter((n) => (n === name ? on : state.show.includes(n)));
     onStateChange();

@@ -5,7 +5,8 @@
  *   shown: open by default; slice: its phi_deg follows the plane of incidence when
  *   anisotropic; keys: URL names of its toggles that predate generic panels; wide /
  *   short: layout; pin: made of curves, so POST /figures/{name} can overlay pinned
- *   models; tails: "compare tails"; heavy: an image fetched coarser while a slider is held.
+ *   models; tails: "compare tails"; heavy: an image fetched coarser while a slider is held;
+ *   lightDrag: a sphere whose light is dragged on it (spheredrag.js).
  */
 export const HINTS = {
   lobe: { title: "BRDF lobe", shown: true, pin: true, keys: { log: "log", cosine: "cosine" },
@@ -22,8 +23,10 @@ export const HINTS = {
         caption: "G₂(θ_l, θ_v): the microfacets seen from both the light and the viewer." },
   fresnel: { title: "Fresnel F", pin: true,
              caption: "F(θ_d): the share reflected by one microfacet against the angle to its normal." },
-  sphere: { title: "Lit sphere", heavy: true,
-            caption: "A sphere of this material under one directional light at (θ_i, φ_i)." },
+  sphere: { title: "Lit sphere", heavy: true, lightDrag: true,
+            caption: "A sphere of this material under one directional light at (θ_i, φ_i); drag on it to move the light." },
+  sphere_env: { heavy: true, lightDrag: true,
+                caption: "A sphere of this material in an environment or under a point light; drag on it to move the light." },
   slice: { title: "θ_h / θ_d slice", heavy: true,
            caption: "f over half-vector and difference angles, the image slice of Disney's BRDF explorer." },
   samples: { title: "Importance sampling", heavy: true,

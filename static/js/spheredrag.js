@@ -1,0 +1,61 @@
+/* The light dragged on a lit sphere.
+ *
+ * Where the pointer is on the disk, the surface there faces the light (n = l, the
+ * "n = l" marker of the sphere view): θ_i = asin r and φ_i = atan2(y, x) in the image's
+ * own axes, which both sphere views lay out as the normal's (x, y) (x right, y up; the
+ * environment sphere's image rows run from y = 1 down). Past the rim the light stays on
+ * it (θ_i = 90°). While the pointer is down the page is "held", as with a slider: heavy
+ * images come coarser and axes stay put; the sidebar's θ_i and φ_i follow the drag.
+ * A press off the disk is left to Plotly (zoom, pan).
+ */
+const DEG = 180 / Math.PI;
+const round1 = (v) => Math.round(v * 10) / 10;
+
+/** The pointer in the plot's data coordinates, or null before the first draw. */
+function dataAt(div, ev) {
+  const xa = div._fullLayout?.xaxis, ya = div._fullLayout?.yaxis;
+  if (!xa?.p2c || !ya?.p2c) return null;
+  const box = div.getBoundingClientRect();
+  return [xa.p2c(ev.clientX - box.left - xa._offset), ya.p2c(ev.clientY - box.top - ya._offset)];
+}
+
+/** (θ_i, φ_i) in degrees for the light facing the sphere's point (x, y). */
+export function lightAt(x, y) {
+  const r = Math.min(1, Math.hypot(x, y));
+  return [round1(Math.asin(r) * DEG), round1(Math.atan2(y, x) * DEG)];
+}
+
+/** Lets the light be dragged on `div`'s sphere: set(θ_i, φ_i) at each move, hold(bool)
+ * when the drag starts and ends. */
+export function lightDrag(div, { set, hold }) {
+  let dragging = false;
+  const aim = (ev) => {
+    const p = dataAt(div, ev);
+    if (p && Number.isFinite(p[0]) && Number.isFinite(p[1])) set(...lightAt(p[0], p[1]));
+  };
+  div.classList.add("light-drag");
+  div.title = "Drag on the sphere to move the light";
+  div.addEventListener("pointerdown", (ev) => {
+    const p = dataAt(div, ev);
+    if (ev.button !== 0 || !p || !(Math.hypot(p[0], p[1]) <= 1)) return;
+    ev.preventDefault();              // no mouse events follow: Plotly does not start a zoom
+    ev.stopPropagation();
+    dragging = true;
+    div.setPointerCapture?.(ev.pointerId);
+    hold(true);
+    aim(ev);
+  }, { capture: true });
+  div.addEventListener("pointermove", (ev) => {
+    if (!dragging) return;
+    ev.preventDefault();
+    ev.stopPropagation();
+    aim(ev);
+  }, { capture: true });
+  const end = () => {
+    if (!dragging) return;
+    dragging = false;
+    hold(false);
+  };
+  div.addEventListener("pointerup", end, { capture: true });
+  div.addEventListener("pointercancel", end, { capture: true });
+}
