@@ -21,10 +21,19 @@ export const $ = (sel, root = document) => root.querySelector(sel);
 // a name: "height_correlated", "lambda_phi", "theta_i_deg".
 const INDEXED = /(^|[^\p{L}\p{N}_])(\p{L}{1,2})_(\p{L}{1,3}|\p{N}{1,2}|\{[^}]{1,8}\})(?![\p{L}\p{N}_])/gu;
 
-/** "θ_i (incidence)" -> θ<sub>i</sub> (incidence), built from text nodes only. */
+// Plotly's subscript markup as the figures write an indexed symbol ("θ<sub>v</sub>", so
+// that Plotly draws it), back to the page's notation "θ_v": a figure's title or a trace's
+// name read as text says what it said before, and richText draws the index again.
+const SUB_MARKUP = /(\p{L})<sub>([\p{L}\p{N}]+)<\/sub>/gu;
+
+/** "θ<sub>v</sub> (degrees)" -> "θ_v (degrees)"; other text and markup unchanged. */
+export const plainIndex = (text) => String(text).replace(SUB_MARKUP, "$1_$2");
+
+/** "θ_i (incidence)" or "θ<sub>i</sub> (incidence)" -> θ<sub>i</sub> (incidence), built
+ * from text nodes only (markup in `text` is never parsed as HTML: tags are dropped). */
 export function richText(text) {
   const frag = document.createDocumentFragment();
-  text = String(text).replace(/<br\s*\/?>/gi, " ").replace(/<[^>]*>/g, "");
+  text = plainIndex(text).replace(/<br\s*\/?>/gi, " ").replace(/<[^>]*>/g, "");
   let last = 0;
   for (const m of text.matchAll(INDEXED)) {
     const start = m.index + m[1].length;

@@ -2,12 +2,21 @@
  * On a page the figure's box sets the size and a legend sits above the axes, clear of
  * the axis titles at any height. keepTitle: the title stays, in the top margin (embeds).
  */
+import { plainIndex } from "./dom.js";
+
 export const PLOT_CONFIG = { responsive: true, displaylogo: false, modeBarButtonsToRemove: ["lasso2d", "select2d"] };
 
-/** The figure title as plain text (first line), or "". */
-export function titleText(layout) {
+/** The figure's title as the server wrote it (Plotly markup and all), or "". */
+function plotTitle(layout) {
   const t = layout && layout.title;
   return String((typeof t === "string" ? t : t && t.text) || "");
+}
+
+/** The figure title as the page's text, or "": indexed symbols in the page's notation
+ * ("θ_v", which richText draws as a subscript; the figure has θ<sub>v</sub> for Plotly),
+ * any other markup (<br>) as sent. */
+export function titleText(layout) {
+  return plainIndex(plotTitle(layout));
 }
 
 export function fitLayout(given, { keepTitle = false } = {}) {
@@ -20,7 +29,7 @@ export function fitLayout(given, { keepTitle = false } = {}) {
   delete layout.title;
   // Plotly places a title of several <br> lines by its first line: the first line is
   // the title and the rest its subtitle, which Plotly stacks below it.
-  const text = keepTitle ? titleText(given) : "";
+  const text = keepTitle ? plotTitle(given) : "";      // Plotly draws its subscripts
   const [head, ...rest] = text.split(/<br\s*\/?>/i);
   // 26 px: the 13 px title line with its padding; 15 px per 11 px subtitle line
   const top = text ? 26 + 15 * rest.length : 0;

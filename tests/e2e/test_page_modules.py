@@ -204,6 +204,39 @@ def test_headings_render_names_as_names_and_captions_say_what_each_plot_shows(pa
     assert page_log.problems() == []
 
 
+def test_figure_subscripts_are_drawn_by_plotly_and_read_as_before_by_the_page(page, page_log):
+    """The figures write θ<sub>m</sub> (issue 11): Plotly draws the index, and what the
+    page reads of a figure as text (a panel's heading, an embed's document title) says
+    θ_m as before, which richText draws as a subscript, from text nodes only."""
+    page.goto("/?show=lobe,ndf")
+    wait_quiet(page, ids=("plot-lobe", "plot-ndf"))
+    # Plotly: the axis title "θ<sub>m</sub> (degrees)" is drawn as θ, a shifted "m", no markup
+    xtitle = page.evaluate("""() => { const t = document.querySelector('#plot-ndf .xtitle');
+        return { text: t.textContent, subs: [...t.querySelectorAll('tspan')].filter(
+            (s) => (s.getAttribute('style') || '').includes('font-size')).map((s) => s.textContent) }; }""")
+    assert xtitle["text"].replace("\u200b", "") == "θm (degrees)" and "m" in xtitle["subs"], xtitle
+    legend = page.evaluate("() => document.querySelector('#plot-ndf').data[0].name")
+    assert legend == "D(θ<sub>m</sub>)"
+    # the lobe panel's heading reads the figure's title: θ_i, drawn as θ<sub>i</sub>, as before
+    heading = page.locator('[data-panel="lobe"] h2 .sub').inner_html()
+    assert heading.endswith("θ<sub>i</sub>=45°") and "&lt;" not in heading, heading
+    out = json.loads(page.evaluate("""async () => {
+        const { richText, plainIndex } = await import('/static/js/dom.js');
+        const { titleText, fitLayout } = await import('/static/js/layout.js');
+        const p = document.createElement('p');
+        p.append(richText('μ = cos θ<sub>v</sub>, E<sub>avg</sub> = 0.05, theta_o_deg<img src=x onerror="window.bad=1">'));
+        const layout = { title: { text: 'Albedo — GGX α=0.3<br><sub>max of |E − E<sub>ref</sub>|</sub>' } };
+        return JSON.stringify({ html: p.innerHTML, imgs: p.querySelectorAll('img').length,
+            plain: plainIndex('F − F<sub>exact</sub> (right axis)'), title: titleText(layout),
+            kept: fitLayout(layout, { keepTitle: true }).title.subtitle.text }); }"""))
+    assert out["html"] == "μ = cos θ<sub>v</sub>, E<sub>avg</sub> = 0.05, theta_o_deg", out
+    assert out["imgs"] == 0
+    assert out["plain"] == "F − F_exact (right axis)"
+    assert out["title"] == "Albedo — GGX α=0.3<br><sub>max of |E − E_ref|</sub>"
+    assert out["kept"] == "<sub>max of |E − E<sub>ref</sub>|</sub>"     # Plotly draws it in an embed
+    assert page_log.problems() == []
+
+
 def test_comparison_heading_is_not_an_api_description(page, page_log, base_url):
     summary = next(v["summary"] for v in page.request.get(f"{base_url}/api/v1/views").json() if v["name"] == "ndf")
     page.goto("/?pin=ndf:beckmann,alpha:0.2")
