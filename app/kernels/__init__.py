@@ -26,6 +26,7 @@ import numpy as np
 
 from ..physics.brdf import BRDF, CompensatedBRDF, blend_lobes
 from ..physics.g2 import lambda_phi_entry
+from ..physics import smith_table
 from ..physics.ndf import SlopeSpaceNDF
 from . import compose
 from .compiler import Client
@@ -209,11 +210,18 @@ def _build(c: Components, note: str = "") -> Kernel | None:
                 _cv.notify_all()
             log.warning("no compiled loops for %s (numpy serves it): %s", c.label, _failed[c])
             return None
-        hits = sum(sum(k.stats.cache_hits.values()) for k in (module.f_loop, module.albedo_rows))
-        how = "loaded from numba's cache" if hits == 2 else "compiled"
+        loops = (module.f_loop, module.albedo_rows, module.smith_h)
+        hits = sum(sum(k.stats.cache_hits.values()) for k in loops)
+        how = "loaded from numba's cache" if hits == len(loops) else "compiled"
         log.info("compiled loops ready for %s: %s%s in %.1f s", c.label, note, how,
                  time.perf_counter() - t0)
         with _cv:
             _ready[c] = kernel
             _cv.notify_all()
+        smith_table.COMPILED_H.setdefault(c.ndf, _smith_h(kernel))
         return kernel
+
+
+def _smith_h(kernel: Kernel):
+    """The Smith-table integrals of ``kernel``'s NDF compiled (None while switched off)."""
+    return lambda ndf, a: kernel.smith_h(ndf, a) if ENABLED else None

@@ -3,8 +3,9 @@
 A model's loops are fixed by its NDF class, masking, G2 form, Fresnel class and, for
 the direction-correlated forms, λ(φ). For each such combination :func:`source` writes a
 small Python module that imports the components' scalar formulas (by module and name),
-wraps them for inlining and defines two loops — f(l, v) over direction pairs and the
-albedo quadrature's integrand over (μ, ψ) rows — and :func:`load` imports it from the
+wraps them for inlining and defines three loops — f(l, v) over direction pairs, the
+albedo quadrature's integrand over (μ, ψ) rows and the Smith table's integrals
+(physics/smith_table.py; it depends on the NDF alone) — and :func:`load` imports it from the
 kernel directory. numba caches each loop on disk beside that file; the file's name is a
 hash of every scalar formula's source and of this template, so a change to any formula
 compiles afresh instead of loading a stale loop. No integer kinds, no branches over
@@ -156,6 +157,31 @@ def albedo_rows(v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log, out, start, s
             F = FRESNEL_F(kk * math.sqrt(inv_len2), p_fresnel)
             total += 4.0 * F * V * mu_l * kk * du
         out[i, j] = total
+
+
+@numba.njit(**JIT)
+def smith_h(a, power, weight, p_radial, h, slope, start, stop):
+    # physics/smith_integral._integral at s = 1 with its slope, node for node: h(a) and
+    # dh/da of the Smith table (physics/smith_table.py); v = v0 (1 - t)^k, dv = v0 k
+    # (1 - t)^(k - 1) dt with power = (1 - t)^k, weight = k (1 - t)^(k - 1) dt;
+    # p_radial = ndf.radial_params()
+    for i in range(start, stop):
+        ai = a[i]
+        v0 = NDF_CCDF(ai * ai, p_radial)
+        sum_h = 0.0
+        sum_slope = 0.0
+        if v0 > 0.0:
+            for j in range(weight.shape[0]):
+                v = v0 * power[j]
+                if not v > 0.0:
+                    continue         # dv < 1e-308 too: contributes 0, as numpy's
+                dv = v0 * weight[j]
+                q = math.sqrt(max(NDF_CCDF_INV(v, p_radial) - ai * ai, 0.0))
+                angle = math.atan2(q, ai)
+                sum_h += (q - ai * angle) * dv
+                sum_slope += angle * dv
+        h[i] = sum_h / math.pi
+        slope[i] = -sum_slope / math.pi
 '''
 
 
@@ -225,7 +251,7 @@ def cached(module: ModuleType) -> bool:
     """Whether numba's disk cache holds both loops of a generated module (its index
     files exist: the one signature the warm-up compiles)."""
     return all(os.path.exists(loop._cache._cache_file._index_path)
-               for loop in (module.f_loop, module.albedo_rows))
+               for loop in (module.f_loop, module.albedo_rows, module.smith_h))
 
 
 def load(c: Components) -> ModuleType:

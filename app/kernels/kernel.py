@@ -65,6 +65,7 @@ class Kernel:
         self.components = components
         self._f_loop = module.f_loop
         self._albedo_rows = module.albedo_rows
+        self._smith_h = module.smith_h
 
     @staticmethod
     def params(lobe) -> tuple[np.ndarray, ...]:
@@ -98,9 +99,21 @@ class Kernel:
                (float(ndf.alpha_x), float(ndf.alpha_y), *self.params(lobe)))
         return rows
 
+    def smith_h(self, ndf, a) -> tuple[np.ndarray, np.ndarray]:
+        """h(a) and dh/da at a ≥ 0 of the Smith table (physics/smith_integral.h_and_slope:
+        the same rule, nodes and substitution)."""
+        from ..physics import smith_integral as si
+        one_minus_t, dt = si.t_rule()
+        k = si.tail_power(ndf)
+        a, power, weight, p = inputs(a, one_minus_t ** k, k * one_minus_t ** (k - 1.0) * dt,
+                                     ndf.radial_params())
+        h, slope = np.empty(a.size), np.empty(a.size)
+        _split(self._smith_h, a.size, a.size * weight.size, (a, power, weight, p, h, slope), ())
+        return h, slope
+
     def warm(self) -> None:
-        """Compile (or load from numba's cache) both loops, on one point each, with the
-        argument types the calls above use."""
+        """Compile (or load from numba's cache) the three loops, on one point each (none
+        for smith_h), with the argument types the calls above use."""
         l, = inputs([[0.0, 0.0, 1.0]])
         p, = inputs(np.zeros(1))
         self._f_loop(l, l, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p)
@@ -108,4 +121,5 @@ class Kernel:
         rule, = inputs([0.5])
         self._albedo_rows(l, node, node, node, node, rule, rule, rule, rule, rule, False,
                           np.empty((1, 1)), 0, 0, 0.5, 0.5, p, p, p, p)
+        self._smith_h(rule, rule, rule, p, np.empty(1), np.empty(1), 0, 0)
 

@@ -59,17 +59,27 @@ def h_and_slope(ndf, a, order: int = ORDER) -> tuple[np.ndarray, np.ndarray]:
     return np.where(v0 > 0, h, 0.0), np.where(v0 > 0, slope, 0.0)
 
 
+def t_rule(order: int = ORDER) -> tuple[np.ndarray, np.ndarray]:
+    """(1 − t, dt) of the rule in t = sin²(πσ/2), σ Gauss-Legendre on [0, 1]: near t = 0
+    (r̃ → a) the integrand starts like √(r̃² − a²) — at a = 0 like √(1 − v) — which a
+    plain Gauss rule in t resolves only to third order (7e-8 at order 192, GGX grazing);
+    in σ it is smooth (8e-13, measured). Shared with the compiled loop (app/kernels)."""
+    sg, wsg = gauss_legendre_01(order)
+    t = np.sin(0.5 * np.pi * sg) ** 2
+    return 1.0 - t, 0.5 * np.pi * np.sin(np.pi * sg) * wsg
+
+
+def tail_power(ndf) -> float:
+    """k of the substitution v = v₀ (1 − t)^k (the integrand then vanishes at t = 1)."""
+    return min(1.0 / (1.0 - ndf.tail_beta), K_MAX)
+
+
 def _integral(ndf, mu, s, v0, order, with_slope: bool = False):
     a, v0 = (mu / s)[..., None], v0[..., None]
-    sg, wsg = gauss_legendre_01(order)
-    # t = sin²(πσ/2): near t = 0 (r̃ → a) the integrand starts like √(r̃² − a²) — at a = 0
-    # like √(1 − v) — which a plain Gauss rule in t resolves only to third order
-    # (7e-8 at order 192, GGX grazing); in σ it is smooth (8e-13, measured).
-    t = np.sin(0.5 * np.pi * sg) ** 2
-    wt = 0.5 * np.pi * np.sin(np.pi * sg) * wsg
-    k = min(1.0 / (1.0 - ndf.tail_beta), K_MAX)
-    v = v0 * (1.0 - t) ** k
-    dv = k * v0 * (1.0 - t) ** (k - 1.0) * wt
+    one_minus_t, wt = t_rule(order)
+    k = tail_power(ndf)
+    v = v0 * one_minus_t ** k
+    dv = k * v0 * one_minus_t ** (k - 1.0) * wt
     # Where v₀ (1 − t)^k underflows to 0 the node's weight dv is below 1e-308 too: it
     # contributes 0, and r̃ is not needed there.
     r2 = where_valid(v > 0, [v], ndf.radial_ccdf_inv, 0.0)

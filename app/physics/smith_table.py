@@ -11,6 +11,9 @@ every NDF at its parameter extremes (tests/robustness/test_smith_numeric.py), an
 costs about what a closed-form Λ costs: ``smith`` uses it where Λ has no closed form,
 ``smith_numeric`` for every NDF. The interpolant is a :class:`LambdaTable`: plain arrays on
 a uniform grid, so a compiled loop evaluates exactly what :meth:`LambdaTable.h` does.
+The nodes' integrals are computed by a compiled loop (the same rule, from the NDF's
+scalar formulas) once app/kernels has loops for the NDF (``COMPILED_H``): ~8× less CPU
+for GTR, one table per roughness; by numpy before that.
 (derivation: docs/smith.md §3)
 """
 from __future__ import annotations
@@ -23,6 +26,11 @@ from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
 from .numeric import where_valid
 from .smith_integral import h_and_slope
+
+#: NDF class → h_and_slope(ndf, a) compiled (app/kernels registers one when an NDF's loops
+#: are ready; it may answer None, e.g. while compiled loops are switched off): the same
+#: rule as smith_integral.h_and_slope, whose numpy form serves otherwise.
+COMPILED_H: dict = {}
 
 TABLE_NODES = 2049
 A_MIN, A_MAX = 1e-5, 1e7
@@ -77,8 +85,8 @@ def _table(ndf_class, alpha: float, shape: tuple) -> LambdaTable:
     ndf = ndf_class(alpha, None, **dict(shape))
     x = np.linspace(np.log(A_MIN), np.log(A_MAX), TABLE_NODES)
     a = np.exp(x)
-    h, dh_da = h_and_slope(ndf, a)
-    h0 = float(h_and_slope(ndf, np.zeros(1))[0][0])
+    h, dh_da = _h_and_slope(ndf, np.concatenate([a, [0.0]]))
+    h, dh_da, h0 = h[:-1], dh_da[:-1], float(h[-1])
     flushed = h < H_FLUSH
     h, dh_dx = np.where(flushed, 0.0, h), np.where(flushed, 0.0, a * dh_da)
     # A cubic Hermite with the exact slopes: |ΔG1| ≤ 4e-10 where PCHIP's estimated
@@ -95,6 +103,12 @@ def _table(ndf_class, alpha: float, shape: tuple) -> LambdaTable:
     coefficients = np.where(monotone, hermite, pchip)
     coefficients.flags.writeable = False
     return LambdaTable(float(x[0]), float(x[1] - x[0]), coefficients, h0, float(h[0]))
+
+
+def _h_and_slope(ndf, a):
+    compiled = COMPILED_H.get(type(ndf))
+    out = compiled(ndf, a) if compiled is not None else None
+    return out if out is not None else h_and_slope(ndf, a)
 
 
 def lambda_table(ndf) -> LambdaTable:

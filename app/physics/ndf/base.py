@@ -165,6 +165,12 @@ class SlopeSpaceNDF(NDF):
         shape parameters, tables where Λ is tabulated)."""
         return ()
 
+    def radial_params(self):
+        """The floats the radial scalar formulas (``radial_ccdf_scalar``,
+        ``radial_ccdf_inv_scalar``) read: ``kernel_params`` up to any Λ table, which the
+        compiled Smith-table build (smith_table.py) must not need."""
+        return self.kernel_params()
+
 
 # The shape-invariant NDFs are slope-space NDFs whose hooks ignore α.
 ShapeInvariantNDF = SlopeSpaceNDF

@@ -123,11 +123,13 @@ class GTR(SlopeSpaceNDF):
         # is the value there.
         return np.maximum(1.0 / mu2 - 1.0, 0.0) / self.alpha_x ** 2
 
-    def kernel_params(self):
+    def radial_params(self):
         A, g = self.alpha_x ** 2, self.gamma
         log_D0 = np.log(self.k / np.pi) + (2.0 - 2.0 * g) * np.log(self.alpha_x)
-        head = [A, g, self.k, np.log(A), self.k * A ** (1.0 - g), log_D0]
-        return np.concatenate([np.asarray(head, dtype=float), table_params(self)])
+        return np.asarray([A, g, self.k, np.log(A), self.k * A ** (1.0 - g), log_D0], dtype=float)
+
+    def kernel_params(self):
+        return np.concatenate([self.radial_params(), table_params(self)])
 
     @staticmethod
     @scalar
