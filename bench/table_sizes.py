@@ -11,7 +11,8 @@ saw at its check points, and an independent dense check (the quadrature at tol 1
 and μ → 0 at α → 1, the hardest corner).
 
 --all: the build time of each NDF's n×n table (shape parameters at their defaults,
-compiled loops loaded first), median over rounds, with its reported bound.
+compiled loops loaded first), median over rounds, with its reported bound; the time and
+the load average before and after.
 
 --first-kc: for each NDF, a new server (compiled loops in their cache, no table), and
 its first GET /api/v1/albedo with multiscatter=kulla_conty (Blinn-Phong with
@@ -20,6 +21,7 @@ masking=smith_numeric): wall time and the reported compensation_error.
 from __future__ import annotations
 
 import json
+import os
 import sys
 import time
 import urllib.parse
@@ -53,6 +55,10 @@ def dense_error(table, ndf: str) -> float:
 
 
 def all_ndfs(n: int, rounds: int) -> None:
+    # the machine is shared: CPU seconds are the comparable figure, the load says how far
+    # the wall clock is from them
+    print(f"{time.strftime('%H:%M UTC', time.gmtime())}, load average "
+          f"{' '.join(f'{x:.1f}' for x in os.getloadavg())}", flush=True)
     print(f"| NDF | {n}×{n} build, wall s (median of {rounds}) | CPU s | reported bound | evaluations |")
     print("|---|---|---|---|---|")
     for name in NDFS:
@@ -68,6 +74,8 @@ def all_ndfs(n: int, rounds: int) -> None:
         print(f"| {name} | {common.median(times):.2f} ({', '.join(f'{t:.2f}' for t in times)}) | "
               f"{common.median(cpu):.2f} | {table.error:.1e} | {table.build_evaluations:.3g} |",
               flush=True)
+    print(f"{time.strftime('%H:%M UTC', time.gmtime())}, load average "
+          f"{' '.join(f'{x:.1f}' for x in os.getloadavg())}", flush=True)
 
 
 def first_kc() -> None:
