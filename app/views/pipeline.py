@@ -7,6 +7,7 @@ from dataclasses import dataclass
 
 from ..config import Settings
 from ..errors import ParameterError
+from ..figures.markup import markup
 from ..figures.overlay import overlay, overlayable
 from ..figures.style import model_title
 from ..model import OPTIONS, ModelSpec
@@ -23,7 +24,8 @@ class Result:
     data: dict
 
     def figure(self) -> dict:
-        return self.view.figure(self.data, self.spec, self.query)
+        # indexed symbols as Plotly subscripts whoever built the figure (figures/markup.py)
+        return markup(self.view.figure(self.data, self.spec, self.query))
 
 
 @dataclass

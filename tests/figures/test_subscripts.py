@@ -88,9 +88,15 @@ def test_api_names_and_data_keys_stay_as_the_api_spells_them(client):
 
 def test_exported_images_are_drawn_from_the_marked_figure():
     """SVG and PNG are rendered (kaleido) from the figure the view's pipeline builds, not
-    from the JSON: the builder's own figure carries the markup."""
+    from the JSON: that figure carries the markup, for every view (the principled albedo's
+    builder lives outside app/figures)."""
     from app.views import VIEWS, run
     settings = settings_for_tests()
+    raw = []
+    for name, view in VIEWS.items():
+        fig = run(view, view.figure_query(), settings).figure()
+        raw += [(name, where, text) for where, text in texts(fig) if RAW_INDEX.search(text)]
+    assert raw == [], raw
     view = VIEWS["g1"]
     figure = run(view, view.figure_query(), settings).figure()
     assert figure["layout"]["xaxis"]["title"]["text"] == "θ<sub>v</sub> (degrees)"
