@@ -156,8 +156,9 @@ export function canAnimate(gd, data, styles, fill = FILL) {
   for (let i = 0; i < data.length; i++) {
     if (!ANIMATABLE.has(data[i].type || "scatter")) return false;
     if (traceStyle(data[i]) === styles[i]) continue;
-    if (traceStyle({ ...data[i], name: JSON.parse(styles[i]).name }) !== styles[i]) return false;
-    if (/[<&]/.test(String(data[i].name))) return false;
+    const drawnName = JSON.parse(styles[i]).name;
+    if (traceStyle({ ...data[i], name: drawnName }) !== styles[i]) return false;
+    if (!renamable(drawnName, data[i].name)) return false;
   }
   return fitsAxes(gd, data, fill);
 }
@@ -168,12 +169,30 @@ export function animateData(gd, data) {
     .then(() => renameLegend(gd, data));
 }
 
+// A name's markup ("E<sub>avg</sub> = 0.0488"): what comes up to its last tag, and after it.
+const markupHead = (name) => String(name).slice(0, String(name).lastIndexOf(">") + 1);
+const plainTail = (name) => String(name).slice(String(name).lastIndexOf(">") + 1);
+
+/** Can the legend text drawn for `before` be rewritten in place as `after`? When their
+ * markup is the same and only the plain text after it differs (E<sub>avg</sub> = 0.0488
+ * → 0.0505): Plotly drew that text as the last text node of the entry. */
+function renamable(before, after) {
+  if (before === after) return true;
+  if (before === undefined || after === undefined) return false;
+  return markupHead(before) === markupHead(after) && !/[<&]/.test(plainTail(after));
+}
+
 /** A legend entry whose trace's name changed (E_avg = 0.0488 → 0.0505) gets its new
  * text in place (a data-only redraw leaves the legend as drawn). */
 export function renameLegend(gd, data) {
   for (const g of gd.querySelectorAll(".legend .traces")) {
     const i = g.__data__?.[0]?.trace?.index, text = g.querySelector(".legendtext");
     const name = data[i]?.name;
-    if (text && name !== undefined && text.textContent !== String(name)) text.textContent = String(name);
+    if (!text || name === undefined) continue;
+    const walker = document.createTreeWalker(text, NodeFilter.SHOW_TEXT);
+    let last = null;
+    while (walker.nextNode()) last = walker.currentNode;
+    const tail = plainTail(name);
+    if (last && last.textContent !== tail) last.textContent = tail;
   }
 }

@@ -199,7 +199,7 @@ export class Panel {
   }
 
   /** A data-only redraw (see fastdraw.js) when only the data moved; null otherwise. */
-  quick({ data, layout, uirevision, sub }) {
+  quick({ data, layout, uirevision, sub }, frame = () => new Promise((r) => requestAnimationFrame(r))) {
     if (!this.drawn || this.error || uirevision !== this.uirev) return null;
     const { ranges, rest } = splitRanges(layout);
     const fill = ctx.held ? HELD_FILL : undefined;
@@ -209,21 +209,23 @@ export class Panel {
     this.styles = data.map(traceStyle);
     if (canWrite(this.div, data)) {
       this.shown_();
-      return this.writeInFrame(data);
+      return this.writeInFrame(data, frame);
     }
     return this.drawn_(animateData(this.div, data));
   }
 
-  /** Writes the newest data's paths in the next animation frame (one write a frame
-   * however many answers land before it); Plotly draws it if the paths cannot take it. */
-  writeInFrame(data) {
+  /** Writes the newest data's paths in the animation frame `frame()` resolves in (one
+   * write a frame however many answers land before it); Plotly draws it if the paths
+   * cannot take it. */
+  writeInFrame(data, frame) {
     this.toWrite = data;
-    this.writing ||= new Promise((resolve) => requestAnimationFrame(() => {
+    this.writing ||= new Promise((resolve) => frame().then(() => {
       const d = this.toWrite;
       this.toWrite = null;
       this.writing = null;
       if (writePaths(this.div, d)) {
         renameLegend(this.div, d);
+        this.div.data = d;        // what the plot shows, for readers of it; Plotly's own state follows in sync()
         this.stale = d;
         clearTimeout(this.syncTimer);
         this.syncTimer = setTimeout(() => this.sync(), SYNC_IDLE_MS);

@@ -6,7 +6,7 @@
  * are in flight: a change beyond that marks it dirty, and the newest state is fetched as
  * soon as one lands (so a drag costs the server at most two requests per panel at a time,
  * the second sent while the first is answered: a round trip no longer halves the redraw
- * rate); an answer older than one already drawn or waiting is dropped. Answers are drawn
+ * rate); an answer older than one already drawn or waiting is dropped when it lands. Answers are drawn
  * in animation frames: at most one draw per panel per frame, the newest answer wins (an
  * older one waiting is dropped), and a frame stops drawing after FRAME_BUDGET_MS so that
  * the next input event is not kept waiting; the rest draw in the next frame.
@@ -17,11 +17,17 @@
  */
 const FRAME_BUDGET_MS = 10;
 const MAX_IN_FLIGHT = 2;
+// Data-only redraws of answers that land close together are written in one frame: a
+// frame with DOM changes costs ~5 ms of style, layout, paint and compositing whatever
+// their number. The frame waits until no panel has a request in flight, GATE_MS at most.
+const GATE_MS = 20;
 
 export class Scheduler {
   constructor() {
     this.ready = new Map();      // panel -> {key, drawable | error}, in arrival order
     this.frame = 0;
+    this.flying = new Set();     // panels with a request in flight
+    this.gatePromise = null;
     this.onIdle = () => {};
   }
 
@@ -31,6 +37,7 @@ export class Scheduler {
       for (const f of flights) f.ctrl.abort();
       flights.length = 0;
       panel.inflight = null;
+      this.flying.delete(panel);
       panel.dirty = false;
       return;
     }
@@ -55,6 +62,7 @@ export class Scheduler {
     const flight = { key: req.key, ctrl, seq: (panel.seq = (panel.seq || 0) + 1) };
     panel.flights.push(flight);
     panel.inflight = flight;
+    this.flying.add(panel);
     panel.loading(true);
     let result;
     try {
@@ -74,12 +82,9 @@ export class Scheduler {
       if (!ctrl.signal.aborted) result = { key: req.key, seq: flight.seq, error: e.message || String(e) };
     } finally {
       panel.flights = panel.flights.filter((f) => f !== flight);
-      if (result) {
-        panel.newestSeq = result.seq;
-        for (const f of panel.flights) if (f.seq < result.seq) f.ctrl.abort();   // older: not needed
-        panel.flights = panel.flights.filter((f) => f.seq > result.seq);
-      }
+      if (result) panel.newestSeq = result.seq;    // an older answer still to come is dropped
       panel.inflight = panel.flights[panel.flights.length - 1] || null;
+      if (!panel.inflight) this.flying.delete(panel);
       if (result && !result.error && !panel.drawing && this.quick(panel, result)) {
         this.ready.delete(panel);          // an older answer waiting: this one is newer
       } else if (result) {
@@ -99,7 +104,7 @@ export class Scheduler {
   /** A data-only redraw at once (Plotly draws it in its next animation frame, a newer
    * one replacing it); false when the answer needs a full draw in our frame. */
   quick(panel, r) {
-    const p = panel.quick?.(r.drawable);
+    const p = panel.quick?.(r.drawable, () => this.gate());
     if (!p) return false;
     panel.drawnKey = r.key;
     // a newer redraw interrupts this one: Plotly then rejects its promise, which is no error
@@ -110,6 +115,22 @@ export class Scheduler {
     });
     panel.animating = a;
     return true;
+  }
+
+  /** The animation frame to write data-only redraws in (see GATE_MS). */
+  gate() {
+    if (!this.gatePromise) {
+      const t0 = performance.now();
+      this.gatePromise = new Promise((resolve) => {
+        const tick = () => {
+          if (this.flying.size && performance.now() - t0 < GATE_MS) return requestAnimationFrame(tick);
+          this.gatePromise = null;
+          resolve();
+        };
+        requestAnimationFrame(tick);
+      });
+    }
+    return this.gatePromise;
   }
 
   requestFrame() {

@@ -165,14 +165,15 @@ def test_fast_changes_are_coalesced(page, page_log):
     page.goto("/")
     wait_quiet(page)
     n0 = len(api_requests(page_log, "albedo"))
-    # 40 slider moves in one task: at most one request in flight per panel, the newest
-    # state fetched when it lands, and what is drawn is the final state.
+    # 40 slider moves in one task: at most two requests in flight per panel (scheduler.js
+    # MAX_IN_FLIGHT), the newest state fetched when one lands, and what is drawn is the
+    # final state.
     page.evaluate("""() => { const s = document.getElementById('alpha-slider');
         for (let i = 0; i < 40; i++) { s.value = String(200 + 10 * i);
           s.dispatchEvent(new Event('input', {bubbles: true})); } }""")
     wait_quiet(page)
     albedo = api_requests(page_log, "albedo")[n0:]
-    assert 1 <= len(albedo) <= 2, albedo
+    assert 1 <= len(albedo) <= 3, albedo
     final_alpha = page.evaluate("() => window.__brdf.state.alpha")
     assert float(albedo[-1]["alpha"]) == final_alpha
     assert float(api_requests(page_log, "lobe")[-1]["alpha"]) == final_alpha
