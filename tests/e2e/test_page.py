@@ -238,10 +238,19 @@ def test_slow_panel_says_loading(page, page_log):
     page.add_init_script("""(() => { const f = window.fetch;
         window.fetch = (u, o) => String(u).includes('/figures/albedo')
           ? new Promise((r) => setTimeout(r, 900)).then(() => f(u, o)) : f(u, o); })()""")
+    # what the status said, recorded in the page as it changes (a poll from the test can
+    # miss a status that a loaded machine shows for less than the poll's period)
+    page.add_init_script("""document.addEventListener('DOMContentLoaded', () => {
+        window.__albedoStatus = [];
+        new MutationObserver(() => {
+          const s = document.querySelector('[data-panel="albedo"] .panel-status');
+          if (s && s.classList.contains('loading')) window.__albedoStatus.push(s.textContent);
+        }).observe(document.body, { subtree: true, attributes: true, childList: true, characterData: true });
+      })""")
     page.goto("/")
     status = page.locator('[data-panel="albedo"] .panel-status')
-    page.wait_for_selector('[data-panel="albedo"] .panel-status.loading')
-    assert status.inner_text() == "loading…"
+    page.wait_for_function("() => (window.__albedoStatus || []).length > 0", timeout=30_000)
+    assert page.evaluate("() => window.__albedoStatus")[0] == "loading…"
     wait_quiet(page)
     assert status.inner_text() == ""
     assert page_log.problems() == []

@@ -65,13 +65,12 @@ def test_url_state_round_trip(page, page_log):
 
 
 BURST_JS = """async () => {
-  const frames = { n: 0 };
-  let run = true;
-  const tick = () => { frames.n += 1; if (run) requestAnimationFrame(tick); };
-  requestAnimationFrame(tick);
+  // a draw's frame: the document timeline's time, which is the frame's own timestamp for
+  // everything that runs in it (a counter bumped by a rAF callback of ours would depend
+  // on the order of the page's own rAF callbacks within the frame)
   const draws = [];
   for (const d of document.querySelectorAll('.js-plotly-plot')) {
-    d.addEventListener(window.__brdf.drawEvent, () => draws.push([d.id, frames.n]));
+    d.addEventListener(window.__brdf.drawEvent, () => draws.push([d.id, document.timeline.currentTime]));
   }
   const slider = document.getElementById('alpha-slider');
   for (let k = 0; k < 40; k++) {            // one burst: 40 moves in one task
@@ -80,7 +79,6 @@ BURST_JS = """async () => {
   }
   await new Promise((r) => { const w = () => (window.__brdf.pending() ? setTimeout(w, 5) : r()); setTimeout(w, 5); });
   await new Promise((r) => setTimeout(r, 100));
-  run = false;
   return { draws, alpha: window.__brdf.state.alpha };
 }"""
 
