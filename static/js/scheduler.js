@@ -19,15 +19,15 @@ const FRAME_BUDGET_MS = 10;
 const MAX_IN_FLIGHT = 2;
 // Data-only redraws of answers that land close together are written in one frame: a
 // frame with DOM changes costs ~5 ms of style, layout, paint and compositing whatever
-// their number. The frame waits until no panel has a request in flight, GATE_MS at most.
+// their number. The frame waits until the requests sent with it have landed, GATE_MS at most.
 const GATE_MS = 20;
+const SAME_CHANGE_MS = 2;
 
 export class Scheduler {
   constructor() {
     this.ready = new Map();      // panel -> {key, drawable | error}, in arrival order
     this.frame = 0;
     this.flying = new Set();     // panels with a request in flight
-    this.gatePromise = null;
     this.onIdle = () => {};
   }
 
@@ -59,7 +59,7 @@ export class Scheduler {
 
   async fetch(panel, req) {
     const ctrl = new AbortController();
-    const flight = { key: req.key, ctrl, seq: (panel.seq = (panel.seq || 0) + 1) };
+    const flight = { key: req.key, ctrl, seq: (panel.seq = (panel.seq || 0) + 1), born: performance.now() };
     panel.flights.push(flight);
     panel.inflight = flight;
     this.flying.add(panel);
@@ -77,7 +77,7 @@ export class Scheduler {
       if (ctrl.signal.aborted || flight.seq < (panel.newestSeq || 0)) return;   // a newer answer is in
       const out = panel.receive(req, res, body);
       if (out.retry) panel.dirty = true;
-      else result = { key: req.key, seq: flight.seq, drawable: out };
+      else result = { key: req.key, seq: flight.seq, born: flight.born, drawable: out };
     } catch (e) {
       if (!ctrl.signal.aborted) result = { key: req.key, seq: flight.seq, error: e.message || String(e) };
     } finally {
@@ -104,7 +104,7 @@ export class Scheduler {
   /** A data-only redraw at once (Plotly draws it in its next animation frame, a newer
    * one replacing it); false when the answer needs a full draw in our frame. */
   quick(panel, r) {
-    const p = panel.quick?.(r.drawable, () => this.gate());
+    const p = panel.quick?.(r.drawable, () => this.gate(r.born ?? -Infinity));
     if (!p) return false;
     panel.drawnKey = r.key;
     // a newer redraw interrupts this one: Plotly then rejects its promise, which is no error
@@ -117,20 +117,16 @@ export class Scheduler {
     return true;
   }
 
-  /** The animation frame to write data-only redraws in (see GATE_MS). */
-  gate() {
-    if (!this.gatePromise) {
-      const t0 = performance.now();
-      this.gatePromise = new Promise((resolve) => {
-        const tick = () => {
-          if (this.flying.size && performance.now() - t0 < GATE_MS) return requestAnimationFrame(tick);
-          this.gatePromise = null;
-          resolve();
-        };
-        requestAnimationFrame(tick);
-      });
-    }
-    return this.gatePromise;
+  /** The animation frame to write a data-only redraw in: the first in which no request
+   * sent with its own (by one change: within SAME_CHANGE_MS) is still in flight, GATE_MS
+   * after the call at most. Newer requests (a drag's next move) are not waited for. */
+  gate(born) {
+    const t0 = performance.now();
+    const sibling = () => [...this.flying].some((p) => p.flights.some((f) => Math.abs(f.born - born) <= SAME_CHANGE_MS));
+    return new Promise((resolve) => {
+      const tick = () => (sibling() && performance.now() - t0 < GATE_MS ? requestAnimationFrame(tick) : resolve());
+      requestAnimationFrame(tick);
+    });
   }
 
   requestFrame() {
