@@ -6,10 +6,9 @@ small Python module that imports the components' scalar formulas (by module and 
 wraps them for inlining and defines three loops — f(l, v) over direction pairs, the
 albedo quadrature's integrand over (μ, ψ) rows and the Smith table's integrals
 (physics/smith_table.py; it depends on the NDF alone) — and :func:`load` imports it from the
-kernel directory. numba caches each loop on disk beside that file; the file's name is a
-hash of every scalar formula's source and of this template, so a change to any formula
-compiles afresh instead of loading a stale loop. No integer kinds, no branches over
-names: the composition is the import list.
+kernel directory. numba caches each loop beside that file, named by a hash of every
+scalar formula's source and of this template (a changed formula compiles afresh). No
+integer kinds, no branches over names: the composition is the import list.
 
 The loops mirror ``BRDF.evaluate`` (physics/brdf.py) and ``albedo._integrate_order``
 (integrate/albedo.py) operation for operation; tests/kernels checks every registered

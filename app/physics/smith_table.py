@@ -6,15 +6,12 @@ TABLE_NODES points uniform in x = ln a over [A_MIN, A_MAX] from the reference in
 (smith_integral.py), value and exact slope, and interpolated by a cubic Hermite in x
 (monotone PCHIP, Fritsch & Carlson 1980, where the exact slopes would leave the monotone
 region). Outside the table: linear from the exact grazing value h(0) below A_MIN, and
-h(A_MAX)·A_MAX/a above A_MAX. |ΔG1| ≤ TABLE_G1_ERROR (1e-9) against the direct integral for
-every NDF at its parameter extremes (tests/robustness/test_smith_numeric.py), and a lookup
-costs about what a closed-form Λ costs: ``smith`` uses it where Λ has no closed form,
-``smith_numeric`` for every NDF. The interpolant is a :class:`LambdaTable`: plain arrays on
-a uniform grid, so a compiled loop evaluates exactly what :meth:`LambdaTable.h` does.
-The nodes' integrals are computed by a compiled loop (the same rule, from the NDF's
-scalar formulas) once app/kernels has loops for the NDF (``COMPILED_H``): ~8× less CPU
-for GTR, one table per roughness; by numpy before that.
-(derivation: docs/smith.md §3)
+h(A_MAX)·A_MAX/a above A_MAX. |ΔG1| ≤ TABLE_G1_ERROR (1e-9) against the direct integral
+(tests/robustness/test_smith_numeric.py); a lookup costs about a closed-form Λ. ``smith``
+uses it where Λ has no closed form, ``smith_numeric`` for every NDF. A
+:class:`LambdaTable` is plain arrays on a uniform grid, which a compiled loop evaluates
+as :meth:`LambdaTable.h` does; the nodes' integrals come from a compiled loop once
+app/kernels has the NDF's (``COMPILED_H``), from numpy before. (derivation: docs/smith.md §3)
 """
 from __future__ import annotations
 

@@ -36,17 +36,23 @@ class SphereEnvFigureQuery(SphereEnvQuery):
 
 
 def limits(q, s: Settings) -> None:
+    light_colour(q)                     # refused before any work
     work = q.n * q.n * (1 if q.environment == "point" else q.samples)
     if work > s.max_grid_points * 64:
         raise ParameterError("samples", f"n²×samples = {work} exceeds {s.max_grid_points * 64} "
                                         "(setting BRDF_MAX_GRID_POINTS × 64)", status=413)
 
 
-def compute(spec, q) -> dict:
+def light_colour(q):
+    """The light's r, g, b, or a ParameterError naming light_color."""
     try:
-        colour = parse_color(q.light_color)
+        return parse_color(q.light_color)
     except ParameterError as exc:
         raise ParameterError("light_color", exc.message.replace("base_color", "light_color")) from exc
+
+
+def compute(spec, q) -> dict:
+    colour = light_colour(q)
     if q.environment == "point":
         return render_point(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n, colour)
     return render(spec.brdf(), q.environment, q.theta_i_deg, q.phi_i_deg, q.n, q.samples, colour, q.seed)

@@ -76,3 +76,15 @@ def test_api_sphere_env_every_environment(environment, client):
         assert d["samples"]["per_pixel"] == 8 and d["noise"]["relative"] >= 0
     bad = client.get("/api/v1/sphere_env", params={"environment": environment, "light_color": "1,2,1"})
     assert bad.status_code == 422 and "light_color" in bad.text
+
+
+@pytest.mark.parametrize("colour", ["ALPHA", "1,2,1", "1,1", ""])
+def test_a_bad_light_colour_is_refused_before_any_work(colour):
+    """The view's check refuses it (the fuzz test's oracle, and no render is started)."""
+    from app.config import Settings
+    from app.errors import ParameterError
+    from app.views import VIEWS
+    view = VIEWS["sphere_env"]
+    with pytest.raises(ParameterError) as exc:
+        view.check(view.figure_query(light_color=colour), Settings())
+    assert exc.value.param == "light_color"

@@ -5,15 +5,13 @@ the exponent (tan²θ_m/α²)^p. The mass beyond r̃ is the regularised upper in
 Q(1/p, r̃^{2p}). Its Smith Λ (Heitz 2014, eq. 72, from the marginal slope density) has no
 closed form: ``smith`` interpolates a table of the general Smith integral, one per p (the
 NDF is shape-invariant). The radial inverses solve P(1/p, x) = u or Q(1/p, x) = v by a
-guess from a per-p table and one Halley step (``_inverse``), ~4× cheaper than scipy's
-gammaincinv at every quadrature node and as accurate (tests/physics/test_gamma_inverse.py).
-(derivation: docs/ndfs.md §4)
+guess from a per-p table and one Halley step (``_inverse``): ~4× cheaper than scipy's
+gammaincinv, as accurate (tests/physics/test_gamma_inverse.py). (derivation: docs/ndfs.md §4)
 
 References: Heitz 2014, "Understanding the Masking-Shadowing Function in Microfacet-Based
-BRDFs", JCGT 3(2), sec. 5 (shape invariance) and eq. 72 (Λ from the slopes); Halley's
-iteration for the incomplete gamma inverse: Gil, Segura & Temme 2012, "Efficient and
-accurate algorithms for the computation and inversion of the incomplete gamma function
-ratios", SIAM J. Sci. Comput. 34(6), sec. 4 (as in Boost's gamma_p_inv).
+BRDFs", JCGT 3(2), sec. 5 and eq. 72; Gil, Segura & Temme 2012, "Efficient and accurate
+algorithms for the computation and inversion of the incomplete gamma function ratios",
+SIAM J. Sci. Comput. 34(6), sec. 4 (Halley's iteration, as in Boost's gamma_p_inv).
 """
 from __future__ import annotations
 
