@@ -32,9 +32,12 @@ function projector(gd, ft) {
   if (ft.type === "scatterpolar") {
     const sp = fl[ft.subplot || "polar"]?._subplot;
     const ra = sp?.radialAxis, aa = sp?.angularAxis, xa = sp?.xaxis, ya = sp?.yaxis;
-    if (!ra?.c2g || !aa?.c2g || !xa?.c2p || !ya?.c2p) return null;
+    if (!ra?.c2g || !aa?.c2g || !xa?.c2p || !ya?.c2p || aa.type !== "linear") return null;
+    // Plotly's calcdata holds θ in radians (its calc converts a trace's degrees), which
+    // is what c2g takes
+    const toRad = ft.thetaunit === "radians" ? 1 : Math.PI / 180;
     return { u: "r", v: "theta", at: (r, t) => {
-      const g = ra.c2g(r), a = aa.c2g(t);
+      const g = ra.c2g(r), a = aa.c2g(t * toRad);
       return [xa.c2p(g * Math.cos(a)), ya.c2p(g * Math.sin(a))];
     } };
   }
