@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model import make_spec
+from ..physics.numeric import where_valid
 from ..physics.vectors import direction_deg
 from .albedo_grid import Scene, _affords, _cut
 
@@ -67,10 +68,11 @@ def f_grid(model: dict, scene: Scene, alphas=None, n_theta: int = N_THETA,
 
 
 def relative_error(f_ref, f_alt) -> np.ndarray:
-    """|f_alt − f_ref| / max(f_ref, F_FLOOR); 0 where both diverge (double grazing)."""
-    both_inf = np.isinf(f_ref) & np.isinf(f_alt)
-    ref = np.where(both_inf, 1.0, np.maximum(f_ref, F_FLOOR))
-    return np.where(both_inf, 0.0, np.abs(np.where(both_inf, 0.0, f_alt - f_ref)) / ref)
+    """|f_alt − f_ref| / max(f_ref, F_FLOOR) where f_ref is finite; 0 where it diverges
+    (both directions at 90°, where a relative error has no meaning and a light adds
+    nothing). An alternative that diverges where the reference does not is infinitely off."""
+    return where_valid(np.isfinite(f_ref), [f_ref, f_alt],
+                       lambda r, a: np.abs(a - r) / np.maximum(r, F_FLOOR), 0.0)
 
 
 def pointwise_error(ref: PointGrid, alt: PointGrid, scene: Scene) -> dict | None:

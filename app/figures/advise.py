@@ -5,6 +5,10 @@ from __future__ import annotations
 
 from .markup import subscripted
 from .style import base_layout
+from .titles import option_text
+
+#: The options named in the title's "cheaper choices than …".
+_MODEL_OPTIONS = ("ndf", "masking", "g2", "fresnel")
 
 #: Row fills: the recommended model, the recommended albedo method, every other row.
 RECOMMENDED_FILL = "#CDEBDD"      # light tint of PALETTE[2] (bluish green)
@@ -30,6 +34,27 @@ def _method_chosen(row: dict, data: dict) -> bool:
             and row["changes"].get("samples") == m.get("samples"))
 
 
+def _model_name(spec: dict) -> str:
+    """The model as people name it: "GGX, Λ Smith, G2 height-correlated, F Schlick"."""
+    return ", ".join([option_text(option, spec[option]) for option in _MODEL_OPTIONS]
+                     + (["Kulla-Conty"] if spec.get("multiscatter") == "kulla_conty" else []))
+
+
+def _choice_name(changes: dict) -> str:
+    """A row's changes by their labels ("Λ Karis, F Schlick"); a value that is not a
+    registry choice (an albedo method, a sample count) as name and value."""
+    out = []
+    for option, value in changes.items():
+        if option == "multiscatter" and value == "none":
+            out.append("no Kulla-Conty")
+            continue
+        try:
+            out.append(option_text(option, value))
+        except KeyError:
+            out.append(f"{option.replace('_', ' ')} {value}")
+    return ", ".join(out)
+
+
 @subscripted
 def advise_figure(data: dict, spec: dict) -> dict:
     current = {"label": "current model", "max_error": 0.0, "relative_cost": 1.0,
@@ -45,7 +70,7 @@ def advise_figure(data: dict, spec: dict) -> dict:
     kinds = {"current": "reference", "single": "model", "combination": "model (combined)",
              "albedo_method": "albedo method"}
     columns = [
-        [r["label"] for r in rows],
+        [r["label"] if r is current else _choice_name(r["changes"]) for r in rows],
         [kinds.get(r.get("kind"), "") for r in rows],
         [_number(r.get("max_difference"), ".2g") for r in rows],
         [_number(r["max_error"], ".2g") for r in rows],
@@ -57,13 +82,12 @@ def advise_figure(data: dict, spec: dict) -> dict:
     measured = "max |Δf|/f measured" if pointwise else "max |ΔE| measured"
     rng = data["range"]
     rec = data["changes"]
-    said = (", ".join(f"{k}={v}" for k, v in rec.items()) if rec else "keep the current model")
+    said = _choice_name(rec) if rec else "keep the current model"
     method = data.get("albedo_method")
     if method is not None:
         said += f"; albedo by {method['method']}" + (f" ({method['samples']} samples)"
                                                       if method.get("samples") else "")
-    model = ", ".join([spec["ndf"], spec["masking"], spec["g2"], spec["fresnel"]]
-                      + (["Kulla-Conty"] if spec.get("multiscatter") == "kulla_conty" else []))
+    model = _model_name(spec)
     # the recommendation first: a page heading shows the title's first lines only
     what = "relative error of f" if pointwise else "albedo error"
     title = (f"Recommended: {said} ({what} {data.get('max_difference', data['max_error']):.2g} "

@@ -31,6 +31,15 @@ def option_label(option: str, name: str) -> str:
     return label.split(" (")[0].strip() or name.replace("_", "-")
 
 
+def option_text(option: str, name: str) -> str:
+    """A choice as a title writes it: "GGX", "Λ Walter", "G2 separable", "F = 1"."""
+    if option == "fresnel" and name == "none":
+        return "F = 1"
+    label = option_label(option, name)
+    prefix = "" if option == "ndf" else _OPTION_NAMES.get(option, option)
+    return f"{prefix} {label.lower() if option == 'g2' else label}" if prefix else label
+
+
 def _symbol(name: str) -> str:
     if name == "anisotropy":
         return "k"
@@ -74,14 +83,8 @@ def model_title(values: dict) -> str:
     groups (the NDF, each option with its parameters, k_d, the second lobe) joined by ·."""
     groups: list[list[str]] = []
     for name, value in differences(values):
-        if name == "ndf":
-            groups.append([option_label("ndf", value)])
-        elif name == "fresnel" and value == "none":
-            groups.append(["F = 1"])
-        elif name in OPTIONS or name in SUB_OPTIONS:
-            label = option_label(name, value)
-            prefix = _OPTION_NAMES.get(name, name)
-            groups.append([prefix, label.lower() if name == "g2" else label] if prefix else [label])
+        if name in OPTIONS or name in SUB_OPTIONS:
+            groups.append(option_text(name, value).split(" ", 1))
         elif name == "alpha_y":
             continue
         elif name == "alpha" and values.get("alpha_y") is not None:

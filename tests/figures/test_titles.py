@@ -69,3 +69,26 @@ def test_log_axes_label_enough_ticks(values, want):
     """Over less than two decades one label a decade is one label; Plotly's "D1" labels
     every digit, "D2" 2 and 5."""
     assert log_axis("y", values, 10)["dtick"] == want
+
+
+def test_advise_names_models_as_people_do():
+    """The advice's title and its table's first column name each choice by its label
+    ("Λ Karis", "G2 separable"), not by API names ("masking=karis", "height_correlated")."""
+    from app.figures.advise import advise_figure
+    spec = make_spec(masking="smith_numeric", fresnel="dielectric").values
+    rows = [{"label": "masking=karis", "kind": "single", "changes": {"masking": "karis"},
+             "max_error": 0.01, "max_difference": 0.005, "relative_cost": 0.5, "within_tol": True},
+            {"label": "g2=separable, fresnel=schlick", "kind": "combination",
+             "changes": {"g2": "separable", "fresnel": "schlick"}, "max_error": 0.02,
+             "max_difference": 0.01, "relative_cost": 0.4, "within_tol": True}]
+    data = {"alternatives": rows, "changes": rows[1]["changes"], "max_error": 0.02,
+            "max_difference": 0.01, "relative_cost": 0.4, "tol": 0.05,
+            "range": {"alpha_min": 0.05, "alpha_max": 1.0, "theta_max_deg": 90.0}}
+    fig = advise_figure(data, spec)
+    title = fig["layout"]["title"]["text"]
+    names = fig["data"][0]["cells"]["values"][0]
+    assert "Λ Smith integral" in title and "F Dielectric" in title and "G2 height-correlated" in title
+    assert "Recommended: G2 separable, F Schlick" in title
+    assert names[1:] == ["Λ Karis", "G2 separable, F Schlick"]
+    for text in [title, *names]:
+        assert "=" not in text.replace("F = 1", "") and "_" not in text, text
