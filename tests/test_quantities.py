@@ -166,3 +166,18 @@ def test_sphere_pixels_hold_the_highlight(alpha):
     expected = _sphere_point_radiance(brdf, gx[inside], gy[inside], ti, pi).sum() * step ** 2
     assert drawn == pytest.approx(expected, rel=0.05)
     assert data["peak"]["radiance_true_max"] >= np.nanmax(data["radiance"])
+
+
+def test_lobe3d_peak_on_a_ridge_narrower_than_any_grid():
+    """α = (1e-4, 1), θ_i = 80°: the lobe is a ridge ~1e-5° wide in φ that rises to the
+    horizon. A grid-only search stopped 5 % low (at θ_o = 89.66°). Reference: a dense
+    scan of 300 001 φ per θ_o row near the horizon, independent of the search."""
+    brdf = make_spec(alpha=1e-4, alpha_y=1.0).brdf()
+    l = direction(80.0, 33.0)
+    best = 0.0
+    for theta in (89.0, 89.9, 89.99, 90.0):
+        v = direction(np.full(300001, theta), np.linspace(213.0, 216.0, 300001))
+        best = max(best, float(np.nanmax(brdf.evaluate(np.broadcast_to(l, v.shape), v, ("f",))["f"])))
+    data = quantities.lobe_grid(brdf, 80.0, 33.0, 46, 91)
+    assert np.max(data["f"]) >= 0.99 * best
+    assert data["peak"]["f_drawn_max"] == pytest.approx(data["peak"]["f_true_max"], rel=1e-12)
