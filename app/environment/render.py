@@ -6,10 +6,10 @@ estimated with the multi-sample balance heuristic (Veach 1997, ch. 9) over three
 strategies: the environment's radiance (a piecewise-constant pdf on equal-solid-angle
 cells; N/2 samples unless the environment is uniform), cosine-weighted directions (diffuse
 lobes) and the NDF's visible normals (Heitz 2018; specular lobe), the last two splitting
-the rest of N as the lobes' energies (:func:`_shares`). Samples are stratified; the
-environment's and the cosine ones are rotated per pixel (Cranley & Patterson 1976), so
-pixels' errors are independent; the visible normals take one set per group of pixels
-(VNDF_GROUPS), so their error is correlated within a group. ``noise`` states the per-pixel
+the rest of N as the lobes' energies (:func:`_shares`). Each strategy's samples are one
+stratified set rotated per pixel (Cranley & Patterson 1976), so pixels' errors are
+independent; f is evaluated once per sample for the three channels (evaluate.py), only
+where l is upper. ``noise`` states the per-pixel
 standard error of the one-sample estimator (mean, max, relative to the mean radiance) and
 that of the image mean. (derivation: docs/principled.md §3.1)
 """
@@ -19,14 +19,12 @@ import time
 
 import numpy as np
 
-from .. import kernels
 from ..physics.vectors import direction_deg
+from .evaluate import f_samples
 from .maps import ENVIRONMENTS
 
 #: Equal-solid-angle cells of the environment's pdf: rows uniform in z, columns in φ.
 PDF_ROWS, PDF_COLS = 96, 192
-#: Groups of pixels that share one set of visible-normal samples (see render).
-VNDF_GROUPS = 64
 #: The share of the environment's pdf spread uniformly over the sphere, so no direction
 #: where L > 0 has p = 0 even if its cell's centre sees L = 0 (a soft edge).
 PDF_UNIFORM_SHARE = 0.05
@@ -100,17 +98,16 @@ def sphere_frames(n: int):
     return on, np.stack([t, np.cross(normal, t), normal], axis=-2), centres
 
 
-def _f_rgb(brdf, l, v) -> np.ndarray:
-    """f per channel (..., 3): the principled material's own, a measured material's per
-    channel Fresnel, else f (grey) from the compiled loop when ready."""
-    if getattr(brdf, "material", None) is not None:
-        return brdf.material.f_rgb(l, v, brdf.lobe)
-    if getattr(brdf.fresnel, "channels", None) is not None:      # material=<measured metal>
-        from ..materials import evaluate_rgb
-        return evaluate_rgb(brdf, l, np.broadcast_to(v, l.shape))["f_rgb"]
-    shape = l.shape[:-1]
-    f = kernels.f(brdf, l.reshape(-1, 3), np.broadcast_to(v, l.shape).reshape(-1, 3)).reshape(shape)
-    return np.repeat(f[..., None], 3, axis=-1)
+def _split(brdf, env, samples: int) -> tuple[int, int, int]:
+    """(environment, cosine, visible-normal) samples per pixel: N/2 from the environment
+    unless it is uniform, the rest split as the lobes' energies (:func:`_shares`)."""
+    n_env = samples // 2 if env.sampled else 0
+    spec, diffuse = _shares(brdf)
+    rest = samples - n_env
+    n_vndf = 0
+    if getattr(brdf.ndf, "sample_visible", None) is not None and spec > 0:
+        n_vndf = int(np.clip(round(rest * spec / (spec + diffuse)), 1, rest - (diffuse > 0)))
+    return n_env, rest - n_vndf, n_vndf
 
 
 def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, samples: int,
@@ -123,73 +120,63 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
     colour = np.asarray(colour, dtype=float)
     rng = np.random.default_rng(seed)
     on, frame, centres = sphere_frames(n)
+    P = len(frame)
     v = frame[:, :, 2]                                  # v = +z in each local frame
-    n_env = samples // 2 if env.sampled else 0
-    spec, diffuse = _shares(brdf)
-    rest = samples - n_env
-    n_vndf = 0
-    if getattr(brdf.ndf, "sample_visible", None) is not None and spec > 0:
-        n_vndf = int(np.clip(round(rest * spec / (spec + diffuse)), 1, rest - (diffuse > 0)))
-    n_cos = rest - n_vndf
-    dirs = []
+    n_env, n_cos, n_vndf = _split(brdf, env, samples)
+    local, world = [], []                               # (P, k, 3) per strategy
     if n_env:
         env_pdf = EnvironmentPdf(env, key, colour)
-        world = env_pdf.sample(_rotated(n_env, len(v), rng), rng)              # (P, n, 3)
-        dirs.append(np.einsum("pij,psj->psi", frame, world))
+        w = env_pdf.sample(_rotated(n_env, P, rng), rng)
+        world.append(w)
+        local.append(w @ frame.transpose(0, 2, 1))     # rows t, b, n: l = frame · w
     if n_cos:
-        u = _rotated(n_cos, len(v), rng)
+        u = _rotated(n_cos, P, rng)
         r, a = np.sqrt(u[..., 0]), 2.0 * np.pi * u[..., 1]
-        dirs.append(np.stack([r * np.cos(a), r * np.sin(a), np.sqrt(np.maximum(0.0, 1.0 - u[..., 0]))], -1))
+        local.append(np.stack([r * np.cos(a), r * np.sin(a), np.sqrt(np.maximum(0.0, 1.0 - u[..., 0]))], -1))
     if n_vndf:
-        # the sampler takes one u set per call: one set per group of pixels, groups
-        # interleaved at random, so the shared error spreads over VNDF_GROUPS sets
-        group = rng.permutation(len(v)) % VNDF_GROUPS
-        m = np.empty((len(v), n_vndf, 3))
-        for g in range(VNDF_GROUPS):
-            m[group == g] = brdf.ndf.sample_visible(v[group == g], _stratified(n_vndf, rng))
-        vm = np.einsum("pi,psi->ps", v, m)
-        dirs.append(2.0 * vm[..., None] * m - v[:, None, :])
-    l = np.concatenate(dirs, axis=1)                                    # (P, N, 3) local
+        # u (P, n, 2): a set per pixel (the sampler broadcasts its (P, 1) frame of v against it)
+        m = brdf.ndf.sample_visible(v, _rotated(n_vndf, P, rng))
+        local.append(2.0 * np.einsum("pi,psi->ps", v, m)[..., None] * m - v[:, None, :])
+    world += [lk @ frame for lk in local[len(world):]]  # w = frameᵀ · l
+    l = np.concatenate(local, axis=1)                                   # (P, N, 3) local
     up = l[..., 2] > 0                  # every term below is evaluated where l is upper only
-    pixel = np.broadcast_to(np.arange(len(v))[:, None], up.shape)[up]
-    lu, vu = l[up], v[pixel]
-    world = np.einsum("mji,mj->mi", frame[pixel], lu)
-    pdf = n_cos * lu[:, 2] / np.pi
+    pixel = np.nonzero(up)[0]
+    lu, world = l[up], np.concatenate(world, axis=1)[up]
+    pdf = (n_cos / np.pi) * lu[:, 2]
     if n_env:
-        pdf = pdf + n_env * env_pdf.pdf(world)
+        pdf += n_env * env_pdf.pdf(world)
     if n_vndf:
-        pdf = pdf + n_vndf * _vndf_pdf(brdf.ndf, lu, vu)
-    f = _f_rgb(brdf, lu, vu)
-    weight = np.zeros(l.shape)                                          # (P, N, 3)
-    weight[up] = f * env.radiance(world, key, colour) * (lu[:, 2] / pdf)[:, None]
-    L_o = weight.sum(axis=1)
-    lum = weight @ np.array([0.2126, 0.7152, 0.0722]) * samples        # one-sample estimates
-    std_error = lum.std(axis=1, ddof=1) / np.sqrt(samples)
+        pdf += n_vndf * _vndf_pdf(brdf.ndf, lu, v, pixel)
+    f = f_samples(brdf, lu, v, pixel)
+    f_cos = f * (lu[:, 2] / pdf) if f.ndim == 1 else f * (lu[:, 2] / pdf)[:, None]
+    weight = env.radiance(world, key, colour) * (f_cos[:, None] if f.ndim == 1 else f_cos)
+    L_o = np.stack([np.bincount(pixel, weight[:, c], P) for c in range(3)], axis=-1)
+    # one-sample estimates (N × weight; 0 where l is lower): their variance per pixel
+    lum = weight @ np.array([0.2126, 0.7152, 0.0722]) * samples
+    s1, s2 = np.bincount(pixel, lum, P), np.bincount(pixel, lum * lum, P)
+    std_error = np.sqrt(np.maximum(s2 - s1 * s1 / samples, 0.0) / (samples - 1) / samples)
     image = np.full((n, n, 3), np.nan)
     image[on] = L_o
     mean = float(np.mean(L_o @ np.array([0.2126, 0.7152, 0.0722])))
     return {"y": centres[::-1], "x": centres, "radiance": image,   # rows (y), then columns (x)
             "background": env.radiance(np.array([0.0, 0.0, -1.0]), key, colour),
             "samples": {"per_pixel": samples, "environment": n_env, "cosine": n_cos,
-                        "visible_normals": n_vndf, "pixels": int(on.sum()), "evaluations": int(up.sum())},
+                        "visible_normals": n_vndf, "pixels": P, "evaluations": len(pixel)},
             "noise": {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
                       "relative": float(std_error.mean() / mean) if mean > 0 else 0.0,
                       "mean_radiance": mean,
-                      # independent pixels: √Σσ²/P; the visible normals' set shared within
-                      # a group adds a correlated part, mean σ/√VNDF_GROUPS
-                      "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / len(std_error)
-                                                   + (std_error.mean() / np.sqrt(VNDF_GROUPS)
-                                                      if n_vndf else 0.0))},
+                      # every pixel's samples independent of the others': √Σσ²/P
+                      "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / P)},
             "seconds": time.perf_counter() - t0}
 
 
-def _vndf_pdf(ndf, l, v) -> np.ndarray:
-    """Density of l reflected about visible normals, for pairs l, v (m, 3) both upper:
-    G1(v) D(h) / (4 μ_v) (Heitz 2018); h = (l + v)/‖l + v‖ exists and v·h > 0 there."""
-    s = l + v
+def _vndf_pdf(ndf, l, v, pixel) -> np.ndarray:
+    """Density of l (m, 3) reflected about visible normals of v[pixel], both upper:
+    G1(v) D(h) / (4 μ_v) = D(h) / (4 (μ_v + μΛ(v))) (Heitz 2018), the denominator once
+    per pixel; h = (l + v)/‖l + v‖ exists and v·h > 0 there."""
+    s = l + v[pixel]
     h = s / np.sqrt(np.einsum("mi,mi->m", s, s))[:, None]
-    mu_v = v[:, 2]
-    return mu_v / (mu_v + ndf.mu_Lambda(v)) * ndf.D(h) / (4.0 * mu_v)
+    return ndf.D(h) / (4.0 * (v[:, 2] + ndf.mu_Lambda(v)))[pixel]
 
 
 #: The point light's irradiance at normal incidence: π, so a white Lambertian facing it
@@ -207,7 +194,8 @@ def render_point(brdf, theta_deg: float, phi_deg: float, n: int, colour=(1.0, 1.
     lit = l[:, 2] > 0
     L_o = np.zeros((len(v), 3))
     if lit.any():
-        L_o[lit] = _f_rgb(brdf, l[lit], v[lit]) * (l[lit, 2] * POINT_IRRADIANCE)[:, None] * colour
+        f = f_samples(brdf, l[lit], v[lit], np.arange(int(lit.sum())))
+        L_o[lit] = (f if f.ndim == 2 else f[:, None]) * (l[lit, 2] * POINT_IRRADIANCE)[:, None] * colour
     image = np.full((n, n, 3), np.nan)
     image[on] = L_o
     return {"y": centres[::-1], "x": centres, "radiance": image,   # rows (y), then columns (x)

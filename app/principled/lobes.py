@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import kernels
 from ..physics.diffuse import DIFFUSES
 from ..physics.diffuse.base import schlick_weight
 from ..physics.fresnel import FRESNELS
@@ -62,21 +63,30 @@ def diffuse(material, l, v) -> np.ndarray:
     return shape[..., None] * colour
 
 
-def sheen(material, l, v) -> np.ndarray:
+def theta_d_weight(l, v) -> np.ndarray:
+    """(1 − cos θ_d)⁵: the Schlick weight the sheen, specular and clearcoat lobes share
+    (:meth:`Principled.f_rgb` computes it once and passes it as ``w``)."""
+    return schlick_weight(cos_theta_d(dot(l, v)))
+
+
+def sheen(material, l, v, w=None) -> np.ndarray:
     """(1 − metallic)·sheen·C_sheen·(1 − cos θ_d)⁵ (no 1/π: as the paper writes it)."""
     colour = (1.0 - material.metallic) * material.sheen * material.sheen_color
-    return schlick_weight(cos_theta_d(dot(l, v)))[..., None] * colour
+    return (theta_d_weight(l, v) if w is None else w)[..., None] * colour
 
 
 def specular_DV(material, l, v) -> np.ndarray:
-    """D(h) G2/(4 μ_l μ_v) of the GGX lobe (F = 1), from the registry's BRDF."""
-    return material.specular_brdf(FRESNELS["none"]()).evaluate(l, v, ("f",))["f"]
+    """D(h) G2/(4 μ_l μ_v) of the GGX lobe (F = 1), from the registry's BRDF: its
+    compiled loop when ready (app/kernels, the same formulas), else numpy."""
+    l, v = np.broadcast_arrays(np.asarray(l, dtype=float), np.asarray(v, dtype=float))
+    f = kernels.f(material.specular_brdf(FRESNELS["none"]()), l.reshape(-1, 3), v.reshape(-1, 3))
+    return f.reshape(l.shape[:-1])
 
 
-def specular(material, l, v) -> np.ndarray:
+def specular(material, l, v, w=None) -> np.ndarray:
     """D·V·F_c with F_c = C_spec0 + (1 − C_spec0)(1 − cos θ_d)⁵ per channel, plus the
     per-channel Kulla-Conty lobe with that option."""
-    w = schlick_weight(cos_theta_d(dot(l, v)))[..., None]
+    w = (theta_d_weight(l, v) if w is None else w)[..., None]
     c0 = material.specular_color
     out = specular_DV(material, l, v)[..., None] * (c0 + (1.0 - c0) * w)
     if material.options["principled_multiscatter"] == "kulla_conty":
@@ -85,7 +95,7 @@ def specular(material, l, v) -> np.ndarray:
     return out
 
 
-def clearcoat(material, l, v) -> np.ndarray:
+def clearcoat(material, l, v, w=None) -> np.ndarray:
     """0.25·clearcoat·D_GTR1(h) F(cos θ_d) G1(l) G1(v)/(4 μ_l μ_v), F₀ = 0.04, G1 of a GGX
     with α = 0.25; G1/μ = 1/(μ + μΛ) is finite at μ = 0."""
     if material.clearcoat == 0:
@@ -98,7 +108,7 @@ def clearcoat(material, l, v) -> np.ndarray:
     mask = MASKINGS["smith"]
     ggx = NDFS["ggx"](CLEARCOAT_MASKING_ALPHA, None)
     v_term = 0.25 / ((l[..., 2] + mask.mu_Lambda(ggx, l)) * (v[..., 2] + mask.mu_Lambda(ggx, v)))
-    F = CLEARCOAT_F0 + (1.0 - CLEARCOAT_F0) * schlick_weight(cos_theta_d(dot(l, v)))
+    F = CLEARCOAT_F0 + (1.0 - CLEARCOAT_F0) * (theta_d_weight(l, v) if w is None else w)
     return (0.25 * material.clearcoat * D * F * v_term)[..., None] * np.ones(3)
 
 

@@ -28,6 +28,8 @@ from .params import LOBES, LUMINANCE
 ALPHA_MIN = 0.001
 #: disney.brdf's gamma for base_color_space=srgb (mon2lin: x^2.2).
 GAMMA = 2.2
+#: The lobes that take the shared Schlick weight (1 − cos θ_d)⁵ as ``w``.
+SHARE_W = {"sheen", "specular", "clearcoat"}
 
 
 @dataclass(frozen=True, eq=False)
@@ -92,17 +94,33 @@ class Principled:
         """f of each lobe, (..., 3), for local directions; 0 unless both are upper."""
         l, v = np.broadcast_arrays(np.asarray(l, dtype=float), np.asarray(v, dtype=float))
         upper = (l[..., 2] >= 0) & (v[..., 2] >= 0)
+        if upper.all():                 # (the renderer's samples) no masked copies
+            w = lobe_formulas.theta_d_weight(l, v) if set(lobes) & SHARE_W else None
+            return {name: (np.zeros(l.shape[:-1] + (3,)) if self.is_zero(name) else
+                           lobe_formulas.LOBE_FUNCTIONS[name](self, l, v, **({"w": w} if name in SHARE_W else {})))
+                    for name in lobes}
         out = {}
         for name in lobes:
             value = np.zeros(l.shape[:-1] + (3,))
-            if upper.any():
+            if upper.any() and not self.is_zero(name):
                 value[upper] = lobe_formulas.LOBE_FUNCTIONS[name](self, l[upper], v[upper])
             out[name] = value
         return out
 
+    def is_zero(self, lobe: str) -> bool:
+        """Whether a lobe's colour (or weight) is 0, so that its f is 0 everywhere."""
+        if lobe == "diffuse":
+            return not ((1.0 - self.metallic) * self.base_linear).any()
+        if lobe == "sheen":
+            return not ((1.0 - self.metallic) * self.sheen * self.sheen_color).any()
+        return lobe == "clearcoat" and self.clearcoat == 0
+
     def f_rgb(self, l, v, lobe: str = "all") -> np.ndarray:
-        parts = self.evaluate(l, v, LOBES if lobe == "all" else (lobe,))
-        return sum(parts.values())
+        parts = iter(self.evaluate(l, v, LOBES if lobe == "all" else (lobe,)).values())
+        total = next(parts)
+        for part in parts:
+            total += part
+        return total
 
 
 def channel(rgb: np.ndarray, name: str) -> np.ndarray:
