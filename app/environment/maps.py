@@ -62,14 +62,20 @@ SUN_RADIANCE = 60.0
 ZENITH = np.array([0.08, 0.16, 0.45])
 HORIZON = np.array([1.0, 0.45, 0.15])
 GROUND = np.array([0.04, 0.03, 0.025])
+SUN_COLOUR = np.array([1.0, 0.75, 0.45])
 
 
 def sunset(w, key, colour):
+    """mix(horizon, zenith, t), t = max(y, 0)^0.4, over the ground; the sun added only
+    where its disc is > 0 (a few samples in a thousand)."""
     up = np.clip(w[..., 1], -1.0, 1.0)
-    t = np.clip(up, 0.0, 1.0) ** 0.4
-    sky = np.where((up >= 0)[..., None], (1 - t)[..., None] * HORIZON + t[..., None] * ZENITH, GROUND)
-    sun = SUN_RADIANCE * _smooth_disc(w, key, 2.5, 1.0)
-    return (sky + sun[..., None] * np.array([1.0, 0.75, 0.45])) * colour
+    t = np.maximum(up, 0.0) ** 0.4
+    sky = np.where((up >= 0)[..., None], HORIZON + t[..., None] * (ZENITH - HORIZON), GROUND)
+    sun = _smooth_disc(w, key, 2.5, 1.0)
+    flat, lit = sky.reshape(-1, 3), np.flatnonzero(sun)
+    flat[lit] += (SUN_RADIANCE * sun.ravel()[lit])[:, None] * SUN_COLOUR
+    sky *= colour
+    return sky
 
 
 @dataclass(frozen=True)

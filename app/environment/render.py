@@ -25,6 +25,17 @@ from .maps import ENVIRONMENTS
 
 #: Equal-solid-angle cells of the environment's pdf: rows uniform in z, columns in φ.
 PDF_ROWS, PDF_COLS = 96, 192
+#: Guide-table entries per cell of the environment's CDF: inverting it for u₀ starts at
+#: most a few cells before the answer (cells narrower than 1/(4·cells) of the total:
+#: the dim ones, near the uniform share's floor 0.05/cells, are crossed in ≤ 5 steps).
+GUIDE_PER_CELL = 4
+#: Pixels estimated together: each of their (pixels × samples) temporaries, ~0.4 MB at
+#: 16 samples, stays in a core's cache; the whole 256² sphere's (20 MB) went through
+#: memory for every numpy operation. The random numbers are drawn before, for all pixels:
+#: the image does not depend on it.
+CHUNK_PIXELS = 4096
+#: Rec. 709 luminance of linear RGB: the noise is stated on it.
+LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 #: The share of the environment's pdf spread uniformly over the sphere, so no direction
 #: where L > 0 has p = 0 even if its cell's centre sees L = 0 (a soft edge).
 PDF_UNIFORM_SHARE = 0.05
@@ -39,15 +50,18 @@ def _stratified(n: int, rng) -> np.ndarray:
 
 
 def _rotated(n: int, pixels: int, rng) -> np.ndarray:
-    """(pixels, n, 2): one stratified set shifted by a random offset per pixel, mod 1."""
-    return (_stratified(n, rng)[None, :, :] + rng.random((pixels, 1, 2))) % 1.0
+    """(pixels, n, 2): one stratified set shifted by a random offset per pixel, mod 1
+    (both in [0, 1): the sum is in [0, 2), where x − 1 is exact, as x mod 1 is)."""
+    x = _stratified(n, rng)[None, :, :] + rng.random((pixels, 1, 2))
+    x -= x >= 1.0
+    return x
 
 
 def _shares(brdf) -> tuple[float, float]:
     """(specular, diffuse) energies that split the BRDF-sampling budget: the principled
     material's C_spec0 (+ clearcoat) against (1 − metallic)·base colour; else F̄ against
     the diffuse term's E_avg (Kulla-Conty's broad lobe counts as diffuse)."""
-    lum = np.array([0.2126, 0.7152, 0.0722])
+    lum = LUMINANCE
     m = getattr(brdf, "material", None)
     if m is not None:
         spec = float(lum @ m.specular_color) + 0.01 * m.clearcoat
@@ -65,18 +79,36 @@ class EnvironmentPdf:
         phi = -np.pi + 2.0 * np.pi * (np.arange(PDF_COLS) + 0.5) / PDF_COLS
         s = np.sqrt(1.0 - z * z)
         w = np.stack(np.broadcast_arrays(s[:, None] * np.cos(phi), s[:, None] * np.sin(phi), z[:, None]), -1)
-        lum = env.radiance(w, key, colour) @ np.array([0.2126, 0.7152, 0.0722])
+        lum = env.radiance(w, key, colour) @ LUMINANCE
         p = lum.ravel() / max(lum.sum(), 1e-300)
         self.p = (1.0 - PDF_UNIFORM_SHARE) * p + PDF_UNIFORM_SHARE / p.size
         self.cdf = np.cumsum(self.p)
         self.cell_sr = 4.0 * np.pi / p.size
+        self.density = self.p / self.cell_sr
+        # the cell of x = u₀·G is the first i with cdf_G[i] > x; the guide table holds it
+        # for each integer j = ⌊x⌋ (Chen & Asau 1974), a start a few steps from the answer
+        size = GUIDE_PER_CELL * p.size
+        self.cdf_guide = self.cdf * (size / self.cdf[-1])
+        self.cdf_guide[-1] = np.inf                      # the last cell takes u₀·G's rounding
+        self.guide = np.searchsorted(self.cdf_guide, np.arange(size), side="right")
 
-    def sample(self, u, rng) -> np.ndarray:
-        """Directions for u (..., 2): the cell by u₀ on the CDF, uniform within it."""
-        cell = np.minimum(np.searchsorted(self.cdf, u[..., 0] * self.cdf[-1], side="right"), self.p.size - 1)
-        row, col = np.divmod(cell, PDF_COLS)
+    def cell(self, u0) -> np.ndarray:
+        """The cell of u₀ ∈ [0, 1): the first i with CDF[i] > u₀ (inversion of the CDF),
+        from the guide table's start, stepping forward while CDF[i] ≤ u₀."""
+        x = u0 * len(self.guide)
+        cell = self.guide[np.minimum(x.astype(np.intp), len(self.guide) - 1)]
+        todo = np.flatnonzero(self.cdf_guide[cell] <= x)
+        while todo.size:
+            cell[todo] += 1
+            todo = todo[self.cdf_guide[cell[todo]] <= x[todo]]
+        return cell
+
+    def sample(self, u) -> np.ndarray:
+        """Directions for u (..., 3): the cell by u₀ on the CDF, uniform within it (u₁ in
+        z, u₂ in φ)."""
+        row, col = np.divmod(self.cell(u[..., 0].ravel()).reshape(u.shape[:-1]), PDF_COLS)
         z = 1.0 - 2.0 * (row + u[..., 1]) / PDF_ROWS
-        phi = -np.pi + 2.0 * np.pi * (col + rng.random(u.shape[:-1])) / PDF_COLS
+        phi = -np.pi + 2.0 * np.pi * (col + u[..., 2]) / PDF_COLS
         s = np.sqrt(np.maximum(0.0, 1.0 - z * z))
         return np.stack([s * np.cos(phi), s * np.sin(phi), z], axis=-1)
 
@@ -84,7 +116,7 @@ class EnvironmentPdf:
         row = np.clip(((1.0 - w[..., 2]) * 0.5 * PDF_ROWS).astype(int), 0, PDF_ROWS - 1)
         col = np.clip(((np.arctan2(w[..., 1], w[..., 0]) + np.pi) / (2 * np.pi) * PDF_COLS).astype(int),
                       0, PDF_COLS - 1)
-        return self.p[row * PDF_COLS + col] / self.cell_sr
+        return self.density[row * PDF_COLS + col]
 
 
 def sphere_frames(n: int):
@@ -121,24 +153,58 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
     rng = np.random.default_rng(seed)
     on, frame, centres = sphere_frames(n)
     P = len(frame)
+    split = _split(brdf, env, samples)
+    env_pdf = EnvironmentPdf(env, key, colour) if split[0] else None
+    # every random number first, so that the pixel blocks below do not change the image
+    u = []
+    for i, k in enumerate(split):
+        u.append(_rotated(k, P, rng) if k else np.empty((P, 0, 2)))
+        if i == 0 and k:                                # the environment's φ within a cell
+            u[0] = np.concatenate([u[0], rng.random((P, k, 1))], axis=-1)
+    sums = np.zeros((P, 5))                            # Σ weight (r, g, b), Σ N·lum, Σ (N·lum)²
+    evaluations = 0
+    for a in range(0, P, CHUNK_PIXELS):
+        block = slice(a, a + CHUNK_PIXELS)
+        evaluations += _estimate(brdf, env, key, colour, env_pdf, frame[block], split,
+                                 [x[block] for x in u], sums[block])
+    L_o, s1, s2 = sums[:, :3], sums[:, 3], sums[:, 4]
+    std_error = np.sqrt(np.maximum(s2 - s1 * s1 / samples, 0.0) / (samples - 1) / samples)
+    image = np.full((n, n, 3), np.nan)
+    image[on] = L_o
+    mean = float(np.mean(L_o @ LUMINANCE))
+    return {"y": centres[::-1], "x": centres, "radiance": image,   # rows (y), then columns (x)
+            "background": env.radiance(np.array([0.0, 0.0, -1.0]), key, colour),
+            "samples": {"per_pixel": samples, "environment": split[0], "cosine": split[1],
+                        "visible_normals": split[2], "pixels": P, "evaluations": evaluations},
+            "noise": {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
+                      "relative": float(std_error.mean() / mean) if mean > 0 else 0.0,
+                      "mean_radiance": mean,
+                      # every pixel's samples independent of the others': √Σσ²/P
+                      "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / P)},
+            "seconds": time.perf_counter() - t0}
+
+
+def _estimate(brdf, env, key, colour, env_pdf, frame, split, u, sums) -> int:
+    """One block of pixels (frames (p, 3, 3)): adds each pixel's Σ weight (r, g, b),
+    Σ N·lum and Σ (N·lum)² of its one-sample estimates to ``sums`` (p, 5); returns how
+    many pairs it evaluated (those with l upper)."""
+    n_env, n_cos, n_vndf = split
+    p, samples = len(frame), sum(split)
     v = frame[:, :, 2]                                  # v = +z in each local frame
-    n_env, n_cos, n_vndf = _split(brdf, env, samples)
-    local, world = [], []                               # (P, k, 3) per strategy
+    local, world = [], []                               # (p, k, 3) per strategy
     if n_env:
-        env_pdf = EnvironmentPdf(env, key, colour)
-        w = env_pdf.sample(_rotated(n_env, P, rng), rng)
+        w = env_pdf.sample(u[0])
         world.append(w)
         local.append(w @ frame.transpose(0, 2, 1))     # rows t, b, n: l = frame · w
     if n_cos:
-        u = _rotated(n_cos, P, rng)
-        r, a = np.sqrt(u[..., 0]), 2.0 * np.pi * u[..., 1]
-        local.append(np.stack([r * np.cos(a), r * np.sin(a), np.sqrt(np.maximum(0.0, 1.0 - u[..., 0]))], -1))
+        r, a = np.sqrt(u[1][..., 0]), 2.0 * np.pi * u[1][..., 1]
+        local.append(np.stack([r * np.cos(a), r * np.sin(a), np.sqrt(np.maximum(0.0, 1.0 - u[1][..., 0]))], -1))
     if n_vndf:
-        # u (P, n, 2): a set per pixel (the sampler broadcasts its (P, 1) frame of v against it)
-        m = brdf.ndf.sample_visible(v, _rotated(n_vndf, P, rng))
+        # u (p, n, 2): a set per pixel (the sampler broadcasts its (p, 1) frame of v against it)
+        m = brdf.ndf.sample_visible(v, u[2])
         local.append(2.0 * np.einsum("pi,psi->ps", v, m)[..., None] * m - v[:, None, :])
     world += [lk @ frame for lk in local[len(world):]]  # w = frameᵀ · l
-    l = np.concatenate(local, axis=1)                                   # (P, N, 3) local
+    l = np.concatenate(local, axis=1)                                   # (p, N, 3) local
     up = l[..., 2] > 0                  # every term below is evaluated where l is upper only
     pixel = np.nonzero(up)[0]
     lu, world = l[up], np.concatenate(world, axis=1)[up]
@@ -150,24 +216,12 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
     f = f_samples(brdf, lu, v, pixel)
     f_cos = f * (lu[:, 2] / pdf) if f.ndim == 1 else f * (lu[:, 2] / pdf)[:, None]
     weight = env.radiance(world, key, colour) * (f_cos[:, None] if f.ndim == 1 else f_cos)
-    L_o = np.stack([np.bincount(pixel, weight[:, c], P) for c in range(3)], axis=-1)
-    # one-sample estimates (N × weight; 0 where l is lower): their variance per pixel
-    lum = weight @ np.array([0.2126, 0.7152, 0.0722]) * samples
-    s1, s2 = np.bincount(pixel, lum, P), np.bincount(pixel, lum * lum, P)
-    std_error = np.sqrt(np.maximum(s2 - s1 * s1 / samples, 0.0) / (samples - 1) / samples)
-    image = np.full((n, n, 3), np.nan)
-    image[on] = L_o
-    mean = float(np.mean(L_o @ np.array([0.2126, 0.7152, 0.0722])))
-    return {"y": centres[::-1], "x": centres, "radiance": image,   # rows (y), then columns (x)
-            "background": env.radiance(np.array([0.0, 0.0, -1.0]), key, colour),
-            "samples": {"per_pixel": samples, "environment": n_env, "cosine": n_cos,
-                        "visible_normals": n_vndf, "pixels": P, "evaluations": len(pixel)},
-            "noise": {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
-                      "relative": float(std_error.mean() / mean) if mean > 0 else 0.0,
-                      "mean_radiance": mean,
-                      # every pixel's samples independent of the others': √Σσ²/P
-                      "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / P)},
-            "seconds": time.perf_counter() - t0}
+    for c in range(3):
+        sums[:, c] += np.bincount(pixel, weight[:, c], p)
+    lum = weight @ LUMINANCE * samples                  # one-sample estimates (0 where l is lower)
+    sums[:, 3] += np.bincount(pixel, lum, p)
+    sums[:, 4] += np.bincount(pixel, lum * lum, p)
+    return len(pixel)
 
 
 def _vndf_pdf(ndf, l, v, pixel) -> np.ndarray:

@@ -91,3 +91,27 @@ def test_studio_pixels_match_brute_force():
         ref, ref_error = terms.mean(), terms.std() / np.sqrt(len(w))
         got = out["radiance"][on][i, 0]
         assert abs(got - ref) <= 5 * out["noise"]["std_error_max"] + 5 * ref_error, (i, got, ref)
+
+
+@pytest.mark.parametrize("environment", ["studio", "overcast", "sunset"])
+def test_the_guide_table_inverts_the_cdf_as_a_binary_search(environment):
+    """EnvironmentPdf.cell (guide table, then steps) = np.searchsorted on the CDF; the two
+    may differ only where u₀ lands within rounding of a cell's edge (none at random)."""
+    from app.environment.render import EnvironmentPdf
+    pdf = EnvironmentPdf(ENVIRONMENTS[environment], direction_deg(40.0, 135.0), np.ones(3))
+    u0 = np.random.default_rng(8).random(200_000)
+    u0[:3] = [0.0, 1.0 - 2.0 ** -53, 0.5]
+    want = np.minimum(np.searchsorted(pdf.cdf, u0 * pdf.cdf[-1], side="right"), pdf.p.size - 1)
+    np.testing.assert_array_equal(pdf.cell(u0), want)
+
+
+def test_pixel_blocks_do_not_change_the_image(monkeypatch):
+    """The random numbers are drawn for all pixels before the blocks: any block size
+    gives the same image and noise."""
+    import app.environment.render as module
+    brdf = make_spec(model="principled", clearcoat=1.0, sheen=0.5).brdf()
+    whole = render(brdf, "sunset", 40.0, 135.0, 40, 8, seed=4)
+    monkeypatch.setattr(module, "CHUNK_PIXELS", 97)
+    blocks = render(brdf, "sunset", 40.0, 135.0, 40, 8, seed=4)
+    np.testing.assert_array_equal(blocks["radiance"], whole["radiance"])
+    assert blocks["noise"] == whole["noise"]
