@@ -101,10 +101,13 @@ def clearcoat(material, l, v, w=None) -> np.ndarray:
     if material.clearcoat == 0:
         return np.zeros(np.shape(l)[:-1] + (3,))
     lv = l + v
-    norm = np.linalg.norm(lv, axis=-1, keepdims=True)
+    norm = np.sqrt(np.einsum("...i,...i->...", lv, lv))[..., None]
     exists = norm[..., 0] > 0
-    h = where_valid(exists[..., None], [lv, norm], lambda a, b: a / b, 0.0)
-    D = np.where(exists, material.clearcoat_ndf().D(np.where(exists[..., None], h, [0.0, 0.0, 1.0])), 0.0)
+    if exists.all():                # h exists unless l = −v (both on the horizon)
+        D = material.clearcoat_ndf().D(lv / norm)
+    else:
+        h = where_valid(exists[..., None], [lv, norm], lambda a, b: a / b, 0.0)
+        D = np.where(exists, material.clearcoat_ndf().D(np.where(exists[..., None], h, [0.0, 0.0, 1.0])), 0.0)
     mask = MASKINGS["smith"]
     ggx = NDFS["ggx"](CLEARCOAT_MASKING_ALPHA, None)
     v_term = 0.25 / ((l[..., 2] + mask.mu_Lambda(ggx, l)) * (v[..., 2] + mask.mu_Lambda(ggx, v)))

@@ -115,3 +115,15 @@ def test_pixel_blocks_do_not_change_the_image(monkeypatch):
     blocks = render(brdf, "sunset", 40.0, 135.0, 40, 8, seed=4)
     np.testing.assert_array_equal(blocks["radiance"], whole["radiance"])
     assert blocks["noise"] == whole["noise"]
+
+
+@pytest.mark.parametrize("k", [1, 7, 8, 12])
+def test_every_strategys_samples_are_uniform_in_the_unit_square(k):
+    """Each pixel's set is a stratified set under a random rotation (Cranley & Patterson
+    1976): every sample is uniform on [0, 1)², which the balance heuristic's pdfs assume,
+    even where k points leave a cell of the ⌈√k⌉ grid empty (k = 7, 8)."""
+    from app.environment.render import _rotated
+    u = _rotated(k, 40_000, np.random.default_rng(k)).reshape(-1, 2)
+    counts = np.histogram2d(u[:, 0], u[:, 1], bins=3, range=[[0, 1], [0, 1]])[0].ravel()
+    expected = len(u) / 9
+    assert np.all(np.abs(counts - expected) <= 5 * np.sqrt(expected)), counts / len(u)
