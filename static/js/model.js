@@ -1,9 +1,11 @@
 /* The model registry (GET /api/v1/models) and the rules it implies for a state:
  * which parameters take part, which choices apply, the query a state stands for.
  * A state is a plain object: choice names, parameter values, and the forms chosen by
- * presence (anisotropic, perceptual, secondLobe).
+ * presence (anisotropic, perceptual, secondLobe); with model=principled the query is
+ * the principled model's (principled.js).
  */
 import { inRange } from "./sliders.js";
+import { isPrincipled, principledQuery, principledCompact, PRINCIPLED } from "./principled.js";
 
 export const reg = { models: null, groups: [], params: new Map() };
 
@@ -103,6 +105,7 @@ export function activeParams(s) {
 }
 
 export function modelQuery(s) {
+  if (isPrincipled(s)) return principledQuery(s.principled);
   const q = {};
   for (const g of reg.groups) q[g.name] = s[g.name];
   for (const g of subOptions()) if (subApplies(g.name, s)) q[g.name] = s[g.name];
@@ -112,6 +115,7 @@ export function modelQuery(s) {
 
 /** A query without the values that are the API's defaults anyway. */
 export function compact(q) {
+  if (q.model === PRINCIPLED) return principledCompact(q);
   const out = {};
   const named = [...reg.groups, ...subOptions()];
   for (const [k, v] of Object.entries(q)) {

@@ -1,11 +1,14 @@
 /* THE state and its URL. One plain object is the single source of truth; the URL
  * carries its non-default values (API names), so a link restores the page exactly.
  * Values the API would refuse are corrected and said so; parameters the API does not
- * know are flagged, as the API flags them.
+ * know are flagged, as the API flags them. `model=principled` carries the principled
+ * model's values instead of the microfacet model's (principled.js).
  */
 import { reg, subOptions, paramFor, choiceDefaults, activeParams, subApplies, fixApplicability,
          perceptualAllowed, secondLobeAllowed, PRESENCE } from "./model.js";
 import { inRange, rangeText, clampParam } from "./sliders.js";
+import { isPrincipled, writePrincipled, readPrincipled, fixPrincipled, principledNames, principledAvailable,
+         PRINCIPLED, MICROFACET } from "./principled.js";
 import * as pinsModule from "./pins.js";   // a cycle (pins read ctx): used in functions only
 
 export const ctx = {
@@ -25,11 +28,13 @@ const PAGE_PARAMS = new Set(["show", "vary", "values", "pin", "embed", "lobe3d"]
  * alpha_y always), one `pin` per pinned model. */
 export function stateToSearch(s) {
   const q = new URLSearchParams();
-  for (const g of reg.groups) if (s[g.name] !== g.default) q.set(g.name, s[g.name]);
-  for (const g of subOptions()) if (subApplies(g.name, s) && s[g.name] !== g.default) q.set(g.name, s[g.name]);
-  for (const p of [...activeParams(s), ...reg.models.geometry]) {
-    if (PRESENCE.has(p.name) || s[p.name] !== p.default) q.set(p.name, String(s[p.name]));
+  if (isPrincipled(s)) writePrincipled(s.principled, q);
+  else {
+    for (const g of reg.groups) if (s[g.name] !== g.default) q.set(g.name, s[g.name]);
+    for (const g of subOptions()) if (subApplies(g.name, s) && s[g.name] !== g.default) q.set(g.name, s[g.name]);
+    for (const p of activeParams(s)) if (PRESENCE.has(p.name) || s[p.name] !== p.default) q.set(p.name, String(s[p.name]));
   }
+  for (const p of reg.models.geometry) if (s[p.name] !== p.default) q.set(p.name, String(s[p.name]));
   for (const key of ctx.locals.keys()) if (s[key] !== ctx.defaultState[key]) q.set(key, String(s[key]));
   const shown = ctx.views.filter((v) => s.show.includes(v.name)).map((v) => v.name);
   if (shown.join(",") !== ctx.defaultState.show.join(",")) q.set("show", shown.join(",") || "none");
@@ -40,8 +45,8 @@ export function stateToSearch(s) {
   for (const pin of s.pins) q.append("pin", pinsModule.encodePin(pin));
   for (const [k, v] of Object.entries(s.extra || {})) q.set(k, v);
   if (ctx.embed) q.set("embed", "1");
-  // ':' and ',' may stand as they are in a query (RFC 3986 3.4): readable pins and lists
-  const str = q.toString().replace(/%3A/gi, ":").replace(/%2C/gi, ",");
+  // ':', ',' and '/' may stand as they are in a query (RFC 3986 3.4): readable pins and lists
+  const str = q.toString().replace(/%3A/gi, ":").replace(/%2C/gi, ",").replace(/%2F/gi, "/");
   return str ? `?${str}` : "";
 }
 
@@ -57,13 +62,18 @@ function readLocal(s, key, f, raw, notes) {
   }
 }
 
-/** Page URL -> {s, notes}: a hand-edited link always opens a working page, and says
- * what it changed or left out. */
-export function stateFromSearch(search) {
-  const q = new URLSearchParams(search);
-  const s = structuredClone(ctx.defaultState);
-  const notes = [];
-  const named = [...reg.groups, ...subOptions()];
+function readParam(s, p, raw, notes) {
+  if (raw === null) return;
+  const x = raw.trim() === "" ? NaN : Number(raw);
+  if (!Number.isFinite(x)) notes.push(`${p.name}=${raw} is not a number; using ${p.default}.`);
+  else if (!inRange(p, x)) {
+    s[p.name] = clampParam(p, x);
+    notes.push(`${p.name}=${raw} is outside ${rangeText(p)}; using ${s[p.name]}.`);
+  } else s[p.name] = x;
+}
+
+/** The microfacet model's choices, parameters and forms from a link. */
+function readMicrofacet(s, q, named, notes) {
   for (const g of named) {
     const v = q.get(g.name);
     if (v === null) continue;
@@ -73,18 +83,43 @@ export function stateFromSearch(search) {
   choiceDefaults(s);
   for (const name of reg.params.keys()) {
     const p = paramFor(name, s);
-    const raw = q.get(p.name);
-    if (raw === null) continue;
-    const x = raw.trim() === "" ? NaN : Number(raw);
-    if (!Number.isFinite(x)) notes.push(`${p.name}=${raw} is not a number; using ${p.default}.`);
-    else if (!inRange(p, x)) {
-      s[p.name] = clampParam(p, x);
-      notes.push(`${p.name}=${raw} is outside ${rangeText(p)}; using ${s[p.name]}.`);
-    } else s[p.name] = x;
+    readParam(s, p, q.get(p.name), notes);
   }
   s.anisotropic = reg.params.has("alpha_y") && q.has("alpha_y");
   s.perceptual = perceptualAllowed() && q.has("roughness");
   s.secondLobe = secondLobeAllowed() && q.has("alpha2");
+}
+
+/** The principled model's values and the geometry from a link; the microfacet model's
+ * names there are said to be left out (the API refuses them with model=principled). */
+function readPrincipledLink(s, q, named, principled, notes) {
+  notes.push(...readPrincipled(s.principled, (k) => q.get(k)), ...fixPrincipled(s.principled));
+  const geometry = reg.models.geometry;
+  for (const p of geometry) readParam(s, p, q.get(p.name), notes);
+  const alien = [...named.map((g) => g.name), ...reg.params.keys()]
+    .filter((k) => q.has(k) && !principled.has(k) && !geometry.some((p) => p.name === k));
+  if (alien.length) notes.push(`${alien.join(", ")}: microfacet model only; ignored with model=principled.`);
+}
+
+/** Page URL -> {s, notes}: a hand-edited link always opens a working page, and says
+ * what it changed or left out. */
+export function stateFromSearch(search) {
+  const q = new URLSearchParams(search);
+  const s = structuredClone(ctx.defaultState);
+  const notes = [];
+  const named = [...reg.groups, ...subOptions()];
+  const model = q.get("model");
+  if (model === PRINCIPLED && principledAvailable()) s.model = PRINCIPLED;
+  else if (model !== null && model !== MICROFACET) {
+    notes.push(`model=${model} is not one of ${MICROFACET}${principledAvailable() ? `, ${PRINCIPLED}` : ""}; using ${MICROFACET}.`);
+  }
+  const principled = new Set(principledAvailable() ? principledNames() : []);
+  if (isPrincipled(s)) readPrincipledLink(s, q, named, principled, notes);
+  else {
+    readMicrofacet(s, q, named, notes);
+    const alien = [...principled].filter((k) => q.has(k) && !reg.params.has(k));
+    if (alien.length) notes.push(`${alien.join(", ")}: only with model=principled; ignored.`);
+  }
   for (const [key, loc] of ctx.locals) {
     const raw = q.get(key);
     if (raw !== null) readLocal(s, key, loc.field, raw, notes);
@@ -113,7 +148,7 @@ export function stateFromSearch(search) {
   s.extra = {};
   for (const k of ctx.extraKeys) if (q.has(k)) s.extra[k] = q.get(k);
   const known = new Set([...named.map((g) => g.name), ...reg.params.keys(), ...ctx.locals.keys(), ...PAGE_PARAMS,
-                         ...ctx.extraKeys]);
+                         ...ctx.extraKeys, ...principled, "model"]);
   const unknown = [...new Set(q.keys())].filter((k) => !known.has(k));
   if (unknown.length) {
     notes.push(`Unknown parameter${unknown.length > 1 ? "s" : ""} ${unknown.map((k) => `“${k}”`).join(", ")}: `
