@@ -11,6 +11,7 @@ import { lightDrag } from "./spheredrag.js";
 import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows, controls } from "./sidebar.js";
 import { Panel, panelBar, fieldApplies } from "./panels.js";
 import { Scheduler } from "./scheduler.js";
+import { setPrincipled, principledDefaults, isPrincipled, preg, MICROFACET } from "./principled.js";
 
 const state = ctx.state;
 const scheduler = new Scheduler();
@@ -27,7 +28,7 @@ function showNotices(notes) {
 
 function updateErrorLine() {
   const line = $("#error-line");
-  const errs = [...new Set(panels.filter((p) => p.error && p.shown()).map((p) => p.error))];
+  const errs = [...new Set(panels.filter((p) => p.error && p.shown() && p.takesModel()).map((p) => p.error))];
   const text = errs.length ? `Error: ${errs.join(" · ")}` : "";
   if (line.textContent !== text) line.textContent = text;
   line.hidden = !errs.length;
@@ -69,11 +70,14 @@ function pinCurrent() {
   setPins([...state.pins, m]);
 }
 // GGX, Beckmann and Blinn-Phong at the current α (Blinn-Phong's α is its Beckmann-
-// equivalent), D(θ) on a log axis: the tails side by side in one click.
+// equivalent; the principled model's α = r²), D(θ) on a log axis: the tails side by side
+// in one click.
 function compareTails() {
-  const alpha = isPerceptual(state) ? Number((state.roughness ** 2).toPrecision(3)) : state.alpha;
+  const r = isPrincipled(state) ? state.principled.roughness : isPerceptual(state) ? state.roughness : null;
+  const alpha = r === null ? state.alpha : Number(Math.max(r ** 2, reg.params.get("alpha").lo).toPrecision(3));
   const pins = ["ggx", "beckmann", "blinn_phong"].filter((n) => choiceOf("ndf", n)).map((ndf) => {
     const s = structuredClone(state);
+    s.model = MICROFACET;
     s.ndf = ndf;
     choiceDefaults(s);
     Object.assign(s, { alpha, anisotropic: false, perceptual: false, pins: [] });
@@ -114,6 +118,7 @@ function onStateChange() {
   syncActiveRows();
   for (const p of panels) {
     p.section.hidden = !p.shown();
+    p.syncModel();
     scheduler.touch(p);
   }
   scheduleUrlWrite();
@@ -164,9 +169,12 @@ function report(panel) {
 async function boot() {
   let viewList;
   try {
-    let models;
-    [models, viewList] = await Promise.all([getJSON("/models"), getJSON("/views")]);
+    let models, principled;
+    // without the principled catalogue (an older server) the page offers the microfacet model alone
+    [models, viewList, principled] = await Promise.all([getJSON("/models"), getJSON("/views"),
+                                                        getJSON("/principled").catch(() => null)]);
     setModels(models);
+    setPrincipled(principled);
   } catch (e) {
     booting = false;
     $("#boot-status").textContent = `Could not load the models: ${e.message}`;
@@ -197,7 +205,8 @@ async function boot() {
     const p = panels.find((x) => x.name === name);
     if (on) p.section.scrollIntoView({ behavior: "smooth", block: "nearest" });
   });
-  Object.assign(ctx.defaultState, modelDefaults(), { pins: [], vary: null, values: null, extra: {},
+  Object.assign(ctx.defaultState, modelDefaults(), { model: MICROFACET, principled: principledDefaults(),
+    pins: [], vary: null, values: null, extra: {},
     show: ctx.views.map((v) => v.name).filter((n) => HINTS[n]?.shown) });
   for (const [key, loc] of ctx.locals) ctx.defaultState[key] = PAGE_DEFAULTS[loc.view]?.[loc.field.name] ?? loc.field.default;
   if (reg.models.version) $("#version").textContent = `v${reg.models.version}`;
@@ -246,9 +255,10 @@ window.__brdf = {
   drawEvent: "brdf-drawn",          // fired on a plot div after each finished draw
   get state() { return state; },
   get models() { return reg.models; },
+  get principled() { return preg.cat; },
   pending: () => (booting ? 1 : 0) + urlPending() + scheduler.pending(panels),
   panels: () => panels.map((p) => ({ name: p.name, inflight: !!p.inflight, dirty: p.dirty, drawn: p.drawn,
-                                     error: p.error, visible: p.shown(), inView: p.inView,
+                                     error: p.error, visible: p.shown(), inView: p.inView, takesModel: p.takesModel(),
                                      current: p.drawnKey === p.request().key })),
   url: (name) => panels.find((x) => x.name === name)?.url(),
   request: (name) => panels.find((x) => x.name === name)?.request(),

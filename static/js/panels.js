@@ -1,7 +1,8 @@
 /* The panels: one per view of GET /api/v1/views, each with its own toggles, its
  * figure, one sentence of what it shows, and its export buttons. A panel knows how to
  * ask for its figure (request) and how to draw an answer (receive, draw); when to do
- * either is the scheduler's business.
+ * either is the scheduler's business. A view that does not take the chosen model
+ * (model=principled: GET /api/v1/principled lists the views that do) says so instead.
  */
 import { API, el, $, richText, apiMessage, errorLoc, query } from "./dom.js";
 import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
@@ -13,6 +14,7 @@ import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesF
          HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { canWrite, writePaths } from "./svgpaths.js";
 import { exportBar } from "./exports.js";
+import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
 
 const LOADING_DELAY_MS = 300;
 // After paths written directly, Plotly's own state is brought up to date (Panel.sync)
@@ -74,7 +76,8 @@ function localControl(view, f, onChange) {
 }
 
 // D, Λ/G1 and E(μ) are taken at one azimuth: the plane of incidence's when anisotropic.
-const sliceAzimuth = (s) => (isAnisotropic(s) ? { phi_deg: s.phi_i_deg } : {});
+const anisotropic = (s) => (isPrincipled(s) ? s.principled.anisotropic > 0 : isAnisotropic(s));
+const sliceAzimuth = (s) => (anisotropic(s) ? { phi_deg: s.phi_i_deg } : {});
 
 /** While a slider is held, the heavy images come coarser (about half the resolution
  * each way; the samples a quarter): full resolution follows on release. */
@@ -102,6 +105,7 @@ export class Panel {
     const tools = el("div", { class: "panel-tools" }, ...panelFields(view).map((f) => localControl(view, f, onChange)));
     this.status = el("div", { class: "panel-status", role: "status", "aria-live": "polite" });
     this.div = el("div", { class: "plot", id: `plot-${view.name}` });
+    this.modelNote = el("p", { class: "model-note", id: `note-${view.name}`, role: "note", hidden: true });
     const caption = el("p", { class: "caption", id: `cap-${view.name}` }, richText(this.hint.caption || view.summary || ""));
     this.div.addEventListener("pointerenter", () => this.sync());
     const bar = exportBar(() => {
@@ -127,14 +131,29 @@ export class Panel {
       buttons.append(pinBar);
     }
     buttons.append(bar);
+    this.actions = el("div", { class: "panel-actions" }, tools, buttons);
+    this.wrap = el("div", { class: "plot-wrap" }, this.div, this.status);
     this.section = el("section", { class: `panel${this.hint.wide ? " panel-wide" : ""}${this.hint.short ? " panel-short" : ""}`,
                                    "data-panel": view.name, "aria-labelledby": hid, "aria-describedby": caption.id, hidden: true },
-      el("header", { class: "panel-head" }, this.heading, el("div", { class: "panel-actions" }, tools, buttons)),
-      el("div", { class: "plot-wrap" }, this.div, this.status), caption);
+      el("header", { class: "panel-head" }, this.heading, this.actions), this.wrap, this.modelNote, caption);
   }
 
   shown(s = ctx.state) { return s.show.includes(this.name); }
-  wanted() { return this.shown() && this.inView; }
+  takesModel(s = ctx.state) { return viewTakes(this.name, s); }
+  wanted() { return this.shown() && this.inView && this.takesModel(); }
+
+  /** A view that does not take the chosen model: a note in place of the plot, which
+   * stays as it was drawn, for when the model it takes is chosen again. */
+  syncModel() {
+    const off = !this.takesModel();
+    if (off === !this.modelNote.hidden) return;
+    this.modelNote.textContent = off ? `${viewTitle(this.view)} is for the microfacet model only. `
+      + `${whyMicrofacetOnly(this.name)} Choose “Microfacet” under Model to see it.` : "";
+    this.modelNote.hidden = !off;
+    this.wrap.hidden = this.actions.hidden = off;
+    this.sub.hidden = off;
+    this.section.classList.toggle("panel-off", off);   // a note needs no plot's height
+  }
   pinned(s) { return s.pins.length > 0 && !!this.hint.pin && !this.noPin; }
   overlaid(s) { return !!s.vary && !this.noOverlay && this.view.vary.includes(s.vary) && !this.pinned(s); }
 

@@ -1,11 +1,15 @@
-/* The sidebar: the model's controls, built from GET /api/v1/models (menus from the
- * option choices, sliders from the parameters), and kept in step with the state.
+/* The sidebar: the choice of model, then its controls: the microfacet model's built from
+ * GET /api/v1/models (menus from the option choices, sliders from the parameters), the
+ * principled model's from GET /api/v1/principled (principledform.js); only the chosen
+ * model's are shown. Kept in step with the state.
  */
 import { el, $, richText } from "./dom.js";
 import { paramControl } from "./sliders.js";
 import { reg, subOptions, choiceOf, sameSpec, switchChoice, fixApplicability, appliesTo, whyNot,
          subApplies, activeParams, anisoAllowed, isAnisotropic, isPerceptual, secondLobeAllowed } from "./model.js";
 import { ctx } from "./state.js";
+import { MODELS, MICROFACET, principledAvailable, fixPrincipled } from "./principled.js";
+import { principledSections, syncPrincipledForm } from "./principledform.js";
 
 const SECOND_LOBE_START_MIX = 0.5;
 export const controls = new Map();       // state key -> {param, row, box, slider, set}
@@ -16,6 +20,26 @@ const controlId = (name) => name.replace(/_deg$/, "");
 function section(title, ...kids) {
   return el("fieldset", { class: "group" }, el("legend", { text: title }), ...kids);
 }
+
+/** Microfacet | principled, at the top: the rest of the sidebar follows the choice. */
+function modelSelect(on) {
+  const sel = el("select", { id: "model", name: "model" });
+  for (const m of MODELS) sel.append(el("option", { value: m.name, text: m.label, title: m.description }));
+  sel.addEventListener("change", () => {
+    const s = ctx.state;
+    s.model = sel.value;
+    on.notices(s.model === MICROFACET ? [] : fixPrincipled(s.principled));
+    syncSidebar();
+    on.change();
+  });
+  const f = section("Model", el("div", { class: "choice" },
+    el("label", { for: "model", class: "sr-only", text: "BRDF model" }), sel,
+    el("p", { class: "choice-info", id: "model-info" })));
+  f.classList.add("model-group");
+  return f;
+}
+
+const microfacet = (fieldset) => { fieldset.dataset.model = MICROFACET; return fieldset; };
 
 function toggle(id, text, title, onChange) {
   const box = el("input", { type: "checkbox", id, name: id });
@@ -102,10 +126,14 @@ export function buildSidebar(on) {
       surface.push(subSelect({ name: "aniso_map", ...reg.models.sub_options.aniso_map }));
     }
   }
-  form.append(section("Surface", ...surface));
+  if (principledAvailable()) form.append(modelSelect(on));
+  form.append(microfacet(section("Surface", ...surface)));
+  const [principled, implementations] = principledSections(on);
+  if (principled) form.append(principled);
   form.append(section("Incidence", ...reg.models.geometry.map((p) => control(p))));
   const others = reg.groups.filter((g) => g.name !== "ndf");
-  if (others.length) form.append(section("Shadowing & Fresnel", ...others.map(choiceSelect)));
+  if (others.length) form.append(microfacet(section("Shadowing & Fresnel", ...others.map(choiceSelect))));
+  if (implementations) form.append(implementations);
   const g2Box = form.querySelector('.choice[data-group="g2"] .choice-params');
   if (g2Box && reg.models.sub_options?.lambda_phi) g2Box.append(subSelect({ name: "lambda_phi", ...reg.models.sub_options.lambda_phi }));
   const pinCurrent = el("button", { type: "button", id: "pin-current", class: "small-btn", text: "Pin current model" });
@@ -118,6 +146,17 @@ export function buildSidebar(on) {
     el("ul", { class: "pin-list", id: "pin-list", "aria-label": "Pinned models" }),
     el("div", { class: "pin-actions" }, pinCurrent, clear)));
   form.hidden = false;
+}
+
+/** The model menu <- state; only the chosen model's fieldsets are shown. */
+function syncModel() {
+  const s = ctx.state;
+  const sel = $("#model");
+  if (!sel) return;
+  sel.value = s.model;
+  $("#model-info").textContent = MODELS.find((m) => m.name === s.model)?.description || "";
+  for (const f of document.querySelectorAll("#controls-form fieldset[data-model]")) f.hidden = f.dataset.model !== s.model;
+  syncPrincipledForm();
 }
 
 /** Only the parameters that take part are shown and enabled. */
@@ -174,6 +213,7 @@ export function syncDerived() {
 /** Every control <- state (after load, reset, or a change that moves other controls). */
 export function syncSidebar() {
   const s = ctx.state;
+  syncModel();
   for (const c of controls.values()) c.set(s[c.param.name]);
   syncActiveRows();
   syncChoices();
