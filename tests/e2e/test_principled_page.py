@@ -190,6 +190,8 @@ def test_an_embed_of_the_principled_model_moves_its_roughness(page, page_log):
 def test_screenshot_of_the_principled_page(page, page_log):
     page.goto("/?model=principled&metallic=0.6&roughness=0.35&sheen=0.5&show=lobe,ndf,sphere_env,principled_albedo")
     wait_quiet(page, ids=("plot-lobe", "plot-ndf", "plot-sphere_env", "plot-principled_albedo"), timeout=120_000)
+    assert page.input_value("#model") == "principled" and page.is_visible("#principled-metallic")
+    assert api_requests(page_log, "principled_albedo")[-1]["model"] == "principled"
     page.evaluate("() => document.getElementById('panels').scrollTo(0, 0)")
     page.screenshot(path=SCREENSHOT)
     assert page_log.problems() == []
