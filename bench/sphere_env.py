@@ -25,6 +25,7 @@ CASES = {
     "principled defaults, studio": (dict(model="principled"), "studio"),
     "principled (clearcoat 1, sheen 0.5), sunset": (dict(model="principled", clearcoat=1.0, sheen=0.5), "sunset"),
     "principled metallic=1, studio": (dict(model="principled", metallic=1.0, roughness=0.3), "studio"),
+    "principled Kulla-Conty, studio": (dict(model="principled", principled_multiscatter="kulla_conty"), "studio"),
 }
 POINT = "point light (ggx α=0.3)"
 ROOT = Path(__file__).resolve().parents[1]

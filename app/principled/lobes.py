@@ -18,6 +18,7 @@ from ..physics.masking import MASKINGS
 from ..physics.ndf import NDFS
 from ..physics.numeric import where_valid
 from ..physics.vectors import dot
+from .compensation import f_ms_rgb
 
 #: The clearcoat's masking roughness, fixed by the paper ("α_g = 0.25").
 CLEARCOAT_MASKING_ALPHA = 0.25
@@ -90,8 +91,7 @@ def specular(material, l, v, w=None) -> np.ndarray:
     c0 = material.specular_color
     out = specular_DV(material, l, v)[..., None] * (c0 + (1.0 - c0) * w)
     if material.options["principled_multiscatter"] == "kulla_conty":
-        mu_l, mu_v = np.broadcast_arrays(l[..., 2], v[..., 2])
-        out = out + np.stack([ms(mu_l, mu_v) for ms in material.multiscatter()], axis=-1)
+        out = out + f_ms_rgb(material.multiscatter(), l[..., 2], v[..., 2])
     return out
 
 

@@ -23,6 +23,8 @@ MODELS = [
     dict(alpha=0.2, alpha2=0.6, lobe_mix=0.3, kd=0.2),
     dict(model="principled", clearcoat=1.0, sheen=0.5),
     dict(model="principled", metallic=1.0, roughness=0.3, anisotropic=0.6),
+    dict(model="principled", metallic=0.5, roughness=0.6, principled_multiscatter="kulla_conty"),
+    dict(model="principled", principled_multiscatter="kulla_conty", lobe="specular"),
 ]
 
 
