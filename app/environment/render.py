@@ -8,10 +8,10 @@ cells; N/2 samples unless the environment is uniform), cosine-weighted direction
 lobes) and the NDF's visible normals (Heitz 2018; specular lobe), the last two splitting
 the rest of N as the lobes' energies (:func:`_shares`). Each strategy's samples are one
 stratified set rotated per pixel (Cranley & Patterson 1976), so pixels' errors are
-independent; f is evaluated once per sample for the three channels (evaluate.py), only
-where l is upper. ``noise`` states the per-pixel
-standard error of the one-sample estimator (mean, max, relative to the mean radiance) and
-that of the image mean. (derivation: docs/principled.md §3.1)
+independent; f is evaluated once per sample for the three channels (evaluate.py), where
+l is upper, in blocks of pixels (CHUNK_PIXELS). ``noise`` states the per-pixel standard
+error of the one-sample estimator (mean, max, relative to the mean radiance) and that of
+the image mean. (derivation: docs/principled.md §3.1)
 """
 from __future__ import annotations
 
