@@ -107,3 +107,17 @@ def test_comparison_heading_names_the_models_not_the_views_description(page, pag
     title = next(v["title"] for v in page.request.get(f"{base_url}/api/v1/views").json() if v["name"] == "ndf")
     assert text.startswith(title) and "2 models" in text, text
     assert page_log.problems() == []
+
+
+def test_panel_headings_keep_names_whole(page, page_log):
+    """What the page draws (not only its richText helper): with names that hold
+    underscores in the URL (height_direction_correlated, van_ginneken) no panel heading or
+    toggle shows half a name as a subscript ('height<sub>correlated</sub>')."""
+    page.goto("/?show=g2,lobe,ndf&g2=height_direction_correlated&lambda_phi=van_ginneken")
+    wait_quiet(page, ids=("plot-g2", "plot-lobe", "plot-ndf"))
+    subs = page.evaluate("""() => [...document.querySelectorAll('sub')]
+        .filter((s) => !s.closest('.js-plotly-plot')).map((s) => s.textContent)""")
+    assert all(len(s) <= 3 for s in subs), subs
+    html = page.evaluate("() => [...document.querySelectorAll('.panel h2')].map((h) => h.innerHTML).join(' | ')")
+    assert "<sub>correlated" not in html and "<sub>ginneken" not in html, html
+    assert page_log.problems() == []
