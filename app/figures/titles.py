@@ -10,7 +10,7 @@ from __future__ import annotations
 import re
 from functools import lru_cache
 
-from ..model import COMMON_PARAMS, OPTIONS, SUB_OPTIONS, choice_params, make_spec
+from ..model import COMMON_PARAMS, OPTIONS, SUB_OPTIONS, choice_params, make_spec, principled_spec
 
 #: Parameters shown with the roughness, not as separate differences.
 _ROUGHNESS = ("alpha", "alpha_y", "roughness", "anisotropy", "aniso_map")
@@ -78,9 +78,47 @@ def _number(x) -> str:
     return f"{x:.4g}" if isinstance(x, float) else str(x)
 
 
+def principled_differences(values: dict) -> list[tuple[str, object]]:
+    """(name, value) of a principled model: the roughness always, then every parameter
+    and option that differs from the paper's defaults (not the microfacet form it is
+    built from, which is not what the user chose)."""
+    defaults = _principled_defaults()
+    out: list[tuple[str, object]] = [("roughness", values["roughness"])]
+    if tuple(values["base_color"]) != tuple(defaults["base_color"]):
+        out.append(("base_color", tuple(values["base_color"])))
+    out += [(p.name, values[p.name]) for p in principled_spec.PARAMS if values[p.name] != defaults[p.name]]
+    out += [(name, values[name]) for name, (_, _, default) in principled_spec.OPTIONS.items()
+            if values[name] != default]
+    return out
+
+
+def principled_title(values: dict) -> str:
+    """"Principled r=0.35 · base colour (0.2, 0.4, 0.6) · metallic=0.6 · Specular lobe"."""
+    labels = {p.name: p.label for p in principled_spec.PARAMS}
+    parts = []
+    for name, value in principled_differences(values):
+        if name == "roughness":
+            parts.append(f"Principled r={_number(value)}")
+        elif name == "base_color":
+            parts.append("base colour (" + ", ".join(f"{c:.3g}" for c in value) + ")")
+        elif name in labels:
+            parts.append(f"{labels[name]}={_number(value)}")
+        else:
+            label = principled_spec.OPTIONS[name][1][value].label.split(" (")[0]
+            parts.append(label + {"lobe": " lobe", "channel": " channel"}.get(name, ""))
+    return " · ".join(parts)
+
+
+@lru_cache(maxsize=1)
+def _principled_defaults() -> dict:
+    return dict(make_spec(model="principled").values)
+
+
 def model_title(values: dict) -> str:
     """"GGX α=0.3"; "GTR γ=1.5 α=0.2 · G2 separable · F Dielectric η=1.33 · k_d=0.2":
     groups (the NDF, each option with its parameters, k_d, the second lobe) joined by ·."""
+    if values.get("model") == "principled":
+        return principled_title(values)
     groups: list[list[str]] = []
     for name, value in differences(values):
         if name in OPTIONS or name in SUB_OPTIONS:
@@ -117,9 +155,14 @@ def file_stem(view: str, values: dict, view_values: dict | None = None,
     model's differences and the view parameters that differ from ``view_defaults``
     (all given ones without it), safe for any file system."""
     parts = [view]
-    for name, value in differences(values):
+    principled = values.get("model") == "principled"
+    for name, value in (principled_differences(values) if principled else differences(values)):
+        if isinstance(value, tuple):
+            value = "_".join(f"{c:g}" for c in value)
         parts.append(str(value) if name == "ndf" else f"{name}-{value}" if isinstance(value, str)
                      else f"{name}{_number(value)}")
+    if principled:
+        parts.insert(1, "principled")
     for name, value in (view_values or {}).items():
         if value is None or (view_defaults is not None and view_defaults.get(name) == value):
             continue

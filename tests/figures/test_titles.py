@@ -92,3 +92,19 @@ def test_advise_names_models_as_people_do():
     assert names[1:] == ["Λ Karis", "G2 separable, F Schlick"]
     for text in [title, *names]:
         assert "=" not in text.replace("F = 1", "") and "_" not in text, text
+
+
+def test_principled_titles_name_the_principled_parameters():
+    """A principled model's titles and file names said "GGX α=0.1225 · G2 separable · F
+    Schlick F₀=0.2392": the microfacet form it is built from, not what the user set."""
+    default = make_spec(model="principled").values
+    metal = make_spec(model="principled", metallic=0.6, roughness=0.35, base_color="0.2,0.4,0.6",
+                      lobe="specular").values
+    title = model_title(metal)
+    assert title.startswith("Principled r=0.35") and "metallic=0.6" in title
+    assert "base colour (0.2, 0.4, 0.6)" in title and "Specular lobe" in title
+    assert "GGX" not in title and "F₀" not in title
+    assert model_title(default) == "Principled r=0.5"
+    stem = file_stem("lobe", metal)
+    assert stem.startswith("lobe-principled-") and "metallic0.6" in stem and "ggx" not in stem
+    assert stem != file_stem("lobe", default)
