@@ -23,6 +23,6 @@ def stacked_albedo_figure(data: dict, title: str) -> dict:
                    "y": [1, 1], "line": {"dash": "dot", "color": "#777"}})
     return {"data": traces,
             "layout": {"title": {"text": title}, "xaxis": {"title": {"text": "θ_v (deg)"}, "range": [0, 90]},
-                       "yaxis": {"title": {"text": f"E(θ_v), {data['channel']} — stacked by lobe"},
+                       "yaxis": {"title": {"text": f"E(θ_v), {data['channel']}, stacked"},
                                  "rangemode": "tozero"},
                        "legend": {"orientation": "h"}}}
