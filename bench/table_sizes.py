@@ -14,16 +14,20 @@ and μ → 0 at α → 1, the hardest corner).
 compiled loops loaded first), median over rounds, with its reported bound; the time and
 the load average before and after.
 
---first-kc: for each NDF, a new server (compiled loops in their cache, no table), and
-its first GET /api/v1/albedo with multiscatter=kulla_conty (Blinn-Phong with
-masking=smith_numeric): wall time and the reported compensation_error.
+--first-kc: for each NDF, a new server (compiled loops in their cache, an empty table
+cache directory), and its first GET /api/v1/albedo with multiscatter=kulla_conty
+(Blinn-Phong with masking=smith_numeric): wall time to the first answer (a 503 — the
+table is being built — is retried after its Retry-After, and counted) and the reported
+compensation_error.
 """
 from __future__ import annotations
 
 import json
 import os
 import sys
+import tempfile
 import time
+import urllib.error
 import urllib.parse
 import urllib.request
 
@@ -78,22 +82,41 @@ def all_ndfs(n: int, rounds: int) -> None:
           f"{' '.join(f'{x:.1f}' for x in os.getloadavg())}", flush=True)
 
 
+def _answer(url: str) -> tuple[float, int, dict]:
+    """Seconds from the first request to the first answer, the 503 (Busy: table being
+    built) replies before it (each followed after its Retry-After), and the answer."""
+    t0, busy = time.perf_counter(), 0
+    while True:
+        try:
+            with urllib.request.urlopen(url, timeout=120) as res:
+                return time.perf_counter() - t0, busy, json.loads(res.read())
+        except urllib.error.HTTPError as exc:
+            if exc.code != 503 or busy >= 20:
+                raise
+            busy += 1
+            time.sleep(float(exc.headers.get("Retry-After", 1)))
+
+
 def first_kc() -> None:
-    print("| NDF | first Kulla-Conty request, s | compensation_error | table |")
-    print("|---|---|---|---|")
+    print(f"{time.strftime('%H:%M UTC', time.gmtime())}, load average "
+          f"{' '.join(f'{x:.1f}' for x in os.getloadavg())}", flush=True)
+    print("| NDF | first Kulla-Conty answer, s | 503s before it | compensation_error | "
+          "server's seconds |")
+    print("|---|---|---|---|---|")
     for name in NDFS:
         query = {"ndf": name, "multiscatter": "kulla_conty", "fresnel": "none", "n": 17,
                  "masking": KC_MASKING.get(name, "smith")}
-        with common.server() as url:
+        # an empty table cache per server: a table persisted by an earlier run of the
+        # same code would otherwise answer the "first" request
+        with tempfile.TemporaryDirectory() as cache, \
+                common.server(env={"BRDF_CACHE_DIR": cache}) as url:
             time.sleep(2.0)   # the server's background loading of its compiled loops
-            t0 = time.perf_counter()
-            with urllib.request.urlopen(f"{url}/api/v1/albedo?{urllib.parse.urlencode(query)}",
-                                        timeout=120) as res:
-                body = json.loads(res.read())
-            seconds = time.perf_counter() - t0
-        tables_used = body.get("tables") or body.get("table") or ""
-        print(f"| {name} | {seconds:.2f} | {body.get('compensation_error', float('nan')):.1e} | "
-              f"{tables_used} |", flush=True)
+            seconds, busy, body = _answer(f"{url}/api/v1/albedo?{urllib.parse.urlencode(query)}")
+        print(f"| {name} | {seconds:.2f} | {busy} | "
+              f"{body.get('compensation_error', float('nan')):.1e} | {body.get('seconds', 0):.2f} |",
+              flush=True)
+    print(f"{time.strftime('%H:%M UTC', time.gmtime())}, load average "
+          f"{' '.join(f'{x:.1f}' for x in os.getloadavg())}", flush=True)
 
 
 def main() -> None:

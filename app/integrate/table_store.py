@@ -45,9 +45,11 @@ IN_REQUEST_SHARE = 0.25
 #: μ values of the probe that predicts a build's cost (at α = PROBE_ALPHA).
 PROBE_POINTS = 4
 PROBE_ALPHA = 0.25
-#: Build time assumed for the start-up tables (compiled, 56²: 1–3 s idle), for the
-#: Retry-After of a request that arrives while they build
-STARTUP_GUESS_SECONDS = 5.0
+#: Build time assumed for the start-up tables (compiled, 56²: GGX 0.6, Beckmann 1.3 CPU-s),
+#: for the Retry-After of a request that comes while they build, or its wait (_wait_built)
+STARTUP_GUESS_SECONDS = 1.5
+#: How often a request waiting for a background build looks for its table.
+WAIT_POLL_SECONDS = 0.02
 #: Retry-After when a build's remaining time is unknown (another worker holds its lock).
 RETRY_UNKNOWN = 5
 
@@ -58,7 +60,6 @@ _pending: dict[tuple, dict] = {}          # key -> {"predicted": s, "queued": t,
 _queue: "queue.Queue[tuple]" = queue.Queue(QUEUE_SIZE)
 #: accepting: queue tables for the background builder (from :func:`start` to :func:`stop`)
 _state = {"directory": None, "thread": None, "accepting": False}
-
 
 
 def default_keys(brdfs) -> list[tuple]:
@@ -113,7 +114,6 @@ def _path(key: tuple) -> Path | None:
     return directory / f"table-{digest}.npz"
 
 
-
 def _save(path: Path, key: tuple, t: tables.ETable) -> None:
     tmp = path.with_suffix(f".{os.getpid()}.tmp")
     with open(tmp, "wb") as f:
@@ -159,10 +159,8 @@ class _FileLock:
         self.f.close()
 
 
-
 def _nbytes(t: tables.ETable) -> int:
-    coeffs = t.spline.get_coeffs()
-    return t.values.nbytes + coeffs.nbytes + t.r.nbytes + t.y.nbytes + 2048
+    return t.values.nbytes + t.spline.get_coeffs().nbytes + t.r.nbytes + t.y.nbytes + 2048
 
 
 def _remember(key: tuple, t: tables.ETable) -> tables.ETable:
@@ -186,7 +184,6 @@ def _ready(key: tuple) -> tables.ETable | None:
         if t is not None:
             return _remember(key, t)
     return None
-
 
 
 def _build(key: tuple) -> tables.ETable:
@@ -261,15 +258,28 @@ def _queue_build(key: tuple, predicted: float) -> dict:
         return entry
 
 
-def _retry_after(key: tuple, entry: dict) -> int:
-    """Seconds until the build should be done: its own prediction left, plus those ahead."""
+def _seconds_left(key: tuple, entry: dict, floor: float = 0.0) -> float:
+    """Seconds until the build should be done: its own prediction left, plus those ahead
+    (a running one counted at least ``floor``)."""
     with _lock:
         now = time.time()
         ahead = sum(e["predicted"] for k, e in _pending.items()
                     if k != key and e["queued"] <= entry["queued"] and e["started"] is None)
         running = [e["predicted"] - (now - e["started"]) for e in _pending.values() if e["started"]]
     own = entry["predicted"] if entry["started"] is None else 0.0
-    return int(np.ceil(max(1.0, own + ahead + sum(max(r, 1.0) for r in running))))
+    return own + ahead + sum(max(r, floor) for r in running)
+
+
+def _wait_built(key: tuple, entry: dict, b) -> tables.ETable | None:
+    """The table of a background build predicted to end within IN_REQUEST_SHARE of the
+    request's time left, waited for (that long at most): the start-up tables are queued
+    before any request comes, and a 503 for a table a second away fails a request."""
+    end = time.perf_counter() + IN_REQUEST_SHARE * (b.seconds - b.elapsed())
+    if _seconds_left(key, entry) > end - time.perf_counter():
+        return None
+    while time.perf_counter() < end and key in _pending and key not in _memory:
+        time.sleep(WAIT_POLL_SECONDS)
+    return _ready(key)
 
 
 def _worker() -> None:
@@ -313,6 +323,8 @@ def table(key: tuple) -> tables.ETable:
         return _build(key)
     with _lock:
         entry = _pending.get(key)
+    if entry is not None and (t := _wait_built(key, entry, b)) is not None:
+        return t
     if entry is None:
         predicted = predict_seconds(key)
         if predicted <= IN_REQUEST_SHARE * (b.seconds - b.elapsed()):
@@ -323,7 +335,7 @@ def table(key: tuple) -> tables.ETable:
         entry = _queue_build(key, predicted)
     raise Busy(f"the {_name(key)} is being built (~{entry['predicted']:.0f} s, outside this "
                "request); retry after the time given, or use method=quadrature",
-               _retry_after(key, entry), what=_name(key))
+               int(np.ceil(max(1.0, _seconds_left(key, entry, 1.0)))), what=_name(key))
 
 
 def building() -> list[str]:
@@ -341,13 +353,11 @@ def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) 
         path = Path(directory)
         try:
             path.mkdir(parents=True, exist_ok=True)
-            probe = path / f".write-test-{os.getpid()}"
-            probe.write_bytes(b"")
+            (probe := path / f".write-test-{os.getpid()}").write_bytes(b"")
             probe.unlink()
             _state["directory"] = path
         except OSError as exc:
-            log.warning("table cache: %s is not writable (%s); tables kept in memory only",
-                        path, exc)
+            log.warning("table cache: %s is not writable (%s); tables kept in memory only", path, exc)
     for key in (keys or []):
         if _ready(key) is None:
             try:    # not probed: start-up is not delayed; the builder takes its time
@@ -364,17 +374,15 @@ def stop() -> None:
 
 def default_directory() -> Path:
     """``$XDG_CACHE_HOME/brdf-explorer`` (``~/.cache/brdf-explorer`` when unset)."""
-    base = os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache"
-    return Path(base) / "brdf-explorer"
+    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "brdf-explorer"
 
 
 def wait(timeout: float | None = None) -> bool:
     """Block until the background builder has nothing left (tests, the CLI); False on timeout."""
     end = None if timeout is None else time.monotonic() + timeout
     while True:
-        with _lock:
-            if not _pending:
-                return True
+        if not _pending:
+            return True
         if end is not None and time.monotonic() > end:
             return False
         time.sleep(0.05)

@@ -1,0 +1,44 @@
+"""A request whose E(μ, α) table is being built in the background waits for it when the
+build is predicted to end within its share of the time budget (table_store._wait_built),
+and is told to retry (Busy) when it is not."""
+from __future__ import annotations
+
+import pytest
+
+from app.errors import Busy
+from app.integrate import budget, table_store, tables
+from app.model import make_spec
+
+
+@pytest.fixture(autouse=True)
+def small_fresh_store(monkeypatch):
+    for name in ("TABLE_N_Y", "TABLE_N_R", "SLOW_TABLE_N"):
+        monkeypatch.setattr(tables, name, 12)
+    table_store.start(None, keys=[])
+    table_store.cache_clear()
+    yield
+    assert table_store.wait(300)
+    table_store.stop()
+    table_store.cache_clear()
+
+
+def _key():
+    return tables.table_key(make_spec(ndf="ggx", alpha=0.3, fresnel="none").brdf().lobes()[0][1])
+
+
+def test_a_request_waits_for_a_start_up_table_due_within_its_share(monkeypatch):
+    monkeypatch.setattr(table_store, "STARTUP_GUESS_SECONDS", 0.1)
+    key = _key()
+    table_store.start(None, keys=[key])          # queued as at start-up
+    with budget.limit(300.0):
+        t = table_store.table(key)                # no Busy: waited for the builder
+    assert t.values.shape == (12, 12) and table_store.building() == []
+
+
+def test_a_request_is_busy_when_the_background_build_is_due_later(monkeypatch):
+    monkeypatch.setattr(table_store, "STARTUP_GUESS_SECONDS", 1e4)
+    key = _key()
+    table_store.start(None, keys=[key])
+    with budget.limit(10.0), pytest.raises(Busy) as busy:
+        table_store.table(key)
+    assert busy.value.retry_after >= 1
