@@ -6,15 +6,15 @@ estimated with the multi-sample balance heuristic (Veach 1997, ch. 9) over three
 strategies: the environment's radiance (a piecewise-constant pdf on equal-solid-angle
 cells; N/2 samples unless the environment is uniform), cosine-weighted directions (diffuse
 lobes) and the NDF's visible normals (Heitz 2018; specular lobe), the last two splitting
-the rest of N as the lobes' energies (:func:`_shares`). Each strategy's samples are one
-stratified set rotated per pixel (Cranley & Patterson 1976), so pixels' errors are
-independent; f is evaluated once per sample for the three channels (evaluate.py), where
+the rest of N as the lobes' energies (:func:`_shares`). Each strategy's samples are a
+jittered grid drawn per pixel (:func:`_jittered`), so pixels' errors are independent; f is evaluated once per sample for the three channels (evaluate.py), where
 l is upper, in blocks of pixels (CHUNK_PIXELS). ``noise`` states the per-pixel standard
 error of the one-sample estimator (mean, max, relative to the mean radiance) and that of
 the image mean. (derivation: docs/principled.md §3.1)
 """
 from __future__ import annotations
 
+import math
 import time
 
 import numpy as np
@@ -41,19 +41,25 @@ LUMINANCE = np.array([0.2126, 0.7152, 0.0722])
 PDF_UNIFORM_SHARE = 0.05
 
 
-def _stratified(n: int, rng) -> np.ndarray:
-    """n points in [0, 1)², one per cell of a near-square jittered grid."""
-    cols = int(np.ceil(np.sqrt(n)))
-    rows = int(np.ceil(n / cols))
+def _grid(n: int) -> tuple[int, int]:
+    """(cols, rows), cols·rows = n, as near square as n allows (a prime n: n × 1)."""
+    rows = max(d for d in range(1, math.isqrt(n) + 1) if n % d == 0)
+    return n // rows, rows
+
+
+def _jittered(n: int, pixels: int, rng) -> np.ndarray:
+    """(pixels, n, 2): per pixel, one point uniform in each cell of a cols × rows grid of
+    the unit square (cols·rows = n, so the cells tile it: the sum over the set is an
+    unbiased, stratified estimate), each pixel its own points. Not a rotated set (Cranley
+    & Patterson 1976): the samplers' maps are not periodic, and a set wrapped around the
+    square's edge loses its stratification there (twice the error for visible normals)."""
+    cols, rows = _grid(n)
     i = np.arange(n)
-    return np.stack([(i % cols + rng.random(n)) / cols, (i // cols + rng.random(n)) / rows], axis=-1)
-
-
-def _rotated(n: int, pixels: int, rng) -> np.ndarray:
-    """(pixels, n, 2): one stratified set shifted by a random offset per pixel, mod 1
-    (both in [0, 1): the sum is in [0, 2), where x − 1 is exact, as x mod 1 is)."""
-    x = _stratified(n, rng)[None, :, :] + rng.random((pixels, 1, 2))
-    x -= x >= 1.0
+    x = rng.random((pixels, n, 2))
+    x[..., 0] += i % cols
+    x[..., 0] /= cols
+    x[..., 1] += i // cols
+    x[..., 1] /= rows
     return x
 
 
@@ -158,7 +164,7 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
     # every random number first, so that the pixel blocks below do not change the image
     u = []
     for i, k in enumerate(split):
-        u.append(_rotated(k, P, rng) if k else np.empty((P, 0, 2)))
+        u.append(_jittered(k, P, rng) if k else np.empty((P, 0, 2)))
         if i == 0 and k:                                # the environment's φ within a cell
             u[0] = np.concatenate([u[0], rng.random((P, k, 1))], axis=-1)
     sums = np.zeros((P, 5))                            # Σ weight (r, g, b), Σ N·lum, Σ (N·lum)²

@@ -119,13 +119,18 @@ def test_pixel_blocks_do_not_change_the_image(monkeypatch):
     assert blocks["noise"] == whole["noise"]
 
 
-@pytest.mark.parametrize("k", [1, 7, 8, 12])
-def test_every_strategys_samples_are_uniform_in_the_unit_square(k):
-    """Each pixel's set is a stratified set under a random rotation (Cranley & Patterson
-    1976): every sample is uniform on [0, 1)², which the balance heuristic's pdfs assume,
-    even where k points leave a cell of the ⌈√k⌉ grid empty (k = 7, 8)."""
-    from app.environment.render import _rotated
-    u = _rotated(k, 40_000, np.random.default_rng(k)).reshape(-1, 2)
-    counts = np.histogram2d(u[:, 0], u[:, 1], bins=3, range=[[0, 1], [0, 1]])[0].ravel()
-    expected = len(u) / 9
-    assert np.all(np.abs(counts - expected) <= 5 * np.sqrt(expected)), counts / len(u)
+@pytest.mark.parametrize("k", [1, 7, 8, 12, 16])
+def test_every_strategys_samples_tile_the_unit_square(k):
+    """Each pixel's k points: one in each cell of a grid of k equal cells (so the set's
+    sum is an unbiased estimate, which the balance heuristic's pdfs assume), uniform
+    within it; over the pixels, uniform on [0, 1)²."""
+    from app.environment.render import _grid, _jittered
+    cols, rows = _grid(k)
+    assert cols * rows == k and cols >= rows
+    u = _jittered(k, 20_000, np.random.default_rng(k))
+    cell = np.floor(u[..., 0] * cols) + cols * np.floor(u[..., 1] * rows)
+    assert np.all(np.sort(cell, axis=1) == np.arange(k))
+    flat = u.reshape(-1, 2)
+    counts = np.histogram2d(flat[:, 0], flat[:, 1], bins=5, range=[[0, 1], [0, 1]])[0].ravel()
+    expected = len(flat) / 25
+    assert np.all(np.abs(counts - expected) <= 5 * np.sqrt(expected)), counts / len(flat)
