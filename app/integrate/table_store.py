@@ -64,14 +64,15 @@ _state = {"directory": None, "thread": None, "accepting": False}
 
 def default_keys(brdfs) -> list[tuple]:
     """The tables of ``brdfs`` (the server passes its default models: GGX and Beckmann):
-    each lobe at F = 1 (Kulla-Conty, method=table with fresnel=none) and its Schlick basis."""
+    each lobe at F = 1 (Kulla-Conty, method=table with fresnel=none), then the Schlick
+    bases (a first Kulla-Conty request for Beckmann then waits for two builds, not four)."""
     keys = []
     for brdf in brdfs:
         for _, lobe in brdf.lobes():
             keys.append(tables.table_key(lobe, None))
             if brdf.fresnel.name == "schlick":
                 keys.append(tables.table_key(lobe, brdf.fresnel.fresnel_p))
-    return list(dict.fromkeys(keys))
+    return sorted(dict.fromkeys(keys), key=lambda k: k[-1] is not None)
 
 
 def _describe(key: tuple) -> str | None:
@@ -271,9 +272,8 @@ def _seconds_left(key: tuple, entry: dict, floor: float = 0.0) -> float:
 
 
 def _wait_built(key: tuple, entry: dict, b) -> tables.ETable | None:
-    """The table of a background build predicted to end within IN_REQUEST_SHARE of the
-    request's time left, waited for (that long at most): the start-up tables are queued
-    before any request comes, and a 503 for a table a second away fails a request."""
+    """A background build's table, waited for if due within IN_REQUEST_SHARE of the time
+    left (the start-up tables are queued before any request: a 503 for one due in 1 s)."""
     end = time.perf_counter() + IN_REQUEST_SHARE * (b.seconds - b.elapsed())
     if _seconds_left(key, entry) > end - time.perf_counter():
         return None
