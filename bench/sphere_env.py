@@ -8,6 +8,10 @@ before timing (the server compiles them in the background at start-up).
     python bench/sphere_env.py 256 16 5 --compare DIR     DIR: another checkout (e.g. from
         `git archive`): each tree renders in a process of its own, the two alternating
         round by round, and the table puts them side by side
+    python bench/sphere_env.py --accuracy [DIR]           the error actually made: each case
+        on a 64² sphere at 16 samples/pixel (4 seeds) against the same tree's render at
+        1024 (a 32 × 32 grid per strategy and pixel), per-pixel RMS and mean error over
+        the mean radiance, beside the noise the render states
 """
 from __future__ import annotations
 
@@ -77,8 +81,34 @@ def child(root: str, n: int, samples: int) -> None:
         print(json.dumps(_round(jobs)), flush=True)
 
 
+def accuracy(root: Path, n: int = 64, samples: int = 16, seeds: int = 4, ref_samples: int = 1024) -> None:
+    import numpy as np
+    sys.path.insert(0, str(root))
+    from app.environment.render import render
+    from app.model import make_spec
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    print(f"{root}: {n}² sphere, {samples} samples/pixel × {seeds} seeds against {ref_samples}")
+    print(f"{'case':<46}{'RMS error':>11}{'mean error':>12}{'stated':>9}")
+    for name, (model, environment) in CASES.items():
+        brdf = make_spec(**model).brdf()
+        ref = render(brdf, environment, 40.0, 135.0, n, ref_samples, seed=99)["radiance"] @ lum
+        on = ~np.isnan(ref)
+        mean = ref[on].mean()
+        rms, bias, stated = [], [], []
+        for seed in range(seeds):
+            r = render(brdf, environment, 40.0, 135.0, n, samples, seed=seed)
+            d = (r["radiance"] @ lum)[on] - ref[on]
+            rms.append(np.sqrt(np.mean(d * d)) / mean)
+            bias.append(d.mean() / mean)
+            stated.append(r["noise"]["relative"])
+        print(f"{name:<46}{100 * np.mean(rms):>10.1f}%{100 * np.mean(bias):>+11.2f}%{100 * np.mean(stated):>8.1f}%")
+
+
 def main() -> None:
     args = [a for a in sys.argv[1:] if not a.startswith("--")]
+    if "--accuracy" in sys.argv:
+        accuracy(Path(args[0]).resolve() if args else ROOT)
+        return
     if "--child" in sys.argv:
         child(args[0], int(args[1]), int(args[2]))
         return
