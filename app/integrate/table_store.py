@@ -42,8 +42,7 @@ QUEUE_SIZE = 16
 #: Share of the request's remaining time budget a table may be predicted to take and
 #: still be built inside the request (the prediction is from one probe: kept modest).
 IN_REQUEST_SHARE = 0.25
-#: μ values of the probe that predicts a build's cost (at α = PROBE_ALPHA).
-PROBE_POINTS = 4
+#: Roughness of the row whose time predicts a build's (tables.predict_build_seconds).
 PROBE_ALPHA = 0.25
 #: Build time assumed for the start-up tables (compiled, 56²: GGX 0.6, Beckmann 1.3 CPU-s),
 #: for the Retry-After of a request that comes while they build, or its wait (_wait_built)
@@ -228,17 +227,9 @@ def _name(key: tuple) -> str:
 
 
 def predict_seconds(key: tuple) -> float:
-    """Seconds a build of ``key`` is predicted to take: one probe of PROBE_POINTS E(μ) at
-    α = PROBE_ALPHA, scaled to the build's points (and the Schlick basis' base table)."""
-    lobe = tables._lobe_at(key, PROBE_ALPHA)
-    n = tables.TABLE_N_Y if tables.compiled(lobe) else tables.SLOW_TABLE_N
-    points = tables.build_points(n, n)
-    if key[-1] is not None:
-        points *= 1.3 + (0 if _ready(key[:-1] + (None,)) else 1)   # split cells; the base
-    mu = tables.mu_from_y(np.linspace(0.2, 0.9, PROBE_POINTS), PROBE_ALPHA)
-    t0 = time.perf_counter()
-    tables.albedo(lobe, mu, tol=tables.BUILD_TOL)
-    return (time.perf_counter() - t0) / PROBE_POINTS * points
+    """Seconds a build of ``key`` is predicted to take (tables.predict_build_seconds)."""
+    return tables.predict_build_seconds(key, PROBE_ALPHA,
+                                        key[-1] is None or _ready(key[:-1] + (None,)) is not None)
 
 
 def _queue_build(key: tuple, predicted: float) -> dict:
