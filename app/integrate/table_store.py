@@ -20,6 +20,7 @@ import hashlib
 import json
 import logging
 import os
+import itertools
 import queue
 import threading
 import time
@@ -55,8 +56,10 @@ RETRY_UNKNOWN = 5
 _lock = threading.RLock()
 _memory: "OrderedDict[tuple, tables.ETable]" = OrderedDict()
 _stats = {"hits": 0, "misses": 0}
-_pending: dict[tuple, dict] = {}          # key -> {"predicted": s, "queued": t, "started": t|None}
-_queue: "queue.Queue[tuple]" = queue.Queue(QUEUE_SIZE)
+_pending: dict[tuple, dict] = {}   # key -> {"predicted": s, "queued": (priority, t), "started": t|None}
+#: (priority, order, key): a request's table (0) before the start-up ones (1) still queued
+_queue: "queue.PriorityQueue[tuple]" = queue.PriorityQueue(QUEUE_SIZE)
+_order = itertools.count()
 #: accepting: queue tables for the background builder (from :func:`start` to :func:`stop`)
 _state = {"directory": None, "thread": None, "accepting": False}
 
@@ -232,7 +235,7 @@ def predict_seconds(key: tuple) -> float:
                                         key[-1] is None or _ready(key[:-1] + (None,)) is not None)
 
 
-def _queue_build(key: tuple, predicted: float) -> dict:
+def _queue_build(key: tuple, predicted: float, priority: int = 0) -> dict:
     with _lock:
         entry = _pending.get(key)
         if entry is None and not _state["accepting"]:
@@ -241,11 +244,12 @@ def _queue_build(key: tuple, predicted: float) -> dict:
                        "started normally has one)", RETRY_UNKNOWN, what=_name(key))
         if entry is None:
             try:
-                _queue.put_nowait(key)
+                _queue.put_nowait((priority, next(_order), key))
             except queue.Full:
                 raise Busy(f"{QUEUE_SIZE} tables are waiting to be built; the {_name(key)} "
                            "is not among them yet", RETRY_UNKNOWN, what=_name(key)) from None
-            entry = _pending[key] = {"predicted": predicted, "queued": time.time(), "started": None}
+            entry = _pending[key] = {"predicted": predicted, "queued": (priority, time.time()),
+                                     "started": None}
             _ensure_thread()
         return entry
 
@@ -275,7 +279,7 @@ def _wait_built(key: tuple, entry: dict, b) -> tables.ETable | None:
 
 def _worker() -> None:
     while True:
-        key = _queue.get()
+        key = _queue.get()[-1]
         with _lock:
             entry = _pending.get(key)
             if entry is not None:
@@ -352,7 +356,7 @@ def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) 
     for key in (keys or []):
         if _ready(key) is None:
             try:    # not probed: start-up is not delayed; the builder takes its time
-                _queue_build(key, STARTUP_GUESS_SECONDS)
+                _queue_build(key, STARTUP_GUESS_SECONDS, priority=1)
             except Busy:
                 break
     return _state["directory"]

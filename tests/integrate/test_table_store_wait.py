@@ -58,3 +58,23 @@ def test_the_predicted_build_time_is_that_of_the_build(ndf, masking):
     tables.build(key, 12, 12)
     seconds = time.perf_counter() - t0
     assert seconds / 5.0 <= predicted <= 5.0 * seconds
+
+
+def test_a_request_s_table_is_built_before_the_start_up_tables_still_queued(monkeypatch):
+    """Start-up tables (priority 1) queued first; a request's table (priority 0) is built
+    as soon as the builder is free, and its Retry-After counts none of them."""
+    order = []
+    real_build = table_store._build
+    monkeypatch.setattr(table_store, "_build", lambda key: order.append(key) or real_build(key))
+    monkeypatch.setattr(table_store, "predict_seconds", lambda key: 1e3)
+    monkeypatch.setattr(table_store, "STARTUP_GUESS_SECONDS", 50.0)
+    start_up = [tables.table_key(make_spec(ndf=n, alpha=0.3, fresnel="none").brdf().lobes()[0][1])
+                for n in ("ggx", "beckmann", "student_t")]
+    wanted = tables.table_key(make_spec(ndf="gtr", alpha=0.3, fresnel="none").brdf().lobes()[0][1])
+    with table_store._lock:                       # all queued before the builder takes one
+        table_store.start(None, keys=start_up)
+        with budget.limit(10.0), pytest.raises(Busy) as busy:
+            table_store.table(wanted)
+    assert busy.value.retry_after <= 1e3 + 50.0 + 2      # the running one at most ahead
+    assert table_store.wait(300)
+    assert order.index(wanted) <= 1
