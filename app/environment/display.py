@@ -25,7 +25,7 @@ def sphere_figure(data: dict, exposure_ev: float, title: str) -> dict:
     encoded = base64.b64encode(to_png(data["radiance"], data["background"], exposure_ev)).decode()
     noise = data.get("noise")
     caption = (f"{data['samples']['per_pixel']} samples/pixel, noise ±{100 * noise['relative']:.1f}% "
-               f"(per-pixel standard error / mean), {data['seconds']:.2f} s" if noise else
+               f"(RMS of the pixels' standard errors / mean), {data['seconds']:.2f} s" if noise else
                f"point light, {data['seconds']:.2f} s")
     n = data["radiance"].shape[0]
     return {"data": [{"type": "image", "source": f"data:image/png;base64,{encoded}",

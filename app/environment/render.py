@@ -9,8 +9,8 @@ lobes) and the NDF's visible normals (Heitz 2018; specular lobe), the last two s
 the rest of N as the lobes' energies (:func:`_shares`). Each strategy's samples are a
 jittered grid drawn per pixel (:func:`_jittered`), so pixels' errors are independent; f is evaluated once per sample for the three channels (evaluate.py), where
 l is upper, in blocks of pixels (CHUNK_PIXELS). ``noise`` states the per-pixel standard
-error of the one-sample estimator (mean, max, relative to the mean radiance) and that of
-the image mean. (derivation: docs/principled.md §3.1)
+error of the one-sample estimator (mean, max; ``relative``: their RMS over the mean
+radiance, the image's relative RMS error) and that of the image mean. (derivation: docs/principled.md §3.1)
 """
 from __future__ import annotations
 
@@ -183,7 +183,10 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
             "samples": {"per_pixel": samples, "environment": split[0], "cosine": split[1],
                         "visible_normals": split[2], "pixels": P, "evaluations": evaluations},
             "noise": {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
-                      "relative": float(std_error.mean() / mean) if mean > 0 else 0.0,
+                      # RMS over the pixels, relative to the mean: the image's relative RMS
+                      # error (the mean σ understated it 2.5x where a few highlight pixels
+                      # carry most of the error: a metal, a sun)
+                      "relative": float(np.sqrt(np.mean(std_error ** 2)) / mean) if mean > 0 else 0.0,
                       "mean_radiance": mean,
                       # every pixel's samples independent of the others': √Σσ²/P
                       "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / P)},

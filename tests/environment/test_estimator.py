@@ -134,3 +134,24 @@ def test_every_strategys_samples_tile_the_unit_square(k):
     counts = np.histogram2d(flat[:, 0], flat[:, 1], bins=5, range=[[0, 1], [0, 1]])[0].ravel()
     expected = len(flat) / 25
     assert np.all(np.abs(counts - expected) <= 5 * np.sqrt(expected)), counts / len(flat)
+
+
+@pytest.mark.parametrize("model, environment", [
+    (dict(model="principled", metallic=1.0), "studio"),
+    (dict(model="principled", clearcoat=1.0, sheen=0.5), "sunset"),
+])
+def test_stated_relative_noise_is_not_below_the_error_made(model, environment):
+    """The caption's ±noise is the image's relative RMS error: against a 1 024-sample
+    render it must not understate what 16 samples get wrong. The mean σ over the pixels
+    stated 30 % where 75 % was made (a metal's highlight pixels carry most of it)."""
+    brdf = make_spec(**model).brdf()
+    lum = np.array([0.2126, 0.7152, 0.0722])
+    ref = render(brdf, environment, 40.0, 135.0, 32, 1024, seed=99)["radiance"] @ lum
+    on = ~np.isnan(ref)
+    made, stated = [], []
+    for seed in range(3):
+        r = render(brdf, environment, 40.0, 135.0, 32, 16, seed=seed)
+        d = (r["radiance"] @ lum)[on] - ref[on]
+        made.append(np.sqrt(np.mean(d * d)) / ref[on].mean())
+        stated.append(r["noise"]["relative"])
+    assert np.mean(stated) >= np.mean(made)
