@@ -8,8 +8,9 @@ code (:func:`code_version`): a restart or another worker reads what one built, c
 never reads a stale table; a lock file per table lets one worker build while others wait.
 
 :func:`start` queues the default models' tables (:func:`default_keys`) for one background
-thread, then any table a request needs. A request builds a missing table in place only if
-its predicted cost fits IN_REQUEST_SHARE of its time left; otherwise the table is queued,
+thread, then any table a request needs (ahead of start-up ones still queued). A request
+builds a missing table in place, or waits for one queued or building, only if that is
+predicted to end within IN_REQUEST_SHARE of its time left; otherwise the table is queued,
 :class:`~app.errors.Busy` (503 + Retry-After) names it and ``method=auto`` takes the
 quadrature. Outside a request (the CLI, scripts) it is built in place.
 (derivation: docs/tables.md §4)"""
