@@ -12,8 +12,7 @@ thread, then any table a request needs (ahead of start-up ones still queued). A 
 builds a missing table in place, or waits for one queued or building, only if that is
 predicted to end within IN_REQUEST_SHARE of its time left; otherwise the table is queued,
 :class:`~app.errors.Busy` (503 + Retry-After) names it and ``method=auto`` takes the
-quadrature. Outside a request (the CLI, scripts) it is built in place.
-(derivation: docs/tables.md §4)"""
+quadrature. Outside a request it is built in place. (derivation: docs/tables.md §4)"""
 from __future__ import annotations
 
 import fcntl
