@@ -22,6 +22,7 @@ from ..physics.numeric import where_valid
 from ..physics.gauss import gauss_legendre_01
 from .. import kernels
 from . import budget, cost
+from .albedo_nodes import TAIL_K_MAX, _psi_quarters, tail_k  # noqa: F401  (tests, callers)
 
 # Orders (Gauss points per half of ψ, and along u); each level doubles both.
 ORDER_START = 24
@@ -81,7 +82,7 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
         # [ψ0, ψ0 + π/2] and [ψ0 + π/2, ψ0 + π] with N/2 nodes each (the same node
         # density as N per half), graded towards the horizon cut ψ0 + π/2, and double.
         B = np.hypot(ax * v[:, 0], ay * v[:, 1])
-        offsets, w_psi = _psi_quarters(max(order // 2, 4), v[:, 2], B)
+        offsets, w_psi = _psi_quarters(max(order // 2, 4), v[:, 2], B, ndf.tail_beta < 0.5)
     else:
         t, wt = gauss_legendre_01(order)
         offsets = np.concatenate([t - 0.5, t + 0.5]) * np.pi     # 2N nodes over 2π
@@ -148,42 +149,6 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
     return np.einsum("npu,npu,npu->n", g, du, np.broadcast_to(w_psi, g.shape)) / (2.0 * np.pi)
 
 
-def tail_k(beta: float) -> float:
-    """Power k of the u-rule's tail map 1 − u ∝ (1 − s)^k (_u_rule) for an NDF whose
-    r̃ grows like v^{−β} (``tail_beta``). GGX's β = ½: k = 2, r̃ ∝ (1 − s)^{−1}, and at
-    v_z = 0 integrand·du is a series in integer powers of 1 − s. Shorter tails (β < ½):
-    TAIL_K_SHORT. Longer: 2/(1 − β), so that integrand·du vanishes at s = 1."""
-    if beta > 0.5:
-        return min(2.0 / (1.0 - beta), TAIL_K_MAX)
-    return 2.0 if beta == 0.5 else TAIL_K_SHORT
-
-
-def _psi_quarters(n: int, mu, B):
-    """ψ − ψ0 offsets and weights (rows, 2n) of the two quarters [0, π/2] and [π/2, π],
-    n Gauss nodes each, graded towards the horizon cut π/2 (where b = 0): there the
-    disk's exit radius changes from ~1/α to ≫ 1 over |ψ − π/2| ~ g = μ/B (B = α sinθ,
-    g = Smith's a = 1/(α tanθ)), a feature Gauss nodes reach only at n ~ 1/√g: with
-    d = |ψ − π/2| = g (e^{tL} − 1), L = ln(1 + (π/2)/g), nodes are evenly spaced in
-    ln(g + d) (as slope_quadrature.psi_rule; Heitz 2014's a). Measured (GGX, α = 0.01
-    to 1, μ with a = 0.005 to 0.01): error at N = 48 from ~1e-6 to ≤ 5e-10. g is at least
-    PSI_GRADING_MIN; plain nodes where it is 0 (μ = 0: the half-plane, smooth) or not
-    finite (μ = 1)."""
-    t, wt = gauss_legendre_01(n)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        g = np.asarray(mu, dtype=float) / np.asarray(B, dtype=float)
-    graded = (g > 0) & np.isfinite(g)
-    gg = np.where(graded, np.maximum(g, PSI_GRADING_MIN), 1.0)[:, None]
-    L = np.log1p(0.5 * np.pi / gg)
-    d = gg * np.expm1(t[None, :] * L)
-    dd = gg * L * np.exp(t[None, :] * L) * wt[None, :]
-    plain_offsets = np.concatenate([t, t + 1.0]) * (np.pi / 2)
-    plain_w = np.concatenate([wt, wt]) * np.pi
-    graded_offsets = np.concatenate([0.5 * np.pi - d, 0.5 * np.pi + d], axis=1)
-    offsets = np.where(graded[:, None], graded_offsets, plain_offsets[None, :])
-    w_psi = np.where(graded[:, None], 2.0 * np.concatenate([dd, dd], axis=1), plain_w[None, :])
-    return offsets, w_psi
-
-
 @lru_cache(maxsize=64)
 def _u_rule(order: int, k: float):
     """The u-rule on [0, U] in fractions of U: u = U·head, 1 − u = (1 − U) + U·tail,
@@ -241,19 +206,6 @@ def _cost(brdf: BRDF, order: int) -> int:
     return n_psi * order
 
 
-# Cap on the tail substitution power (see physics/smith_integral.K_MAX).
-TAIL_K_MAX = 24.0
-# Smallest grading scale g of the ψ rule (_psi_quarters): below a ~ 1e-3 the feature at
-# the horizon cut carries little (plain nodes: error 2e-8 at N = 24, a = 3e-4), and log
-# spacing down to g spreads the nodes over ln(π/2g) for nothing. Measured (GGX, Beckmann,
-# α = 0.01 to 1, a = 3e-5 to 1e-2, N = 24): worst error 8e-6 with g = a, 1e-7 with a floor
-# of 1e-3, 3e-7 (Beckmann, α = 1, a ~ 5e-3; GGX 8e-9) with 3e-3; 1e-2 is worse at N = 48.
-PSI_GRADING_MIN = 3e-3
-# Tail power for tails shorter than GGX's (tail_k). Measured (Beckmann, α = 0.01 to 1,
-# μ with a = 0.005 to 0.2, graded ψ): k = 2 converges like N⁻⁴ in u (6e-8 at N = 48,
-# 4e-9 at 96: ρ̃² = −k ln(1 − s) puts a logarithm at s = 1); k = 4: ≤ 9e-9 at 48,
-# ≤ 3e-12 at 96; k = 6 and 8 the same as 4.
-TAIL_K_SHORT = 4.0
 # Tails at least as long as GGX's (β = ½) take the log rule where the disk is finite.
 LOG_RULE_BETA = 0.5
 

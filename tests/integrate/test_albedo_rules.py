@@ -1,5 +1,5 @@
 """The albedo's ψ rule graded towards the horizon cut and its short-tail u-rule
-(app/integrate/albedo.py: _psi_quarters, tail_k), against independent references: the
+(app/integrate/albedo_nodes.py: _psi_quarters, tail_k), against independent references: the
 brute-force cubature over l of ``tests/reference.py`` and exact integrals of smooth
 functions of ψ.
 """
@@ -20,14 +20,16 @@ def _mu_at(a: float, alpha: float) -> float:
     return aa / np.sqrt(1.0 + aa * aa)
 
 
+@pytest.mark.parametrize("short_tail", [False, True])
 @pytest.mark.parametrize("n", [12, 24, 96])
 @pytest.mark.parametrize("g", [0.0, 1e-4, 3e-3, 0.3, 10.0, np.inf])
-def test_psi_quarters_integrate_smooth_functions(n, g):
-    """Σ w h(ψ) over the two graded quarters is 2 ∫₀^π h: weights sum to 2π and the
-    rule integrates cos 2ψ (0 over [0, π]) and e^{cos ψ} (2 ∫₀^π = 2π I₀(1))."""
-    mu = np.array([1.0 if np.isfinite(g) else 0.3])
-    B = np.array([mu[0] / g if g > 0 else 1.0]) if np.isfinite(g) else np.array([0.0])
-    offsets, w = albedo_module._psi_quarters(n, mu * (g > 0), B)
+def test_psi_quarters_integrate_smooth_functions(n, g, short_tail):
+    """Σ w h(ψ) over the two graded quarters (split unevenly for short tails at g = 0.3,
+    10) is 2 ∫₀^π h: weights sum to 2π and the rule integrates cos 2ψ (0 over [0, π])
+    and e^{cos ψ} (2 ∫₀^π = 2π I₀(1))."""
+    mu = np.array([0.0 if g == 0 else 0.05 if np.isfinite(g) else 0.3])
+    B = np.array([1.0 if g == 0 else mu[0] / g if np.isfinite(g) else 0.0])
+    offsets, w = albedo_module._psi_quarters(n, mu, B, short_tail)
     exact_I0 = 2.0 * np.pi * 1.2660658777520082          # 2π I₀(1)
     tol = 1e-12 if n >= 24 else 1e-2
     assert abs(w.sum() - 2.0 * np.pi) <= tol * 2.0 * np.pi
@@ -38,7 +40,7 @@ def test_psi_quarters_integrate_smooth_functions(n, g):
 # (ndf, α, a): the cases whose order-48 error the graded rule took from ~1e-6 to ≤ 1e-8
 # (the brute force costs 1-30 s each; the others measured take up to 70 s)
 HORIZON_POINTS = [("ggx", 1.0, 0.005), ("beckmann", 0.09, 0.3), ("exp_power", 0.25, 0.008),
-                  ("beckmann", 0.25, 0.008)]
+                  ("beckmann", 0.25, 0.008), ("exp_power", 0.09, 0.5)]   # 2nd, last: split
 
 
 @pytest.mark.parametrize("ndf, alpha, a", HORIZON_POINTS)
