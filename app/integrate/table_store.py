@@ -52,6 +52,9 @@ STARTUP_GUESS_SECONDS = 1.5
 WAIT_POLL_SECONDS = 0.02
 #: Retry-After when a build's remaining time is unknown (another worker holds its lock).
 RETRY_UNKNOWN = 5
+#: Largest Retry-After: a prediction probed on numpy (the loops still loading) was 20× the
+#: compiled build the builder ran (GTR: 95 s to the answer of a ~5 s build).
+RETRY_MAX = 10
 
 _lock = threading.RLock()
 _memory: "OrderedDict[tuple, tables.ETable]" = OrderedDict()
@@ -328,9 +331,9 @@ def table(key: tuple) -> tables.ETable:
             except tables.TableTooSlow:     # slower than predicted (the machine is loaded)
                 predicted = max(predicted, b.seconds)
         entry = _queue_build(key, predicted)
+    retry = int(np.ceil(min(max(1.0, _seconds_left(key, entry, 1.0)), RETRY_MAX)))
     raise Busy(f"the {_name(key)} is being built (~{entry['predicted']:.0f} s, outside this "
-               "request); retry after the time given, or use method=quadrature",
-               int(np.ceil(max(1.0, _seconds_left(key, entry, 1.0)))), what=_name(key))
+               "request); retry after the time given, or use method=quadrature", retry, what=_name(key))
 
 
 def building() -> list[str]:
