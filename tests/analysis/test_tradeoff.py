@@ -122,14 +122,16 @@ def test_budgets_respect_max_budget():
 
 
 def test_reference_is_cached_only_when_complete():
-    values = {"ndf": "beckmann", "alpha": 0.37}
+    # μ that need refinement past the first comparison (GGX α = 0.01 near grazing needs
+    # order 192), so that a zero budget really cuts the reference
+    values, mu = {"ndf": "ggx", "alpha": 0.01}, [0.0, 0.01, 0.5]
     brdf, key = make_spec(**values).brdf(), _key(values)
-    with budget.limit(0.0):
-        cut, cached = to.reference(brdf, key, [0.0, 0.5])
-    assert not cached
-    full, cached = to.reference(brdf, key, [0.0, 0.5])
+    with budget.limit(0.0) as b:
+        cut, cached = to.reference(brdf, key, mu)
+    assert b.notes and not cached          # it was cut
+    full, cached = to.reference(brdf, key, mu)
     assert not cached                      # the cut one was not kept
-    again, cached = to.reference(brdf, key, [0.0, 0.5])
+    again, cached = to.reference(brdf, key, mu)
     assert cached and np.array_equal(again["E"], full["E"])
 
 
