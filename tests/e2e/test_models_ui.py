@@ -86,37 +86,39 @@ def test_every_choice_can_be_selected_and_draws(page, page_log, models):
 
 
 def test_choice_params_are_sent_only_with_their_choice(page, page_log):
-    page.goto("/?ndf=student_t&gamma=500")
-    wait_quiet(page)
+    ids = ("plot-lobe", "plot-ndf")          # what it reads; the albedo panel only cost time
+    page.goto("/?ndf=student_t&gamma=500&show=lobe,ndf")
+    wait_quiet(page, ids)
     assert float(last_get(page_log, "ndf")["gamma"]) == 500     # (1.5, 1000]: not clamped to GTR's 10
-    select(page, "ndf", "gtr")                                   # GTR's γ has its own range: default
+    select(page, "ndf", "gtr", ids)                                   # GTR's γ has its own range: default
     assert float(last_get(page_log, "ndf")["gamma"]) == 2.0
-    select(page, "ndf", "ggx")
+    select(page, "ndf", "ggx", ids)
     sent = last_get(page_log, "ndf")
     assert "gamma" not in sent and "p" not in sent
-    select(page, "fresnel", "conductor")
+    select(page, "fresnel", "conductor", ids)
     sent = last_get(page_log, "lobe")
     assert float(sent["ior"]) == 0.43 and float(sent["k"]) == 2.455 and "f0" not in sent
     assert not page_log.problems(), page_log.problems()
 
 
 def test_applicability_disables_and_falls_back(page, page_log):
-    page.goto("/?g2=hammon&masking=karis")
-    wait_quiet(page)
-    select(page, "ndf", "beckmann")                  # Karis and Hammon are GGX-only
+    ids = ("plot-lobe",)                     # the rules live in the sidebar; one panel draws
+    page.goto("/?g2=hammon&masking=karis&show=lobe")
+    wait_quiet(page, ids)
+    select(page, "ndf", "beckmann", ids)                  # Karis and Hammon are GGX-only
     st = page.evaluate("() => window.__brdf.state")
     assert st["masking"] == "smith" and st["g2"] == "height_correlated"
     assert page.evaluate("() => document.querySelector('#g2 option[value=hammon]').disabled")
     assert page.evaluate("() => document.querySelector('#masking option[value=walter]').disabled") is False
-    select(page, "ndf", "gtr")                       # isotropic only
+    select(page, "ndf", "gtr", ids)                       # isotropic only
     assert page.evaluate("() => document.getElementById('anisotropic').disabled")
-    select(page, "ndf", "blinn_phong")
+    select(page, "ndf", "blinn_phong", ids)
     assert page.evaluate("() => document.getElementById('anisotropic').disabled")
     derived = page.locator("#derived")
     assert derived.is_visible() and "α_p" in derived.inner_text()
     # α = 0.3 (default): α_p = 2/0.09 − 2 = 20.22
     assert "20.22" in derived.inner_text()
-    select(page, "ndf", "ggx")
+    select(page, "ndf", "ggx", ids)
     assert not derived.is_visible()
     assert not page_log.problems(), page_log.problems()
 
