@@ -61,6 +61,11 @@ def comparison_title(figures: list[dict], labels: list[str]) -> str:
     return f"{head} — {' vs '.join(labels)}" if head else " vs ".join(labels)
 
 
+#: A comparison of a model's colour channels draws each in its own hue, not the palette's
+#: k-th colour (which drew the red channel blue): Paul Tol's "bright" red, green, blue.
+CHANNEL_COLOURS = {"channel=r": "#EE6677", "channel=g": "#228833", "channel=b": "#4477AA"}
+
+
 @subscripted
 def overlay(figures: list[dict], labels: list[str], title: str | None = None,
             param: str = "vary") -> dict:
@@ -77,7 +82,7 @@ def overlay(figures: list[dict], labels: list[str], title: str | None = None,
                                         "which cannot be overlaid (only curve figures can)")
     traces = []
     for k, (fig, label) in enumerate(zip(figures, labels)):
-        colour = PALETTE[k % len(PALETTE)]
+        colour = CHANNEL_COLOURS.get(label, PALETTE[k % len(PALETTE)])
         curves = [t for t in fig["data"] if not is_guide(t)]
         named = [t for t in curves if t.get("showlegend", True) is not False]
         # positions by identity: `trace in named` compares dicts by value, which for

@@ -108,3 +108,13 @@ def test_principled_titles_name_the_principled_parameters():
     stem = file_stem("lobe", metal)
     assert stem.startswith("lobe-principled-") and "metallic0.6" in stem and "ggx" not in stem
     assert stem != file_stem("lobe", default)
+
+
+def test_colour_channels_compared_are_drawn_in_their_own_hues():
+    """vary=channel&values=r,g,b drew the red channel in the palette's first colour (blue)."""
+    from app.figures.overlay import overlay
+    curve = {"data": [{"type": "scatter", "x": [0, 1], "y": [0, 1], "name": "f"}], "layout": {}}
+    fig = overlay([curve, curve, curve], ["channel=r", "channel=g", "channel=b"])
+    hues = [t["line"]["color"] for t in fig["data"]]
+    rgb = [tuple(int(h[i:i + 2], 16) for i in (1, 3, 5)) for h in hues]
+    assert rgb[0][0] == max(rgb[0]) and rgb[1][1] == max(rgb[1]) and rgb[2][2] == max(rgb[2])
