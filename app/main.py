@@ -12,7 +12,7 @@ from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
-from . import __version__, kernels
+from . import __version__, kernels, server
 from .api import errors, http, openapi
 from .api import routes, routes_figures, routes_pages
 from .api.routes_data import router as data_router
@@ -37,6 +37,7 @@ async def lifespan(app: FastAPI):
     # thread while requests take the numpy path; the log says when each is ready.
     # Index the OpenAPI document, which the request guard reads to know each
     # operation's parameters (~1 s to build: it was the first request's latency).
+    server.return_large_frees_to_the_system()
     kernels.start(default_models())
     await run_in_threadpool(openapi.operations, app)
     logging.getLogger("uvicorn.error").info(
