@@ -39,9 +39,9 @@ ROUGHNESS_MIN = 1e-2
 #: Kulla & Conty's 32×32 is 3e-5 with these axes.
 TABLE_N_Y = 56
 TABLE_N_R = 56
-#: Grid of lobes the compiled integrand does not cover (NDFs other than GGX and
-#: Beckmann, direction-correlated G2): their numpy quadrature is ~10× slower, and a
-#: 56² build (30 s for Student-t, measured) would not fit one request's time budget
+#: Grid of a lobe built without compiled loops (numba absent or BRDF_FAST=0, loops not
+#: ready, a component with no scalar formula): its numpy quadrature is ~10× slower, and a
+#: 56² build (30 s for Student-t on numpy, measured) would not fit one request's time budget
 #: (BRDF_MAX_SECONDS, 10 s), so every request would be cut short and rebuild it. 32²:
 #: ~9 s; its bound (measured at build, ~3e-5 for GGX) is what the response reports.
 SLOW_TABLE_N = 32
