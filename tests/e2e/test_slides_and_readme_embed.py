@@ -70,14 +70,20 @@ def test_readme_iframe_snippet_shows_legend_and_export_bar(page, page_log):
     assert page_log.problems() == []
 
 
-def test_panel_svg_is_slide_sized_from_the_server(page, page_log):
+def download_ndf_svg(page, query: str, timeout_ms: int):
+    """The NDF panel's SVG button, clicked on a 1400×900 page: the download."""
     page.set_viewport_size({"width": 1400, "height": 900})
-    page.goto("/?alpha=0.2&show=lobe,ndf")
+    page.goto(f"/?{query}show=lobe,ndf")
     wait_quiet(page, ids=("plot-lobe", "plot-ndf"))
-    with page.expect_download(timeout=90_000) as dl:
+    with page.expect_download(timeout=timeout_ms) as dl:
         page.locator('[data-panel="ndf"] button[data-format="svg"]').click()
-    assert svg_size(Path(dl.value.path()).read_text(encoding="utf-8")) == (1600, 1000)
-    assert "alpha=0.2" in dl.value.suggested_filename
+    return dl.value
+
+
+def test_panel_svg_is_slide_sized_from_the_server(page, page_log):
+    download = download_ndf_svg(page, "alpha=0.2&", 90_000)
+    assert svg_size(Path(download.path()).read_text(encoding="utf-8")) == (1600, 1000)
+    assert "alpha=0.2" in download.suggested_filename
     assert page_log.problems() == []
 
 
@@ -87,12 +93,8 @@ def test_panel_svg_is_slide_sized_when_the_browser_draws_it(page, page_log):
     body = json.dumps({"detail": "No Chromium found (simulated)"})
     page.route("**/api/v1/figures/ndf.svg?*",
                lambda r: r.fulfill(status=503, body=body, content_type="application/json"))
-    page.set_viewport_size({"width": 1400, "height": 900})
-    page.goto("/?show=lobe,ndf")
-    wait_quiet(page, ids=("plot-lobe", "plot-ndf"))
-    with page.expect_download(timeout=30_000) as dl:
-        page.locator('[data-panel="ndf"] button[data-format="svg"]').click()
-    assert svg_size(Path(dl.value.path()).read_text(encoding="utf-8")) == (1600, 1000)
+    download = download_ndf_svg(page, "", 30_000)
+    assert svg_size(Path(download.path()).read_text(encoding="utf-8")) == (1600, 1000)
     assert page_log.page_errors == [] and all("503" in e for e in page_log.console_errors)
 
 

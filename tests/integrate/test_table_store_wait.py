@@ -10,18 +10,13 @@ import pytest
 from app.errors import Busy
 from app.integrate import budget, table_store, tables
 from app.model import make_spec
+from tests.small_store import small_fresh_store
 
 
 @pytest.fixture(autouse=True)
-def small_fresh_store(monkeypatch):
-    for name in ("TABLE_N_Y", "TABLE_N_R", "SLOW_TABLE_N"):
-        monkeypatch.setattr(tables, name, 12)
-    table_store.start(None, keys=[])
-    table_store.cache_clear()
-    yield
-    assert table_store.wait(300)
-    table_store.stop()
-    table_store.cache_clear()
+def small_store(monkeypatch):
+    with small_fresh_store(monkeypatch, 12):
+        yield
 
 
 def _key():

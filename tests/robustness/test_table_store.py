@@ -19,6 +19,7 @@ from app.errors import Busy
 from app.integrate import budget, methods, table_store, tables
 from app.main import create_app
 from app.model import make_spec
+from tests.small_store import small_fresh_store
 
 ROOT = Path(__file__).resolve().parents[2]
 #: 16×16 grids: what is tested is where tables come from, not their accuracy
@@ -26,15 +27,9 @@ SMALL = {"TABLE_N_Y": 16, "TABLE_N_R": 16, "SLOW_TABLE_N": 16}
 
 
 @pytest.fixture(autouse=True)
-def small_fresh_store(monkeypatch):
-    for name, value in SMALL.items():
-        monkeypatch.setattr(tables, name, value)
-    table_store.start(None, keys=[])
-    table_store.cache_clear()
-    yield
-    assert table_store.wait(300)
-    table_store.stop()
-    table_store.cache_clear()
+def small_store(monkeypatch):
+    with small_fresh_store(monkeypatch, 16):
+        yield
 
 
 def _ggx_key(basis=None, **values):

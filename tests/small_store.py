@@ -1,0 +1,20 @@
+"""A fresh, small E(μ, α) table store for one test: tables of n × n nodes (builds in a
+fraction of a second), no start-up tables, an empty cache before and after, and every
+background build finished before the next test starts."""
+from __future__ import annotations
+
+import contextlib
+
+from app.integrate import table_store, tables
+
+
+@contextlib.contextmanager
+def small_fresh_store(monkeypatch, n: int):
+    for name in ("TABLE_N_Y", "TABLE_N_R", "SLOW_TABLE_N"):
+        monkeypatch.setattr(tables, name, n)
+    table_store.start(None, keys=[])
+    table_store.cache_clear()
+    yield
+    assert table_store.wait(300)
+    table_store.stop()
+    table_store.cache_clear()
