@@ -14,6 +14,7 @@ from app.environment.render import render, sphere_frames
 from app.integrate.methods import albedo_by
 from app.model import make_spec
 from app.physics.vectors import direction_deg
+from tests.environment.brute_force import uniform_radiance
 
 MODELS = [
     dict(alpha=0.3, kd=0.5),
@@ -77,11 +78,7 @@ def test_studio_pixels_match_brute_force():
     n = 32
     out = render(brdf, "studio", 40.0, 135.0, n, 64, seed=1)
     on, frame, _ = sphere_frames(n)
-    key = direction_deg(40.0, 135.0)
-    rng = np.random.default_rng(17)
-    w = rng.normal(size=(2_000_000, 3))
-    w /= np.linalg.norm(w, axis=1, keepdims=True)
-    L = ENVIRONMENTS["studio"].radiance(w, key, np.ones(3))[:, 0]
+    w, L = uniform_radiance("studio", 40.0, 135.0, 2_000_000, 17)
     idx = np.linspace(0, len(frame) - 1, 6).astype(int)
     for i in idx:
         l = w @ frame[i].T                          # local directions of this pixel

@@ -33,17 +33,12 @@ def test_glossy_sphere_under_uniform_matches_albedo_per_pixel():
 
 
 def test_lambertian_under_overcast_matches_irradiance():
-    from app.environment.maps import ENVIRONMENTS
-    from app.physics.vectors import direction_deg
+    from tests.environment.brute_force import uniform_radiance
     brdf = make_spec(kd=1.0, f0=0.0, f90=0.0).brdf()
     out = render(brdf, "overcast", 50.0, 90.0, 24, 64)
     on, frame, _ = sphere_frames(24)
     normals = frame[:, 2, :]
-    key = direction_deg(50.0, 90.0)
-    rng = np.random.default_rng(11)
-    w = rng.normal(size=(400_000, 3))
-    w /= np.linalg.norm(w, axis=1, keepdims=True)
-    L = ENVIRONMENTS["overcast"].radiance(w, key, np.ones(3))[:, 0]
+    w, L = uniform_radiance("overcast", 50.0, 90.0, 400_000, 11)
     idx = np.linspace(0, len(normals) - 1, 12).astype(int)
     ref = np.array([np.mean(L * np.clip(w @ normals[i], 0, None)) * 4 * np.pi / np.pi for i in idx])
     got = out["radiance"][on][idx, 0]
