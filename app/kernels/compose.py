@@ -21,6 +21,7 @@ import inspect
 import os
 import sys
 import tempfile
+import threading
 from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
@@ -258,10 +259,21 @@ def load(c: Components) -> ModuleType:
     until its loops are first called)."""
     path = write(c)
     name = path.stem
-    if name in sys.modules:
-        return sys.modules[name]
-    spec = importlib.util.spec_from_file_location(name, path)
-    module = importlib.util.module_from_spec(spec)
-    sys.modules[name] = module   # numba's cache finds the module by this name
-    spec.loader.exec_module(module)
-    return module
+    with _LOADING:   # a second thread must not find the module in sys.modules half run
+        if name in sys.modules:
+            return sys.modules[name]
+        spec = importlib.util.spec_from_file_location(name, path)
+        module = importlib.util.module_from_spec(spec)
+        sys.modules[name] = module   # numba's cache finds the module by this name
+        try:
+            spec.loader.exec_module(module)
+        except BaseException:
+            del sys.modules[name]
+            raise
+        return module
+
+
+#: One generated module imported at a time: the background compiler thread and a caller
+#: compiling in its own thread met in the suite, and one read a module whose body had not
+#: run yet ("has no attribute 'f_loop'").
+_LOADING = threading.Lock()
