@@ -160,9 +160,9 @@ def albedo_rows(v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log, out, start, s
 
 
 @numba.njit(**JIT)
-def smith_h(a, power, weight, p_radial, h, slope, start, stop):
-    # physics/smith_integral._integral at s = 1 with its slope, node for node: h(a) and
-    # dh/da of the Smith table (physics/smith_table.py); v = v0 (1 - t)^k, dv = v0 k
+def smith_h(a, power, weight, p_radial, h, slope, curvature, start, stop):
+    # physics/smith_integral._integral at s = 1 with its slope and curvature, node for
+    # node: h(a), dh/da and d2h/da2 of the Smith table (physics/smith_table.py); v = v0 (1 - t)^k, dv = v0 k
     # (1 - t)^(k - 1) dt with power = (1 - t)^k, weight = k (1 - t)^(k - 1) dt;
     # p_radial = ndf.radial_params()
     for i in range(start, stop):
@@ -170,6 +170,7 @@ def smith_h(a, power, weight, p_radial, h, slope, start, stop):
         v0 = NDF_CCDF(ai * ai, p_radial)
         sum_h = 0.0
         sum_slope = 0.0
+        sum_curvature = 0.0
         if v0 > 0.0:
             for j in range(weight.shape[0]):
                 v = v0 * power[j]
@@ -180,8 +181,11 @@ def smith_h(a, power, weight, p_radial, h, slope, start, stop):
                 angle = math.atan2(q, ai)
                 sum_h += (q - ai * angle) * dv
                 sum_slope += angle * dv
+                if q > 0.0:          # as numpy's: q = 0 only by rounding at t -> 0
+                    sum_curvature += dv / q
         h[i] = sum_h / math.pi
         slope[i] = -sum_slope / math.pi
+        curvature[i] = sum_curvature / math.pi
 '''
 
 

@@ -99,17 +99,18 @@ class Kernel:
                (float(ndf.alpha_x), float(ndf.alpha_y), *self.params(lobe)))
         return rows
 
-    def smith_h(self, ndf, a) -> tuple[np.ndarray, np.ndarray]:
-        """h(a) and dh/da at a ≥ 0 of the Smith table (physics/smith_integral.h_and_slope:
-        the same rule, nodes and substitution)."""
+    def smith_h(self, ndf, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """h(a), dh/da and d²h/da² at a ≥ 0 of the Smith table
+        (physics/smith_integral.h_derivatives: the same rule, nodes and substitution)."""
         from ..physics import smith_integral as si
         one_minus_t, dt = si.t_rule()
         k = si.tail_power(ndf)
         a, power, weight, p = inputs(a, one_minus_t ** k, k * one_minus_t ** (k - 1.0) * dt,
                                      ndf.radial_params())
-        h, slope = np.empty(a.size), np.empty(a.size)
-        _split(self._smith_h, a.size, a.size * weight.size, (a, power, weight, p, h, slope), ())
-        return h, slope
+        h, slope, curvature = np.empty(a.size), np.empty(a.size), np.empty(a.size)
+        _split(self._smith_h, a.size, a.size * weight.size,
+               (a, power, weight, p, h, slope, curvature), ())
+        return h, slope, curvature
 
     def warm(self) -> None:
         """Compile (or load from numba's cache) the three loops, on one point each (none
@@ -121,5 +122,5 @@ class Kernel:
         rule, = inputs([0.5])
         self._albedo_rows(l, node, node, node, node, rule, rule, rule, rule, rule, False,
                           np.empty((1, 1)), 0, 0, 0.5, 0.5, p, p, p, p)
-        self._smith_h(rule, rule, rule, p, np.empty(1), np.empty(1), 0, 0)
+        self._smith_h(rule, rule, rule, p, np.empty(1), np.empty(1), np.empty(1), 0, 0)
 

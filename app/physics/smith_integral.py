@@ -48,15 +48,23 @@ def mu_Lambda_quadrature(ndf, w, order: int = ORDER) -> np.ndarray:
 
 
 def h_and_slope(ndf, a, order: int = ORDER) -> tuple[np.ndarray, np.ndarray]:
-    """h(a) = μΛ/s and its derivative dh/da at a > 0, for the table (smith_table.py).
+    """h(a) = μΛ/s and its derivative dh/da at a > 0 (see :func:`h_derivatives`)."""
+    return h_derivatives(ndf, a, order)[:2]
+
+
+def h_derivatives(ndf, a, order: int = ORDER) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """h(a) = μΛ/s, dh/da and d²h/da² at a > 0, for the table (smith_table.py).
 
     Differentiating under the integral (the integrand vanishes at its lower end r̃ = a):
     d/da [q − a·atan(q/a)] = −atan(q/a) with q = √(r̃² − a²), so
-    dh/da = −(1/π) ∫_{C(a)}^1 atan(q/a) du, at the same nodes as h."""
+    dh/da = −(1/π) ∫_{C(a)}^1 atan(q/a) du, and d/da atan(q/a) = −1/q, so
+    d²h/da² = (1/π) ∫_{C(a)}^1 du/q: the marginal slope density g(a) (h = ∫_a^∞ (x − a)
+    g(x) dx, Heitz 2014 eq. 72), at the same nodes as h. Near r̃ = a, q ∝ √t and the rule's
+    dt ∝ √t dσ (:func:`t_rule`), so du/q is smooth in σ too."""
     a = np.asarray(a, dtype=float)
     v0 = ndf.radial_ccdf(a * a)
-    h, slope = _integral(ndf, a, np.ones_like(a), v0, order, with_slope=True)
-    return np.where(v0 > 0, h, 0.0), np.where(v0 > 0, slope, 0.0)
+    h, slope, curvature = _integral(ndf, a, np.ones_like(a), v0, order, with_slope=True)
+    return tuple(np.where(v0 > 0, x, 0.0) for x in (h, slope, curvature))
 
 
 def t_rule(order: int = ORDER) -> tuple[np.ndarray, np.ndarray]:
@@ -88,4 +96,7 @@ def _integral(ndf, mu, s, v0, order, with_slope: bool = False):
     value = s / np.pi * np.sum((q - a * angle) * dv, axis=-1)
     if not with_slope:
         return value
-    return value, -np.sum(angle * dv, axis=-1) / np.pi
+    # q = 0 only where rounding puts C⁻¹(v) at a² (v = v₀ to the last bits, or dv = 0):
+    # that node's true term is ≤ ~1e-12 of the sum (tests/physics/test_smith_curvature.py)
+    inv_q = where_valid(q > 0, [q], np.reciprocal, 0.0)
+    return value, -np.sum(angle * dv, axis=-1) / np.pi, np.sum(inv_q * dv, axis=-1) / np.pi

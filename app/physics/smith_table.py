@@ -2,10 +2,12 @@
 
 For a slope-space NDF, h = μΛ/s is a function of a = μ/s alone once the shape is fixed (for
 GTR and Blinn-Phong, not shape-invariant, the shape includes α). It is tabulated at
-TABLE_NODES points uniform in x = ln a over [A_MIN, A_MAX] from the reference integral
-(smith_integral.py), value and exact slope, and interpolated by a cubic Hermite in x
-(monotone PCHIP, Fritsch & Carlson 1980, where the exact slopes would leave the monotone
-region). Outside the table: linear from the exact grazing value h(0) below A_MIN, and
+TABLE_NODES points uniform in x = ln a over [A_MIN, A_MAX], value and slope, and
+interpolated by a cubic Hermite in x. The reference integral (smith_integral.py: value,
+slope and curvature) is computed at a subset of the nodes chosen adaptively (2-5× fewer:
+most of a table's cost), a quintic Hermite between them giving the rest
+(:func:`node_values`, within QUINTIC_G1_ERROR in G1). The cubic is monotone PCHIP
+(Fritsch & Carlson 1980) where the slopes would leave the monotone region. Outside the table: linear from the exact grazing value h(0) below A_MIN, and
 h(A_MAX)·A_MAX/a above A_MAX. |ΔG1| ≤ TABLE_G1_ERROR (1e-9) against the direct integral
 (tests/robustness/test_smith_numeric.py); a lookup costs about a closed-form Λ. ``smith``
 uses it where Λ has no closed form, ``smith_numeric`` for every NDF. A
@@ -22,14 +24,21 @@ import numpy as np
 from scipy.interpolate import CubicHermiteSpline, PchipInterpolator
 
 from .numeric import where_valid
-from .smith_integral import h_and_slope
+from .smith_integral import h_derivatives
 
-#: NDF class → h_and_slope(ndf, a) compiled (app/kernels registers one when an NDF's loops
+#: NDF class → h_derivatives(ndf, a) compiled (app/kernels registers one when an NDF's loops
 #: are ready; it may answer None, e.g. while compiled loops are switched off): the same
-#: rule as smith_integral.h_and_slope, whose numpy form serves otherwise.
+#: rule as smith_integral.h_derivatives, whose numpy form serves otherwise.
 COMPILED_H: dict = {}
 
 TABLE_NODES = 2049
+#: the integrals are computed at every COARSE_STRIDE-th node at least (node_values)
+COARSE_STRIDE = 16
+#: the quintic's share of TABLE_G1_ERROR, and the margin its midpoint check keeps (a
+#: halved interval's error is ~1/64 of its parent's where h is smooth)
+QUINTIC_G1_ERROR = 2e-11
+REFINE_MARGIN = 16.0
+REFINE_RELATIVE = 1e-3
 A_MIN, A_MAX = 1e-5, 1e7
 #: tables kept per process; each holds 4 × TABLE_NODES floats (64 kB)
 CACHE_SIZE = 64
@@ -81,12 +90,10 @@ def _table(ndf_class, alpha: float, shape: tuple) -> LambdaTable:
     # Shape-invariant NDFs are tabulated at α = 1 (a = μ/s carries α); the others at their α.
     ndf = ndf_class(alpha, None, **dict(shape))
     x = np.linspace(np.log(A_MIN), np.log(A_MAX), TABLE_NODES)
-    a = np.exp(x)
-    h, dh_da = _h_and_slope(ndf, np.concatenate([a, [0.0]]))
-    h, dh_da, h0 = h[:-1], dh_da[:-1], float(h[-1])
+    h, dh_dx, h0 = node_values(ndf, x)
     flushed = h < H_FLUSH
-    h, dh_dx = np.where(flushed, 0.0, h), np.where(flushed, 0.0, a * dh_da)
-    # A cubic Hermite with the exact slopes: |ΔG1| ≤ 4e-10 where PCHIP's estimated
+    h, dh_dx = np.where(flushed, 0.0, h), np.where(flushed, 0.0, dh_dx)
+    # A cubic Hermite with the slopes of the integral: |ΔG1| ≤ 4e-10 where PCHIP's estimated
     # slopes gave 6e-8 (exponential power, p = 4). In the steep exponential tails it can
     # dip below 0; on every interval outside Fritsch & Carlson's monotone region
     # (α² + β² ≤ 9 for the slope/secant ratios) PCHIP's cubic is taken instead, which
@@ -102,10 +109,86 @@ def _table(ndf_class, alpha: float, shape: tuple) -> LambdaTable:
     return LambdaTable(float(x[0]), float(x[1] - x[0]), coefficients, h0, float(h[0]))
 
 
-def _h_and_slope(ndf, a):
+def node_values(ndf, x):
+    """h and dh/dx at the uniform nodes x = ln a, and h(0). The integrals (value, slope,
+    curvature) are computed at every COARSE_STRIDE-th node; each interval is halved
+    while its quintic Hermite (:func:`quintic_hermite`), checked at its midpoint against
+    the integral there, misses it by more than QUINTIC_G1_ERROR × REFINE_MARGIN in G1
+    (|Δh| a/(a + h)²: Λ = h/a) or by REFINE_RELATIVE of h (the exponential tails, where
+    the table's monotone shape rests on h's relative accuracy). The other nodes take the
+    quintic of their smallest computed interval."""
+    a = np.exp(x)
+    known = np.zeros(x.size, dtype=bool)
+    h, h_x, h_xx = np.zeros(x.size), np.zeros(x.size), np.zeros(x.size)
+
+    def integrate(nodes):
+        v, d1, d2 = _h_derivatives(ndf, a[nodes])
+        h[nodes], h_x[nodes], h_xx[nodes] = v, a[nodes] * d1, a[nodes] * d1 + a[nodes] ** 2 * d2
+        known[nodes] = True
+
+    stride = COARSE_STRIDE
+    integrate(np.arange(0, x.size, stride))
+    left = np.arange(0, x.size - 1, stride)
+    while stride > 1 and left.size:
+        half = stride // 2
+        mid = left + half
+        integrate(mid)
+        guess = quintic_hermite(x[left], x[left + stride], *(f[left] for f in (h, h_x, h_xx)),
+                                *(f[left + stride] for f in (h, h_x, h_xx)), x[mid])[0]
+        miss = np.abs(guess - h[mid])
+        refine = (miss * a[mid] / (a[mid] + h[mid]) ** 2 > QUINTIC_G1_ERROR / REFINE_MARGIN) | (
+            (miss > REFINE_RELATIVE * h[mid]) & (h[left] >= H_FLUSH))
+        left = np.concatenate([left[refine], mid[refine]])
+        stride = half
+    values, slopes = _fill(x, known, h, h_x, h_xx)
+    # h is positive and falls (smith_table's interpolant relies on it): an interval whose
+    # quintic breaks that anywhere above H_FLUSH has its nodes integrated.
+    live = values[:-1] >= H_FLUSH
+    broken = np.flatnonzero(~known & ((values < 0) | np.append(live & (np.diff(values) > 0), False)))
+    if broken.size:
+        k = np.flatnonzero(known)
+        i = np.searchsorted(k, broken)
+        span = np.unique(np.concatenate([np.arange(k[j - 1] + 1, k[j]) for j in np.unique(i)]))
+        integrate(span)
+        values, slopes = _fill(x, known, h, h_x, h_xx)
+    h0 = float(_h_derivatives(ndf, np.zeros(1))[0][0])
+    return values, slopes, h0
+
+
+def _fill(x, known, h, h_x, h_xx):
+    """The integrals at the ``known`` nodes, the quintic of their interval elsewhere."""
+    k = np.flatnonzero(known)
+    i = np.clip(np.searchsorted(k, np.arange(x.size), side="right") - 1, 0, k.size - 2)
+    lo, hi = k[i], k[i + 1]
+    values, slopes = quintic_hermite(x[lo], x[hi], h[lo], h_x[lo], h_xx[lo], h[hi], h_x[hi],
+                                     h_xx[hi], x)
+    values[known], slopes[known] = h[known], h_x[known]
+    return values, slopes
+
+
+def quintic_hermite(x0, x1, y0, dy0, d2y0, y1, dy1, d2y1, x):
+    """The quintic Hermite interpolant on [x0, x1] of (y, y', y'') given at both ends,
+    and its derivative, at ``x`` (Burden & Faires, Numerical Analysis §3.4; error
+    ≤ Δ⁶ max|y⁽⁶⁾|/46080 on an interval Δ, largest at its midpoint)."""
+    d = x1 - x0
+    t = (x - x0) / d
+    t2, t3 = t * t, t * t * t
+    t4, t5 = t3 * t, t3 * t2
+    basis = (1 - 10 * t3 + 15 * t4 - 6 * t5, t - 6 * t3 + 8 * t4 - 3 * t5,
+             0.5 * (t2 - 3 * t3 + 3 * t4 - t5), 10 * t3 - 15 * t4 + 6 * t5,
+             -4 * t3 + 7 * t4 - 3 * t5, 0.5 * (t3 - 2 * t4 + t5))
+    d_basis = (-30 * t2 + 60 * t3 - 30 * t4, 1 - 18 * t2 + 32 * t3 - 15 * t4,
+               0.5 * (2 * t - 9 * t2 + 12 * t3 - 5 * t4), 30 * t2 - 60 * t3 + 30 * t4,
+               -12 * t2 + 28 * t3 - 15 * t4, 0.5 * (3 * t2 - 8 * t3 + 5 * t4))
+    ends = (y0, d * dy0, d * d * d2y0, y1, d * dy1, d * d * d2y1)
+    value = sum(b * e for b, e in zip(basis, ends))
+    return value, sum(b * e for b, e in zip(d_basis, ends)) / d
+
+
+def _h_derivatives(ndf, a):
     compiled = COMPILED_H.get(type(ndf))
     out = compiled(ndf, a) if compiled is not None else None
-    return out if out is not None else h_and_slope(ndf, a)
+    return out if out is not None else h_derivatives(ndf, a)
 
 
 def lambda_table(ndf) -> LambdaTable:

@@ -1,5 +1,5 @@
 """The Smith table's integrals by the compiled loop (kernel.smith_h) against the direct
-numpy Smith integral (physics/smith_integral.h_and_slope, the independent reference the
+numpy Smith integral (physics/smith_integral.h_derivatives, the independent reference the
 table was built from), and the table built on them against the direct integral's G1."""
 from __future__ import annotations
 
@@ -25,6 +25,11 @@ pytestmark = pytest.mark.skipif(not kernels.ENABLED, reason="numba absent or BRD
 #: integral in G1, which the second test checks there.)
 H_REL = 1e-12
 SLOPE_ABS = 2e-12
+#: the curvature d²h/da² = (1/π)∫ du/q, relative: its first terms (q → 0) carry the
+#: radial inverses' ulps at the condition 1/q² (measured ≤ 5.3e-5 for GTR γ = 2, α = 0.3
+#: at a ≈ 7e3, where h'' ~ 1e-12; ≤ 3e-8 elsewhere). The table's quintic uses it times
+#: Δx² a², which makes that ≤ 1e-12 in h.
+CURVATURE_REL = 1e-4
 
 CASES = [("gtr", 0.3, {"gamma": 2.0}), ("gtr", 1e-3, {"gamma": 1.6}), ("gtr", 1.0, {"gamma": 6.0}),
          ("blinn_phong", 0.05, {}), ("blinn_phong", 0.9, {}),
@@ -44,10 +49,11 @@ def test_compiled_smith_integrals_match_numpy(name, alpha, shape):
     ndf, kernel = _kernel(name, alpha, shape)
     x = np.linspace(np.log(smith_table.A_MIN), np.log(smith_table.A_MAX), 301)
     a = np.concatenate([np.exp(x), [0.0, 0.37, 1.0, 3.0]])
-    h, slope = kernel.smith_h(ndf, a)
-    h_ref, slope_ref = smith_integral.h_and_slope(ndf, a)
+    h, slope, curvature = kernel.smith_h(ndf, a)
+    h_ref, slope_ref, curvature_ref = smith_integral.h_derivatives(ndf, a)
     assert np.all(np.abs(h - h_ref) <= H_REL * np.abs(h_ref))
     assert np.max(np.abs(slope - slope_ref)) <= SLOPE_ABS
+    assert np.all(np.abs(curvature - curvature_ref) <= CURVATURE_REL * np.abs(curvature_ref))
 
 
 @pytest.mark.parametrize("name,alpha,shape", [CASES[0], CASES[1], CASES[3], CASES[5],
