@@ -8,7 +8,8 @@ code (:func:`code_version`): a restart or another worker reads what one built, c
 never reads a stale table; a lock file per table lets one worker build while others wait.
 
 :func:`start` queues the default models' tables (:func:`default_keys`) for one background
-thread, then any table a request needs (ahead of start-up ones still queued). A request
+thread, then any table a request needs (ahead of start-up ones still queued; a queued
+start-up table a request needs moves ahead too). A request
 builds a missing table in place, or waits for one queued or building, only if that is
 predicted to end within IN_REQUEST_SHARE of its time left; otherwise the table is queued,
 :class:`~app.errors.Busy` (503 + Retry-After) names it and ``method=auto`` takes the
@@ -33,6 +34,7 @@ from scipy.interpolate import RectBivariateSpline
 
 from ..errors import Busy
 from . import budget, tables
+from .startup import default_keys  # noqa: F401  (the server's start-up tables, for start)
 
 log = logging.getLogger("app")
 
@@ -65,19 +67,6 @@ _queue: "queue.PriorityQueue[tuple]" = queue.PriorityQueue(QUEUE_SIZE)
 _order = itertools.count()
 #: accepting: queue tables for the background builder (from :func:`start` to :func:`stop`)
 _state = {"directory": None, "thread": None, "accepting": False}
-
-
-def default_keys(brdfs) -> list[tuple]:
-    """The tables of ``brdfs`` (the server passes its default models: GGX and Beckmann):
-    each lobe at F = 1 (Kulla-Conty, method=table with fresnel=none), then the Schlick
-    bases (a first Kulla-Conty request for Beckmann then waits for two builds, not four)."""
-    keys = []
-    for brdf in brdfs:
-        for _, lobe in brdf.lobes():
-            keys.append(tables.table_key(lobe, None))
-            if brdf.fresnel.name == "schlick":
-                keys.append(tables.table_key(lobe, brdf.fresnel.fresnel_p))
-    return sorted(dict.fromkeys(keys), key=lambda k: k[-1] is not None)
 
 
 def _describe(key: tuple) -> str | None:
@@ -285,8 +274,10 @@ def _worker() -> None:
         key = _queue.get()[-1]
         with _lock:
             entry = _pending.get(key)
-            if entry is not None:
-                entry["started"] = time.time()
+            if entry is None or entry["started"] is not None:
+                _queue.task_done()       # promoted (see table), built or being built
+                continue
+            entry["started"] = time.time()
         try:
             t0 = time.perf_counter()
             _build(key)          # a new thread has no request budget: a whole build
@@ -321,6 +312,12 @@ def table(key: tuple) -> tables.ETable:
         return _build(key)
     with _lock:
         entry = _pending.get(key)
+        if entry is not None and entry["started"] is None and entry["queued"][0] > 0:
+            try:     # a start-up table a request needs: built next (the worker skips the
+                _queue.put_nowait((0, next(_order), key))   # copy left in the queue)
+                entry["queued"] = (0, time.time())
+            except queue.Full:
+                pass
     if entry is not None and (t := _wait_built(key, entry, b)) is not None:
         return t
     if entry is None:

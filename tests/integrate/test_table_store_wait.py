@@ -11,6 +11,7 @@ from app.errors import Busy
 from app.integrate import budget, table_store, tables
 from app.model import make_spec
 from app.physics import lambda_table, smith_table
+from app.physics.ndf import NDFS
 from tests.small_store import small_fresh_store
 
 
@@ -77,3 +78,32 @@ def test_a_request_s_table_is_built_before_the_start_up_tables_still_queued(monk
             table_store.table(wanted)
     assert table_store.wait(300)
     assert order.index(wanted) <= 1
+
+
+def test_a_start_up_table_a_request_needs_moves_ahead_of_the_others(monkeypatch):
+    """A request for a start-up table still queued (behind others) has it built next: the
+    worker takes the request's copy and skips the one left in the queue."""
+    order = []
+    real_build = table_store._build
+    monkeypatch.setattr(table_store, "_build", lambda key: order.append(key) or real_build(key))
+    monkeypatch.setattr(table_store, "STARTUP_GUESS_SECONDS", 50.0)
+    start_up = [tables.table_key(make_spec(ndf=n, alpha=0.3, fresnel="none").brdf().lobes()[0][1])
+                for n in ("ggx", "beckmann", "student_t")]
+    with table_store._lock:
+        table_store.start(None, keys=start_up)
+        with budget.limit(10.0), pytest.raises(Busy):
+            table_store.table(start_up[-1])
+    assert table_store.wait(300)
+    assert order.index(start_up[-1]) <= 1 and sorted(order, key=id) == sorted(start_up, key=id)
+
+
+def test_start_up_holds_every_ndf_s_kulla_conty_table():
+    """The server's start-up tables: its default models', then each NDF's F = 1 table with
+    the key its default Kulla-Conty request asks (Blinn-Phong's with the Smith integral)."""
+    keys = table_store.default_keys([make_spec(**v).brdf() for v in ({}, {"ndf": "beckmann"})])
+    assert len(keys) == len(set(keys))
+    for name in NDFS:
+        masking = "smith_numeric" if name == "blinn_phong" else "smith"
+        lobe = make_spec(ndf=name, alpha=0.3, fresnel="none", masking=masking).brdf()
+        assert tables.table_key(lobe) in keys
+    assert [k[-1] for k in keys[:2]] == [None, None] and keys[2][-1] is not None

@@ -1,0 +1,31 @@
+"""The E(μ, α) tables a server queues at start-up for its background builder
+(table_store.start)."""
+from __future__ import annotations
+
+from ..physics.brdf import BRDF
+from ..physics.fresnel import FRESNELS
+from ..physics.ndf import NDFS
+from . import tables
+
+
+def default_keys(brdfs) -> list[tuple]:
+    """The tables of ``brdfs`` (the server passes its default models: GGX and Beckmann):
+    each lobe at F = 1 (Kulla-Conty, method=table with fresnel=none), then the Schlick
+    bases (a first Kulla-Conty request for Beckmann then waits for two builds, not four),
+    then every other NDF's F = 1 table with its default shape and the first model's
+    options, its exact Smith masking (Blinn-Phong's Walter Λ is an approximation: its
+    compensation is the Smith integral's), so that its first Kulla-Conty request waits
+    for one build at most (issue 13)."""
+    keys = []
+    for brdf in brdfs:
+        for _, lobe in brdf.lobes():
+            keys.append(tables.table_key(lobe, None))
+            if brdf.fresnel.name == "schlick":
+                keys.append(tables.table_key(lobe, brdf.fresnel.fresnel_p))
+    keys = sorted(dict.fromkeys(keys), key=lambda k: k[-1] is not None)
+    lobe = next((lobe for b in brdfs for _, lobe in b.lobes()), None)
+    for cls in NDFS.values() if lobe is not None else ():
+        ndf = cls(0.5)     # any α: the key holds none
+        keys.append(tables.table_key(BRDF(ndf, lobe.masking.exact(ndf), lobe.g2, FRESNELS["none"](),
+                                          lambda_phi=lobe.lambda_phi)))
+    return list(dict.fromkeys(keys))
