@@ -35,8 +35,10 @@ SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 async def lifespan(app: FastAPI):
     # The compiled loops load (or compile, on an empty numba cache) in a background
     # thread while requests take the numpy path; the log says when each is ready.
-    # Index the OpenAPI document, which the request guard reads to know each
-    # operation's parameters (~1 s to build: it was the first request's latency).
+    # Index the operations, which the request guard reads to know each one's parameters:
+    # from the routes, in milliseconds (FastAPI's OpenAPI document, which it was read
+    # from, took 1-9 s here, and the port did not accept until then; the document is now
+    # built on the first GET /openapi.json).
     server.return_large_frees_to_the_system()
     kernels.start(default_models())
     await run_in_threadpool(openapi.operations, app)

@@ -1,10 +1,24 @@
-"""The OpenAPI document: built once per app, with the error responses every operation
-can give, and an index of its operations by request path (what the request guard reads
-to know which query parameters are lists and which methods a path takes)."""
+"""The OpenAPI document: built once per app, on its first request, with the error
+responses every operation can give; and an index of the operations by request path (what
+the request guard reads to know which query parameters are lists or numbers, which
+operations read a JSON body and which methods a path takes), built from the routes.
+
+The index is the document's parameters and bodies reduced to what the guard reads: their
+names, where they are, and the JSON types of their schemas, read off each route's
+annotations. FastAPI's generator makes a pydantic schema of each of the ~3 700 flattened
+query fields: 1-3 s at an idle start-up (the document is 2.7 MB), 7-9 s at load 9, and the
+port did not accept until it was done. The index takes milliseconds, and a test holds it
+equal to the document's for every operation (tests/api/test_route_index.py).
+"""
 from __future__ import annotations
 
+import collections.abc
+import decimal
+import enum
 import re
 import threading
+import types
+import typing
 
 from fastapi import FastAPI
 
@@ -71,6 +85,7 @@ class Operations:
     templated ones (``/embed/{kind}``) as regular expressions."""
 
     def __init__(self, document: dict):
+        self.document = document
         self.exact, self.templated = {}, []
         for path, item in document.get("paths", {}).items():
             if "{" in path:
@@ -96,8 +111,137 @@ class Operations:
 
 
 def operations(app: FastAPI) -> Operations:
-    """The app's operation index, built from its document on first use and kept."""
+    """The app's operation index, built from its routes on first use and kept."""
     index = getattr(app.state, "operations", None)
     if index is None:
-        index = app.state.operations = Operations(app.openapi())
+        index = app.state.operations = Operations(route_document(app))
     return index
+
+
+# ------------------------------------------------------------- from the routes ------
+_ARRAYS = (list, set, frozenset, collections.abc.Sequence, collections.abc.MutableSequence,
+           collections.abc.Set, collections.abc.MutableSet, collections.abc.Iterable)
+_SCALARS = {bool: "boolean", int: "integer", float: "number", str: "string",
+            type(None): "null", bytes: "string"}
+#: FastAPI's ValidationError schema, in the document of any app with a parameter or a
+#: body: its ``loc`` (strings and integers) makes a numeric name, as it does there
+_VALIDATION_ERROR = {"properties": {"loc": {"type": "array", "items": {
+    "anyOf": [{"type": "string"}, {"type": "integer"}]}}}}
+
+
+def _schema(annotation, models: dict) -> dict:
+    """The JSON types of the schema pydantic writes for ``annotation`` (a model or an enum
+    is a ``$ref`` there, so no type here; models met are collected into ``models``)."""
+    origin, args = typing.get_origin(annotation), typing.get_args(annotation)
+    if origin is typing.Annotated:
+        return _schema(args[0], models)
+    if origin is typing.Union or origin is types.UnionType:
+        return {"anyOf": [_schema(a, models) for a in args]}
+    if origin is typing.Literal:
+        kinds = {_SCALARS.get(type(a)) for a in args}
+        return {"type": kinds.pop()} if len(kinds) == 1 and None not in kinds else {}
+    if origin is tuple:
+        if len(args) == 2 and args[1] is Ellipsis:
+            return {"type": "array", "items": _schema(args[0], models)}
+        for a in args:
+            _schema(a, models)
+        return {"type": "array"}          # prefixItems: no "items"
+    if origin in _ARRAYS or annotation in _ARRAYS:
+        return {"type": "array", "items": _schema(args[0], models) if args else {}}
+    if origin in (dict, collections.abc.Mapping) or annotation is dict:
+        for a in args:
+            _schema(a, models)
+        return {"type": "object"}
+    if isinstance(annotation, type):
+        if issubclass(annotation, enum.Enum):
+            return {}
+        if annotation is decimal.Decimal:
+            return {"anyOf": [{"type": "number"}, {"type": "string"}]}
+        if hasattr(annotation, "model_fields"):
+            if annotation not in models:
+                models[annotation] = None
+                models[annotation] = {"properties": {
+                    (f.alias or name): _schema(f.annotation, models)
+                    for name, f in annotation.model_fields.items()}}
+            return {}
+        if annotation in _SCALARS:
+            return {"type": _SCALARS[annotation]}
+    return {}
+
+
+def _parameters(dependant, models: dict) -> list[dict]:
+    """The operation's parameters as the document lists them: path, query, header,
+    cookie, of the endpoint and its dependencies; a query model's fields one by one."""
+    groups = {"path": [], "query": [], "header": [], "cookie": []}
+    stack, seen = [dependant], set()
+    while stack:
+        d = stack.pop()
+        if id(d) in seen:
+            continue
+        seen.add(id(d))
+        for where in groups:
+            groups[where].extend(getattr(d, f"{where}_params"))
+        stack.extend(reversed(d.dependencies))
+    out: dict[tuple[str, str], dict] = {}
+    for where, fields in groups.items():
+        for field in fields:
+            info = field.field_info
+            if not getattr(info, "include_in_schema", True):
+                continue
+            model = info.annotation
+            if where != "path" and isinstance(model, type) and hasattr(model, "model_fields"):
+                flat = [((f.alias or n), f.annotation) for n, f in model.model_fields.items()]
+            else:
+                flat = [(field.alias, info.annotation)]
+            for name, annotation in flat:
+                if where == "header" and getattr(info, "convert_underscores", True):
+                    name = name.replace("_", "-")
+                out[(where, name)] = {"name": name, "in": where,
+                                      "schema": _schema(annotation, models)}
+    return list(out.values())
+
+
+def _merge(into: dict, extra: dict) -> None:
+    for k, v in extra.items():
+        if isinstance(v, dict) and isinstance(into.get(k), dict):
+            _merge(into[k], v)
+        else:
+            into[k] = v
+
+
+def _route_contexts(app: FastAPI):
+    try:
+        from fastapi.routing import iter_route_contexts
+    except ImportError:   # a FastAPI that lists included routes in app.routes itself
+        return app.routes
+    return iter_route_contexts(app.routes)
+
+
+def route_document(app: FastAPI) -> dict:
+    """The OpenAPI document reduced to what the request guard reads (paths, methods,
+    parameters' names, places and JSON types, request bodies' media types, the routes'
+    ``openapi_extra``; the models' properties), from the routes, with no schema built."""
+    from fastapi.routing import APIRoute
+    paths: dict[str, dict] = {}
+    models: dict = {}
+    any_input = False
+    for route in _route_contexts(app):
+        original = getattr(route, "original_route", route)
+        if not isinstance(original, APIRoute) or not route.include_in_schema:
+            continue
+        params = _parameters(route.dependant, models)
+        body = route.body_field
+        any_input = any_input or bool(params) or body is not None
+        item = paths.setdefault(route.path_format, {})
+        for method in route.methods:
+            op: dict = {"parameters": list(params)} if params else {}
+            if body is not None and method in ("POST", "PUT", "PATCH", "DELETE"):
+                _schema(body.field_info.annotation, models)
+                op["requestBody"] = {"content": {body.field_info.media_type: {}}}
+            if route.openapi_extra:
+                _merge(op, route.openapi_extra)
+            item[method.lower()] = op
+    schemas = {m.__name__: s for m, s in models.items() if s is not None}
+    if any_input:
+        schemas["ValidationError"] = _VALIDATION_ERROR
+    return {"paths": paths, "components": {"schemas": schemas}}

@@ -11,6 +11,7 @@ from ..model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice
 from ..views import VIEWS, View, lookup, run, schemas
 from .encode import json_response
 from .http.query_route import QueryModelRoute
+from .openapi import operations
 
 router = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
 
@@ -126,8 +127,8 @@ def unknown(request: Request, name: str):
     """A path that exists with other methods is a 405 naming them (POST /api/v1/health);
     an unknown name is a 404 listing the views; a view's data route takes GET only."""
     path = f"/api/v1/{name}"
-    operations = request.app.openapi().get("paths", {}).get(path, {})   # built once, cached
-    allowed = sorted(m.upper() for m in operations if m in ("get", "post", "put", "delete"))
+    item = operations(request.app).exact.get(path, {})     # the routes' index, built once
+    allowed = sorted(m.upper() for m in item if m in ("get", "post", "put", "delete"))
     if not allowed:
         lookup(name)
         allowed = ["GET"]

@@ -39,8 +39,8 @@ class RequestGuard:
     A scalar query parameter given twice (``alpha=0.1&alpha=0.2``) is ambiguous — the
     framework would silently take the last — so it is a 422 naming the parameter. Which
     parameters are lists (and may repeat: ``theta_i_deg=10&theta_i_deg=20``) is read from
-    the OpenAPI document of the matched operation, so new endpoints are covered as they
-    are added. For the same reason a query parameter sent to an operation that reads
+    the matched operation's parameters as the OpenAPI document lists them (indexed from
+    the routes: openapi.route_document), so new endpoints are covered as they are added. For the same reason a query parameter sent to an operation that reads
     only a JSON body is refused rather than ignored.
     """
 
@@ -188,7 +188,7 @@ class RequestGuard:
 
     def _numeric(self) -> frozenset[str]:
         if self._numeric_names is None:
-            self._numeric_names = strict.numeric_names(self.fastapi_app.openapi())
+            self._numeric_names = strict.numeric_names(operations(self.fastapi_app).document)
         return self._numeric_names
 
     def _body_limit(self, scope) -> str:
