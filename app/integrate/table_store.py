@@ -8,10 +8,10 @@ code (:func:`code_version`): a restart or another worker reads what one built, c
 never reads a stale table; a lock file per table lets one worker build while others wait.
 
 :func:`start` queues the default models' tables (:func:`default_keys`) for one background
-thread, then any table a request needs (ahead of start-up ones still queued; a queued
-start-up table a request needs moves ahead too). A request
-builds a missing table in place, or waits for one queued or building, only if that is
-predicted to end within IN_REQUEST_SHARE of its time left; otherwise the table is queued,
+thread, then any table a request needs (ahead of start-up ones still queued, which move
+ahead too when a request needs one). A request builds a missing table in place (waits
+for one queued or building) only if that is predicted to end within IN_REQUEST_SHARE
+(WAIT_SHARE) of its time left; otherwise it is queued,
 :class:`~app.errors.Busy` (503 + Retry-After) names it and ``method=auto`` takes the
 quadrature. Outside a request it is built in place. (derivation: docs/tables.md §4)"""
 from __future__ import annotations
@@ -45,6 +45,8 @@ QUEUE_SIZE = 16
 #: Share of the request's remaining time budget a table may be predicted to take and
 #: still be built inside the request (the prediction is from one probe: kept modest).
 IN_REQUEST_SHARE = 0.25
+#: ... and of it a request may wait for a background build (idle: no worker's CPU taken)
+WAIT_SHARE = 0.5
 #: Roughness of the row whose time predicts a build's (tables.predict_build_seconds).
 PROBE_ALPHA = 0.25
 #: Build time assumed for the start-up tables (compiled, 56²: GGX 0.6, Beckmann 1.3 CPU-s),
@@ -259,9 +261,9 @@ def _seconds_left(key: tuple, entry: dict, floor: float = 0.0) -> float:
 
 
 def _wait_built(key: tuple, entry: dict, b) -> tables.ETable | None:
-    """A background build's table, waited for if due within IN_REQUEST_SHARE of the time
-    left (the start-up tables are queued before any request: a 503 for one due in 1 s)."""
-    end = time.perf_counter() + IN_REQUEST_SHARE * (b.seconds - b.elapsed())
+    """A background build's table, waited for if due within WAIT_SHARE of the time left
+    (the start-up tables are queued before any request: a 503 for one due in 1 s)."""
+    end = time.perf_counter() + WAIT_SHARE * (b.seconds - b.elapsed())
     if _seconds_left(key, entry) > end - time.perf_counter():
         return None
     while time.perf_counter() < end and key in _pending and key not in _memory:
