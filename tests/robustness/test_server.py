@@ -1,10 +1,11 @@
 """``brdf-explorer serve --workers N``: connections get TCP_NODELAY (app/server.py).
 
-uvicorn's multi-worker path binds the listening socket with proto 0, so asyncio leaves
-Nagle's algorithm on for accepted connections and each keep-alive response waits ~40 ms
-for a delayed ACK (2 workers measured at 1/5 of 1 worker's throughput). The test serves
-the app from exactly such a socket — uvicorn's own ``Config.bind_socket()`` — and reads
-the option off the server's side of a live connection.
+uvicorn's multi-worker path bound the listening socket with proto 0 in older releases (0.55
+passes IPPROTO_TCP), so asyncio left Nagle's algorithm on for accepted connections
+and each keep-alive response waited ~40 ms for a delayed ACK (2 workers measured at 1/5
+of 1 worker's throughput). The test serves the app from such a proto-0 socket, whatever
+the installed uvicorn does, and reads the option off the server's side of a live
+connection.
 """
 from __future__ import annotations
 
@@ -27,8 +28,10 @@ ROOT = Path(__file__).resolve().parents[2]
 def test_connections_get_tcp_nodelay_on_a_socket_bound_like_the_workers_path():
     config = uvicorn.Config("app.main:app", host="127.0.0.1", port=0, http=HTTP_PROTOCOL,
                             log_level="warning", lifespan="off")
-    listener = config.bind_socket()
-    assert listener.proto == 0                    # the condition under which asyncio skips it
+    listener = socket.socket(socket.AF_INET, socket.SOCK_STREAM)   # proto 0: asyncio skips it
+    listener.bind(("127.0.0.1", 0))
+    listener.set_inheritable(True)
+    assert listener.proto == 0
     server = uvicorn.Server(config)
     thread = threading.Thread(target=server.run, kwargs={"sockets": [listener]}, daemon=True)
     thread.start()
