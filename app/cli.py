@@ -28,11 +28,12 @@ def _serve(argv: list[str]) -> int:
     args = parser.parse_args(argv)
     import uvicorn
 
-    from .server import HTTP_PROTOCOL, WORKER_HEALTHCHECK_S
-    uvicorn.run("app.main:app", host=args.host, port=args.port, http=HTTP_PROTOCOL,
+    from . import server
+    # server.APP accepts at once and imports the application (app.main:app) behind it
+    uvicorn.run(server.APP, host=args.host, port=args.port, http=server.HTTP_PROTOCOL,
                 workers=None if args.reload else args.workers, reload=args.reload,
-                timeout_worker_healthcheck=WORKER_HEALTHCHECK_S)
-    return 0
+                timeout_worker_healthcheck=server.WORKER_HEALTHCHECK_S)
+    return 1 if server.failed else 0
 
 
 # ------------------------------------------------------------------ export ------

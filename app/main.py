@@ -5,7 +5,6 @@ import logging
 from contextlib import asynccontextmanager
 from pathlib import Path
 
-import plotly
 import fastapi_offline
 from fastapi import FastAPI
 from fastapi.responses import FileResponse
@@ -26,7 +25,7 @@ from .resources import static_dir
 from .integrate import cost, table_store
 
 STATIC_DIR = static_dir()
-PLOTLY_JS = Path(plotly.__file__).resolve().parent / "package_data" / "plotly.min.js"
+PLOTLY_JS = server.plotly_js()
 #: Swagger UI 5 (reads OpenAPI 3.1, which FastAPI writes), vendored by fastapi-offline
 SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 

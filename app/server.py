@@ -1,4 +1,5 @@
-"""How ``brdf-explorer serve`` runs the app: uvicorn's HTTP protocol with TCP_NODELAY.
+"""How ``brdf-explorer serve`` runs the app: uvicorn's HTTP protocol with TCP_NODELAY
+(and :mod:`app.api.startup` behind it, which accepts at once).
 
 With ``--workers N`` uvicorn binds the listening socket itself with ``proto`` 0, the
 accepted sockets inherit it, and asyncio then leaves Nagle's algorithm on (it sets
@@ -13,7 +14,9 @@ from __future__ import annotations
 import contextlib
 import ctypes
 import ctypes.util
+import importlib.util
 import socket
+from pathlib import Path
 
 from uvicorn.protocols.http.auto import AutoHTTPProtocol
 
@@ -62,3 +65,23 @@ def return_large_frees_to_the_system() -> bool:
                     and libc.mallopt(M_ARENA_MAX, ARENA_MAX))
     except (OSError, AttributeError, TypeError):
         return False
+
+
+#: what ``brdf-explorer serve`` has uvicorn serve (an import string: each worker imports
+#: it): the application behind a start-up layer that accepts at once (app/api/startup.py)
+APP = "app.api.startup:app"
+#: why the application failed to start, when it did (set by app.api.startup): the exit status
+failed: str | None = None
+
+
+def plotly_js() -> Path:
+    """plotly.js of the installed plotly package (found without importing plotly)."""
+    origin = importlib.util.find_spec("plotly").origin
+    return Path(origin).resolve().parent / "package_data" / "plotly.min.js"
+
+
+def page_files(static_dir: Path) -> dict[str, tuple[Path, str]]:
+    """The page's routes outside /static/: request path → (file, media type)."""
+    return {"/": (static_dir / "index.html", "text/html"),
+            "/favicon.ico": (static_dir / "favicon.svg", "image/svg+xml"),
+            "/static/vendor/plotly.min.js": (plotly_js(), "application/javascript")}

@@ -12,15 +12,20 @@ stream and run the route in another task.
 from __future__ import annotations
 
 from pathlib import Path
+from typing import TYPE_CHECKING
 
-from fastapi import FastAPI
-from fastapi.middleware.cors import CORSMiddleware
+# starlette's own classes (fastapi.middleware.cors re-exports this one), and no FastAPI
+# or guard at import: the server's start-up stack (app/server.py) serves the page with
+# these layers before the application is imported
+from starlette.middleware.cors import CORSMiddleware
 from starlette.middleware.gzip import GZipMiddleware
 
 from ...config import Settings
 from .caching import HttpCache
-from .guard import RequestGuard
 from .security import SecurityHeaders, content_security_policy, inline_script_hashes
+
+if TYPE_CHECKING:
+    from fastapi import FastAPI
 
 #: bodies smaller than this are not worth a gzip header (and often grow)
 GZIP_MINIMUM_SIZE = 1000
@@ -29,12 +34,29 @@ GZIP_MINIMUM_SIZE = 1000
 GZIP_LEVEL = 6
 
 
+def _outer_layers(settings: Settings, static_dir: Path) -> list:
+    """(class, options) of the layers outside the request guard, innermost first."""
+    return [
+        (GZipMiddleware, {"minimum_size": GZIP_MINIMUM_SIZE, "compresslevel": GZIP_LEVEL}),
+        (HttpCache, {"max_age": settings.cache_max_age}),
+        (CORSMiddleware, {"allow_origins": list(settings.cors_origins),
+                          "allow_methods": ["GET"], "allow_headers": []}),
+        (SecurityHeaders, {"csp": content_security_policy(inline_script_hashes(static_dir))}),
+    ]
+
+
 def install(app: FastAPI, settings: Settings, static_dir: Path) -> None:
     """Add the middlewares (the last added runs first, outermost)."""
+    from .guard import RequestGuard
     app.add_middleware(RequestGuard, fastapi_app=app, settings=settings)
-    app.add_middleware(GZipMiddleware, minimum_size=GZIP_MINIMUM_SIZE, compresslevel=GZIP_LEVEL)
-    app.add_middleware(HttpCache, max_age=settings.cache_max_age)
-    app.add_middleware(CORSMiddleware, allow_origins=list(settings.cors_origins),
-                       allow_methods=["GET"], allow_headers=[])
-    app.add_middleware(SecurityHeaders,
-                       csp=content_security_policy(inline_script_hashes(static_dir)))
+    for cls, options in _outer_layers(settings, static_dir):
+        app.add_middleware(cls, **options)
+
+
+def wrap_outer(inner, settings: Settings, static_dir: Path):
+    """``inner`` inside the same layers as the application's, but the request guard: the
+    page's files answered while the application is still being imported (app/server.py)
+    get the headers, ETags and compression the application gives them."""
+    for cls, options in _outer_layers(settings, static_dir):
+        inner = cls(inner, **options)
+    return inner
