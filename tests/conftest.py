@@ -16,3 +16,19 @@ os.environ.pop("BRDF_CACHE_DIR", None)
 def pytest_unconfigure(config):
     shutil.rmtree(_CACHE, ignore_errors=True)
 
+
+
+#: Test files (or node-id prefixes) that take tens of seconds each: run first, so that the
+#: two xdist workers do not end the run with one of them alone on a long tail (the README's
+#: export snippets and the fuzzing came last in collection order).
+SLOW_FIRST = (
+    "tests/test_readme.py", "tests/robustness/test_fuzz_api.py", "tests/packaging/",
+    "tests/kernels/", "tests/robustness/test_warmup.py", "tests/test_quantities.py",
+    "tests/shader/test_lut.py", "tests/environment/test_estimator.py",
+    "tests/e2e/test_exports.py",
+)
+
+
+def pytest_collection_modifyitems(session, config, items):
+    """Known-slow tests first (a stable sort: the order within each group is kept)."""
+    items.sort(key=lambda item: not item.nodeid.startswith(SLOW_FIRST))
