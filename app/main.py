@@ -13,7 +13,7 @@ from starlette.concurrency import run_in_threadpool
 
 from . import __version__, kernels, server
 from .api import errors, http, openapi
-from .api import routes, routes_figures, routes_pages
+from .api import routes, routes_batch, routes_figures, routes_pages
 from .api.routes_data import router as data_router
 from .api.routes_shader import router as shader_router
 from .api.routes_lut import router as lut_router
@@ -88,6 +88,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     app.include_router(data_router)
     app.include_router(lut_router)
     app.include_router(principled_router)
+    app.include_router(routes_batch.router)
 
     @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
     def plotly_js():

@@ -4,7 +4,7 @@
  */
 import { el, $, richText, getJSON, copyText, flash } from "./dom.js";
 import { setModels, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "./model.js";
-import { ctx, stateFromSearch, scheduleUrlWrite, urlPending } from "./state.js";
+import { ctx, stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "./state.js";
 import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
 import { HINTS, PANEL_ORDER, PAGE_DEFAULTS } from "./views.js";
 import { lightDrag } from "./spheredrag.js";
@@ -34,6 +34,7 @@ function updateErrorLine() {
   line.hidden = !errs.length;
 }
 scheduler.onIdle = updateErrorLine;
+scheduler.held = () => ctx.held;
 
 // ------------------------------------------------------------------- pins ----
 let pinListKey = null;
@@ -130,6 +131,7 @@ function onHold(held) {
   if (ctx.held === held) return;
   ctx.held = held;
   if (held) return;
+  releaseUrlWrite();
   for (const p of panels) {
     p.release();
     scheduler.touch(p);

@@ -190,6 +190,10 @@ export class Panel {
     return { key: url, url, init: { headers: accept } };
   }
 
+  /** Goes out with the other panels' GETs of the same change (batch.js): a figure GET,
+   * not a heavy image, which would hold the curves back. */
+  batchable(req) { return !req.init.method && !this.hint.heavy && req.url.startsWith(`${API}/figures/`); }
+
   /** Plotly keeps zoom and camera while this stays the same: per panel and toggle. */
   uirevision(s) {
     const own = [...ctx.locals].filter(([, l]) => l.view === this.name && l.field.type === "boolean").map(([k]) => `${k}:${s[k]}`);

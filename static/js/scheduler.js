@@ -11,10 +11,14 @@
  * older one waiting is dropped), and a frame stops drawing after FRAME_BUDGET_MS so that
  * the next input event is not kept waiting; the rest draw in the next frame.
  *
- * The panel supplies: wanted(), request() -> {key, url, init}, receive(req, res, body)
+ * Requests go through batch.js: the panels touched by one change ask in one request.
+ *
+ * The panel supplies: wanted(), request() -> {key, url, init}, batchable(req), receive(req, res, body)
  * -> {retry: true} | drawable (throws an Error to show), draw(drawable) -> Promise,
  * fail(message).
  */
+import { send } from "./batch.js";
+
 const FRAME_BUDGET_MS = 10;
 const MAX_IN_FLIGHT = 2;
 // Data-only redraws of answers that land close together are written in one frame: a
@@ -29,6 +33,7 @@ export class Scheduler {
     this.frame = 0;
     this.flying = new Set();     // panels with a request in flight
     this.onIdle = () => {};
+    this.held = () => false;     // a slider held: answers kept in memory may serve (batch.js)
   }
 
   touch(panel) {
@@ -66,14 +71,13 @@ export class Scheduler {
     panel.loading(true);
     let result;
     try {
-      let res;
+      let res, body;
       try {
-        res = await fetch(req.url, { ...req.init, signal: ctrl.signal });
+        ({ res, body } = await send(req, ctrl.signal, { batchable: !!panel.batchable?.(req), recall: !!this.held?.() }));
       } catch (e) {
         if (ctrl.signal.aborted) return;
         throw new Error("Cannot reach the server.");
       }
-      const body = await res.json().catch(() => null);
       if (ctrl.signal.aborted || flight.seq < (panel.newestSeq || 0)) return;   // a newer answer is in
       const out = panel.receive(req, res, body);
       if (out.retry) panel.dirty = true;

@@ -6,6 +6,7 @@ the run stops with a message saying what to install.
 """
 from __future__ import annotations
 
+import json
 import os
 import shutil
 import socket
@@ -15,6 +16,7 @@ import time
 import urllib.request
 from dataclasses import dataclass, field
 from pathlib import Path
+from urllib.parse import urlparse
 
 import pytest
 
@@ -137,6 +139,10 @@ def page_log(page, live_server):
 
     def on_request(req):
         log.requests.append(req.url)
+        # the panels' figure GETs of one change travel in one POST /api/v1/batch
+        # (static/js/batch.js): each is logged as the GET it stands for
+        if req.method == "POST" and urlparse(req.url).path == "/api/v1/batch":
+            log.requests.extend(live_server + u for u in json.loads(req.post_data or "{}").get("requests", []))
         if not (req.url.startswith(live_server) or req.url.startswith(("data:", "blob:"))):
             log.external_requests.append(req.url)
 

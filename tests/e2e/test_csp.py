@@ -35,7 +35,9 @@ def test_docs_render_offline_without_csp_violations(page, page_log, live_server)
     page.add_init_script(CATCH)
     page.goto(live_server + "/docs")
     page.wait_for_load_state("networkidle")
-    page.wait_for_function("document.querySelectorAll('.opblock').length > 10", timeout=20_000)
+    # a selector, not a predicate string: Playwright polls a string by eval, which the
+    # page's CSP refuses when Swagger UI has not drawn at the first check (a loaded machine)
+    page.locator(".opblock").nth(10).wait_for(timeout=20_000)
     assert page.evaluate("window.__csp") == []
     assert page_log.problems() == []
 

@@ -222,6 +222,17 @@ def test_api_error_is_shown_in_the_panel(page, page_log):
                           "type": "value_error"}]}
     page.route("**/api/v1/figures/g1?*", lambda route: route.fulfill(
         status=422, content_type="application/json", body=json.dumps(detail)))
+
+    def batch_with_g1_refused(route):
+        # the panels' GETs of one change go out as one POST /api/v1/batch: its g1 answer
+        # is the 422 above, the others the server's
+        sent = json.loads(route.request.post_data)["requests"]
+        answer = route.fetch().json()
+        for u, r in zip(sent, answer["responses"]):
+            if u.startswith("/api/v1/figures/g1?"):
+                r.update(status=422, cache="no-store", body=detail)
+        route.fulfill(status=200, content_type="application/json", body=json.dumps(answer))
+    page.route("**/api/v1/batch", batch_with_g1_refused)
     page.goto("/")
     wait_quiet(page, ids=("plot-lobe", "plot-ndf", "plot-albedo"))
     status = page.locator('[data-panel="g1"] .panel-status')
@@ -234,9 +245,10 @@ def test_api_error_is_shown_in_the_panel(page, page_log):
 
 
 def test_slow_panel_says_loading(page, page_log):
-    # albedo answers late (900 ms): its panel says "loading…" after 300 ms, the others draw
+    # albedo answers late (900 ms; with the panels it is asked with, when they go out as
+    # one POST /api/v1/batch): its panel says "loading…" after 300 ms
     page.add_init_script("""(() => { const f = window.fetch;
-        window.fetch = (u, o) => String(u).includes('/figures/albedo')
+        window.fetch = (u, o) => (String(u) + String(o?.body || '')).includes('/figures/albedo')
           ? new Promise((r) => setTimeout(r, 900)).then(() => f(u, o)) : f(u, o); })()""")
     # what the status said, recorded in the page as it changes (a poll from the test can
     # miss a status that a loaded machine shows for less than the poll's period)

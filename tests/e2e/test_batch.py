@@ -1,0 +1,106 @@
+"""The panels' figure GETs of one change go out as one POST /api/v1/batch (static/js/
+batch.js, app/api/routes_batch.py): each answer is what its GET answers, each panel draws
+its own, one request a move; the URL waits for a held slider's release."""
+from __future__ import annotations
+
+import base64
+import json
+from urllib.parse import urlparse
+
+import numpy as np
+import pytest
+
+from test_page import wait_quiet   # tests/e2e is not a package
+
+pytestmark = pytest.mark.e2e
+
+PANELS = ("lobe", "ndf", "g1", "albedo")
+
+
+def numbers(a) -> list:
+    """A trace array as the API sends it (a list, or Plotly's {dtype, bdata})."""
+    if isinstance(a, dict) and "bdata" in a:
+        return np.frombuffer(base64.b64decode(a["bdata"]), dtype=np.dtype(a["dtype"])).astype(float).tolist()
+    if isinstance(a, dict):           # a typed array as the page holds it, serialised by index
+        return [float(a[k]) for k in sorted(a, key=int)]
+    return [float("nan") if v is None else v for v in a]
+
+
+MOVE_JS = """(v) => { const s = document.getElementById('alpha-slider');
+    s.value = String(v); s.dispatchEvent(new Event('input', { bubbles: true })); }"""
+
+
+def test_batch_answers_each_figure_as_its_get(page, base_url):
+    urls = ["/api/v1/figures/ndf?alpha=0.17", "/api/v1/figures/lobe?alpha=0.17&theta_i_deg=30",
+            "/api/v1/figures/g1?alpha=7", "/api/v1/figures/albedo?alpha=0.17&method=auto"]
+    res = page.request.post(f"{base_url}/api/v1/batch", data=json.dumps({"requests": urls}),
+                            headers={"Content-Type": "application/json"})
+    assert res.ok
+    answers = res.json()["responses"]
+    assert len(answers) == len(urls)
+    for u, a in zip(urls, answers):
+        get = page.request.get(base_url + u)
+        assert a["status"] == get.status, u
+        assert a["body"] == get.json(), u
+    assert answers[2]["status"] == 422 and "alpha" in json.dumps(answers[2]["body"])
+    # a batch answers the figures' GETs, nothing else
+    for bad in (["/api/v1/health"], ["http://example.org/api/v1/figures/ndf"], [], ["/api/v1/batch"]):
+        r = page.request.post(f"{base_url}/api/v1/batch", data=json.dumps({"requests": bad}),
+                              headers={"Content-Type": "application/json"})
+        assert r.status == 422, bad
+
+
+def test_a_move_asks_once_for_every_panel_and_each_draws_its_answer(page, page_log, base_url):
+    page.goto("/?theta_i_deg=50")
+    wait_quiet(page)
+    n_before = len(page_log.requests)
+    page.evaluate(MOVE_JS, 612)
+    wait_quiet(page)
+    sent = page_log.requests[n_before:]
+    posts = [u for u in sent if urlparse(u).path == "/api/v1/batch"]
+    assert len(posts) == 1, sent
+    # (conftest logs each GET a batch stands for) every panel's figure, once
+    for name in PANELS:
+        assert sum(urlparse(u).path == f"/api/v1/figures/{name}" for u in sent) == 1, (name, sent)
+    # no GET of its own reached the server: the GETs logged are the batch's
+    assert len(sent) == 1 + len(PANELS), sent
+    for name in PANELS:
+        url = page.evaluate("(n) => window.__brdf.url(n)", name)
+        want = page.request.get(base_url + url).json()["data"]
+        shown = page.evaluate("""(n) => JSON.parse(JSON.stringify(document.getElementById(`plot-${n}`).data,
+            (k, v) => (ArrayBuffer.isView(v) ? Array.from(v) : v)))""", name)
+        assert [t.get("name") for t in shown] == [t.get("name") for t in want], name
+        for a, b in zip(shown, want):
+            for key in ("x", "y", "r", "theta"):
+                if key in b:
+                    assert numbers(a[key]) == pytest.approx(numbers(b[key]), nan_ok=True), (name, key)
+    assert page_log.problems() == []
+
+
+def test_a_held_slider_moved_back_draws_from_memory_and_writes_the_url_on_release(page, page_log):
+    page.goto("/")
+    wait_quiet(page)
+    start = page.evaluate("() => document.getElementById('alpha-slider').value")
+    url_before = page.url
+    page.evaluate("""() => { const s = document.getElementById('alpha-slider');
+        s.dispatchEvent(new PointerEvent('pointerdown', { bubbles: true })); }""")
+    page.evaluate(MOVE_JS, 640)
+    wait_quiet(page)
+    page.evaluate(MOVE_JS, int(start))
+    n_before = len(page_log.requests)
+    wait_quiet(page)
+    # held, back where it started: the figures answered already are drawn from memory
+    assert not [u for u in page_log.requests[n_before:] if "/api/v1/" in u]
+    assert page.evaluate("() => window.__brdf.panels().every((p) => !p.visible || p.current)")
+    # the panels follow the held slider; the URL waits for the release
+    page.evaluate(MOVE_JS, 640)
+    wait_quiet(page)
+    alpha = page.evaluate("() => window.__brdf.state.alpha")
+    assert page.evaluate("() => window.__brdf.panels().every((p) => !p.visible || p.current)")
+    assert page.url == url_before
+    page.evaluate("""() => { const s = document.getElementById('alpha-slider');
+        s.dispatchEvent(new Event('change', { bubbles: true }));
+        s.dispatchEvent(new PointerEvent('pointerup', { bubbles: true })); }""")
+    wait_quiet(page)
+    assert f"alpha={alpha}" in page.url
+    assert page_log.problems() == []
