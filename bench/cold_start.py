@@ -6,7 +6,8 @@ Each round clones the checkout's HEAD into a new temporary directory (so no comp
 loop, no numba cache, no table is there), starts the server from it, opens the page as
 soon as the port accepts, and times serve → fully drawn. The browser is started before
 the clock. Also reported: when the port first accepted, and the server's log lines that
-say which path answered (numpy until the compiled loops are ready).
+say when the application was ready (the page's files are answered before: app/api/
+startup.py) and which path answered (numpy until the compiled loops are ready).
 
     python bench/cold_start.py [rounds]
 """
@@ -75,7 +76,7 @@ def one_round(browser, workdir: Path) -> dict:
                 os.killpg(server.pid, signal.SIGKILL)
                 server.wait()
     lines = [ln for ln in log_path.read_text().splitlines()
-             if "compiled loops" in ln or "numpy path" in ln]
+             if "compiled loops" in ln or "numpy path" in ln or "application ready" in ln]
     return {"accept_s": t_accept, "drawn_s": t_drawn, "log": lines}
 
 

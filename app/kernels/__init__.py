@@ -84,11 +84,18 @@ def lookup(brdf: BRDF) -> Kernel | None:
 
 
 def compile_now(brdf: BRDF) -> Kernel | None:
-    """The kernel of ``brdf``'s model, compiled (or loaded) in this thread if needed."""
+    """The kernel of ``brdf``'s model, compiled (or loaded) in this thread if needed. From
+    a thread other than the main one (the server's background table builder) a model not
+    in numba's cache is compiled by the compiler process first, then loaded here: numba
+    compiling in that thread held the server's GIL for seconds against its first requests."""
     if not ENABLED:
         return None
     c = components(brdf)
-    return None if c is None else _build(c)
+    if c is None:
+        return None
+    if threading.current_thread() is not threading.main_thread() and c not in _ready:
+        _compile_elsewhere(c)
+    return _build(c)
 
 
 def wait(brdf: BRDF, timeout: float) -> Kernel | None:
@@ -171,24 +178,30 @@ def _work() -> None:
             while not _queue:
                 _cv.wait()
             c = _queue[0]
-        note, t0 = "", time.perf_counter()
-        try:
-            module = compose.load(c)
-            if compose.cached(module):
-                reason = None
-            else:
-                reason = _compiler.compile(module.__file__)
-                note = f"compiled by the compiler process in {time.perf_counter() - t0:.1f} s, then "
-        except OSError as exc:
-            reason = f"{type(exc).__name__}: {exc}"
-        if reason is not None:
-            note = ""
-            log.warning("compiler process: %s (compiling in the server instead)", reason)
-        _build(c, note)
+        _build(c, _compile_elsewhere(c))
         with _cv:
             if c in _queue:
                 _queue.remove(c)
             _cv.notify_all()
+
+
+def _compile_elsewhere(c: Components) -> str:
+    """Have the compiler process put ``c``'s loops into numba's disk cache unless they are
+    there already; the note for the log line that says they are ready."""
+    if c in _failed:
+        return ""
+    t0 = time.perf_counter()
+    try:
+        module = compose.load(c)
+        if compose.cached(module):
+            return ""
+        reason = _compiler.compile(module.__file__)
+    except OSError as exc:
+        reason = f"{type(exc).__name__}: {exc}"
+    if reason is not None:
+        log.warning("compiler process: %s (compiling in the server instead)", reason)
+        return ""
+    return f"compiled by the compiler process in {time.perf_counter() - t0:.1f} s, then "
 
 
 def _build(c: Components, note: str = "") -> Kernel | None:
