@@ -9,7 +9,11 @@ the clock. Also reported: when the port first accepted, and the server's log lin
 say when the application was ready (the page's files are answered before: app/api/
 startup.py) and which path answered (numpy until the compiled loops are ready).
 
-    python bench/cold_start.py [rounds]
+    python bench/cold_start.py [rounds] [--empty-tables]
+
+The E(μ, α) tables stay in the shared cache directory (~/.cache/brdf-explorer) unless
+``--empty-tables``: then each round has its own empty one, as on a new machine (the
+start-up queues the default tables' builds, and the albedo panel's first answer waits).
 """
 from __future__ import annotations
 
@@ -43,13 +47,16 @@ def _accepting(port: int) -> bool:
         return s.connect_ex(("127.0.0.1", port)) == 0
 
 
-def one_round(browser, workdir: Path) -> dict:
+def one_round(browser, workdir: Path, empty_tables: bool = False) -> dict:
     clone = workdir / "clone"
     subprocess.run(["git", "clone", "-q", "--no-hardlinks", str(common.ROOT), str(clone)], check=True)
     port = _free_port()
     env = {**os.environ, "PYTHONPATH": str(clone), "NUMBA_CACHE_DIR": str(workdir / "numba"),
            "PYTHONDONTWRITEBYTECODE": "1"}
     env.pop("BRDF_KERNEL_DIR", None)
+    if empty_tables:
+        env["XDG_CACHE_HOME"] = str(workdir / "cache")
+        env.pop("BRDF_CACHE_DIR", None)
     log_path = workdir / "server.log"
     with open(log_path, "w") as log:
         t0 = time.perf_counter()
@@ -80,7 +87,7 @@ def one_round(browser, workdir: Path) -> dict:
     return {"accept_s": t_accept, "drawn_s": t_drawn, "log": lines}
 
 
-def run(rounds: int = 3) -> dict:
+def run(rounds: int = 3, empty_tables: bool = False) -> dict:
     from playwright.sync_api import sync_playwright
     results = []
     with sync_playwright() as p:
@@ -88,21 +95,23 @@ def run(rounds: int = 3) -> dict:
         try:
             for k in range(rounds):
                 with tempfile.TemporaryDirectory(prefix="brdf-cold-") as tmp:
-                    r = one_round(browser, Path(tmp))
+                    r = one_round(browser, Path(tmp), empty_tables)
                 common.log(f"  round {k + 1}: port accepts at {r['accept_s']:.2f} s, page drawn at "
                            f"{r['drawn_s']:.2f} s")
                 results.append(r)
         finally:
             browser.close()
     drawn = [r["drawn_s"] for r in results]
-    return {"cold_start_rounds": rounds, "cold_start_drawn_s": drawn,
+    return {"cold_start_rounds": rounds, "cold_start_empty_tables": empty_tables,
+            "cold_start_drawn_s": drawn,
             "cold_start_drawn_s_median": common.median(drawn),
             "cold_start_accept_s_median": common.median([r["accept_s"] for r in results]),
             "cold_start_loadavg": common.loadavg(), "cold_start_log_first_round": results[0]["log"]}
 
 
 def report(r: dict) -> list[str]:
-    return [f"cold start (clean clone, empty numba cache), serve → default page fully drawn: "
+    tables = ", empty table cache" if r.get("cold_start_empty_tables") else ""
+    return [f"cold start (clean clone, empty numba cache{tables}), serve → default page fully drawn: "
             f"median {r['cold_start_drawn_s_median']:.2f} s over {r['cold_start_rounds']} rounds "
             f"({', '.join(f'{x:.2f}' for x in r['cold_start_drawn_s'])}); port accepting at "
             f"{r['cold_start_accept_s_median']:.2f} s; load average {r['cold_start_loadavg']}",
@@ -110,5 +119,6 @@ def report(r: dict) -> list[str]:
 
 
 if __name__ == "__main__":
-    result = run(int(sys.argv[1]) if len(sys.argv) > 1 else 3)
+    args = [a for a in sys.argv[1:] if a != "--empty-tables"]
+    result = run(int(args[0]) if args else 3, "--empty-tables" in sys.argv[1:])
     print("\n".join(report(result)))
