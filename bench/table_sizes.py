@@ -11,8 +11,8 @@ saw at its check points, and an independent dense check (the quadrature at tol 1
 and μ → 0 at α → 1, the hardest corner).
 
 --all: the build time of each NDF's n×n table (shape parameters at their defaults,
-compiled loops loaded first), median over rounds, with its reported bound; the time and
-the load average before and after.
+compiled loops loaded first, Smith Λ tables built afresh each round), median over rounds,
+with its reported bound; the time and the load average before and after.
 
 --first-kc: for each NDF, a new server (compiled loops in their cache, an empty table
 cache directory), and its first GET /api/v1/albedo with multiscatter=kulla_conty
@@ -39,6 +39,7 @@ from app import kernels  # noqa: E402
 from app.integrate import tables  # noqa: E402
 from app.integrate.albedo import albedo  # noqa: E402
 from app.model import make_spec  # noqa: E402
+from app.physics import lambda_table, smith_table  # noqa: E402
 from app.physics.ndf import NDFS  # noqa: E402
 
 #: the masking of each NDF's Kulla-Conty request: Blinn-Phong's own "smith" is an
@@ -71,6 +72,10 @@ def all_ndfs(n: int, rounds: int) -> None:
         key = tables.table_key(lobe)
         times, cpu, table = [], [], None
         for _ in range(rounds):
+            # each round builds its Smith Λ tables (GTR, Blinn-Phong: one per row) as a
+            # first build does: the process-wide caches would serve rounds 2 and 3
+            smith_table._table.cache_clear()
+            lambda_table._packed.cache_clear()
             t0, c0 = time.perf_counter(), time.process_time()
             table = tables.build(key, n, n)
             times.append(time.perf_counter() - t0)
