@@ -1,13 +1,18 @@
-"""JSON out: arrays to lists, a divergence (±inf) to null, encoded once."""
+"""JSON out: arrays to lists, a divergence (±inf) to null, encoded once.
+
+Encoded by orjson: 25× json.dumps on large answers (200 000 samples, 18.6 MB: 0.05 s
+against 1.25 s), the same values on parsing (BENCHMARKS.md §4)."""
 from __future__ import annotations
 
-import json
-
+import orjson
 from fastapi import Response
 
 from ..export.jsonable import jsonable
 
+#: int keys as text, as json.dumps writes them
+OPTIONS = orjson.OPT_NON_STR_KEYS
+
 
 def json_response(payload, status_code: int = 200) -> Response:
-    body = json.dumps(jsonable(payload), allow_nan=False, separators=(",", ":"))
-    return Response(body, status_code=status_code, media_type="application/json")
+    return Response(orjson.dumps(jsonable(payload), option=OPTIONS), status_code=status_code,
+                    media_type="application/json")

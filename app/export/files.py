@@ -10,7 +10,7 @@
 """
 from __future__ import annotations
 
-import json
+import orjson
 from pathlib import Path
 
 from pydantic import BaseModel
@@ -54,7 +54,7 @@ def render_bytes(view: View, q: BaseModel, fmt: str, settings: Settings,
         else:
             payload = {"vary": produced.vary,
                        "variants": [{"value": v, "data": d} for v, d in produced.payloads]}
-        return json.dumps(jsonable(payload), allow_nan=False, separators=(",", ":")).encode()
+        return orjson.dumps(jsonable(payload), option=orjson.OPT_NON_STR_KEYS)
     raise ValueError(f"unknown format {fmt}")
 
 
