@@ -7,13 +7,12 @@ unwritable: memory only, logged), on disk as ``.npz`` named by a digest of key, 
 code (:func:`code_version`): a restart or another worker reads what one built, changed code
 never reads a stale table; a lock file per table lets one worker build while others wait.
 
-:func:`start` queues the default models' tables (:func:`default_keys`) for one background
-thread, then any table a request needs (ahead of start-up ones still queued, which move
-ahead too when a request needs one). A request builds a missing table in place (waits
-for one queued or building) only if that is predicted to end within IN_REQUEST_SHARE
-(WAIT_SHARE) of its time left; otherwise it is queued,
-:class:`~app.errors.Busy` (503 + Retry-After) names it and ``method=auto`` takes the
-quadrature. Outside a request it is built in place. (derivation: docs/tables.md §4)"""
+:func:`start` queues the start-up tables (integrate/startup.py) for one background thread,
+then any table a request needs, ahead of those still queued. A request builds a missing
+table in place (waits for one queued or building) only if predicted to end within
+IN_REQUEST_SHARE (WAIT_SHARE) of its time left; otherwise it is queued, a 503
+(:class:`~app.errors.Busy`) names it and ``method=auto`` takes the quadrature. Outside
+a request it is built in place. (derivation: docs/tables.md §4)"""
 from __future__ import annotations
 
 import fcntl

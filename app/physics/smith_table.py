@@ -2,18 +2,16 @@
 
 For a slope-space NDF, h = μΛ/s is a function of a = μ/s alone once the shape is fixed (for
 GTR and Blinn-Phong, not shape-invariant, the shape includes α). It is tabulated at
-TABLE_NODES points uniform in x = ln a over [A_MIN, A_MAX], value and slope, and
-interpolated by a cubic Hermite in x. The reference integral (smith_integral.py: value,
-slope and curvature) is computed at a subset of the nodes chosen adaptively (2-5× fewer:
-most of a table's cost), a quintic Hermite between them giving the rest
-(:func:`node_values`, within QUINTIC_G1_ERROR in G1). The cubic is monotone PCHIP
-(Fritsch & Carlson 1980) where the slopes would leave the monotone region. Outside the table: linear from the exact grazing value h(0) below A_MIN, and
+TABLE_NODES points uniform in x = ln a over [A_MIN, A_MAX], value and slope, interpolated
+by a cubic Hermite in x, monotone PCHIP (Fritsch & Carlson 1980) where the slopes would
+leave the monotone region. The reference integral (smith_integral.py) is computed at an
+adaptive subset of the nodes, a quintic Hermite giving the rest (:func:`node_values`,
+within QUINTIC_G1_ERROR in G1). Outside the table: linear from the exact h(0) below A_MIN,
 h(A_MAX)·A_MAX/a above A_MAX. |ΔG1| ≤ TABLE_G1_ERROR (1e-9) against the direct integral
-(tests/robustness/test_smith_numeric.py); a lookup costs about a closed-form Λ. ``smith``
-uses it where Λ has no closed form, ``smith_numeric`` for every NDF. A
-:class:`LambdaTable` is plain arrays on a uniform grid, which a compiled loop evaluates
-as :meth:`LambdaTable.h` does; the nodes' integrals come from a compiled loop once
-app/kernels has the NDF's (``COMPILED_H``), from numpy before. (derivation: docs/smith.md §3)
+(tests/robustness/test_smith_numeric.py). ``smith`` uses it where Λ has no closed form,
+``smith_numeric`` for every NDF; a compiled loop evaluates it as :meth:`LambdaTable.h`
+does, and integrates its nodes once app/kernels has the NDF's loops (``COMPILED_H``).
+(derivation: docs/smith.md §3)
 """
 from __future__ import annotations
 
