@@ -80,7 +80,7 @@ def choose(brdf: BRDF, tol: float) -> tuple[str, str]:
     if not brdf.ndf.isotropic:
         return "quadrature", "no table: tables are for isotropic roughness only"
     try:
-        bound = tabulated_albedo(brdf, [0.5])[1]
+        bound = tabulated_albedo(brdf, [0.5], ready_only=True)[1]
     except TableTooSlow as exc:
         return "quadrature", f"the table was not built: {exc}"
     except Busy as exc:

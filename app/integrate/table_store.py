@@ -41,22 +41,19 @@ log = logging.getLogger("app")
 MEMORY_BYTES = 16 * 1024 * 1024
 #: Tables waiting for the background builder at most; beyond it a request is told to retry.
 QUEUE_SIZE = 16
-#: Share of the request's remaining time budget a table may be predicted to take and
-#: still be built inside the request (the prediction is from one probe: kept modest).
+#: Share of the request's time left a table may be predicted to take and be built in it.
 IN_REQUEST_SHARE = 0.25
 #: ... and of it a request may wait for a background build (idle: no worker's CPU taken)
 WAIT_SHARE = 0.5
 #: Roughness of the row whose time predicts a build's (tables.predict_build_seconds).
 PROBE_ALPHA = 0.25
-#: Build time assumed for the start-up tables (compiled, 56²: GGX 0.6, Beckmann 1.3 CPU-s),
-#: for the Retry-After of a request that comes while they build, or its wait (_wait_built)
+#: Build time assumed for a queued table not probed (compiled 56²: GGX 0.6, Beckmann 1.3 CPU-s)
 STARTUP_GUESS_SECONDS = 1.5
 #: How often a request waiting for a background build looks for its table.
 WAIT_POLL_SECONDS = 0.02
 #: Retry-After when a build's remaining time is unknown (another worker holds its lock).
 RETRY_UNKNOWN = 5
-#: Largest Retry-After: a prediction probed on numpy (the loops still loading) was 20× the
-#: compiled build the builder ran (GTR: 95 s to the answer of a ~5 s build).
+#: Largest Retry-After (a prediction probed on numpy was once 20× the compiled build's time)
 RETRY_MAX = 10
 
 _lock = threading.RLock()
@@ -190,8 +187,8 @@ def _build(key: tuple) -> tables.ETable:
     if path is not None:
         lock = _FileLock(path)
         if not lock.acquire(blocking=budget.current() is None):
-            raise Busy(f"the {_name(key)} is being built by another worker", RETRY_UNKNOWN,
-                       what=_name(key))
+            raise Busy(f"the {table_name(key)} is being built by another worker", RETRY_UNKNOWN,
+                       what=table_name(key))
     try:
         found = _ready(key) if path is not None else None
         if found is not None:
@@ -214,7 +211,7 @@ def _build(key: tuple) -> tables.ETable:
             lock.release()
 
 
-def _name(key: tuple) -> str:
+def table_name(key: tuple) -> str:
     ndf_class, shape, masking, g2, _, basis_p = key
     shape_text = "".join(f", {n}={v:g}" for n, v in shape)
     basis = "F = 1" if basis_p is None else f"Schlick basis p={basis_p:g}"
@@ -232,15 +229,15 @@ def _queue_build(key: tuple, predicted: float, priority: int = 0) -> dict:
     with _lock:
         entry = _pending.get(key)
         if entry is None and not _state["accepting"]:
-            raise Busy(f"the {_name(key)} would take ~{predicted:.0f} s to build, more than "
+            raise Busy(f"the {table_name(key)} would take ~{predicted:.0f} s to build, more than "
                        "this request has, and no background builder runs here (a server "
-                       "started normally has one)", RETRY_UNKNOWN, what=_name(key))
+                       "started normally has one)", RETRY_UNKNOWN, what=table_name(key))
         if entry is None:
             try:
                 _queue.put_nowait((priority, next(_order), key))
             except queue.Full:
-                raise Busy(f"{QUEUE_SIZE} tables are waiting to be built; the {_name(key)} "
-                           "is not among them yet", RETRY_UNKNOWN, what=_name(key)) from None
+                raise Busy(f"{QUEUE_SIZE} tables are waiting to be built; the {table_name(key)} "
+                           "is not among them yet", RETRY_UNKNOWN, what=table_name(key)) from None
             entry = _pending[key] = {"predicted": predicted, "queued": (priority, time.time()),
                                      "started": None}
             _ensure_thread()
@@ -282,9 +279,9 @@ def _worker() -> None:
         try:
             t0 = time.perf_counter()
             _build(key)          # a new thread has no request budget: a whole build
-            log.info("built the %s in %.1f s", _name(key), time.perf_counter() - t0)
+            log.info("built the %s in %.1f s", table_name(key), time.perf_counter() - t0)
         except Exception:    # a build that fails must not stop the builder
-            log.exception("building the %s failed", _name(key))
+            log.exception("building the %s failed", table_name(key))
         finally:
             with _lock:
                 _pending.pop(key, None)
@@ -330,14 +327,26 @@ def table(key: tuple) -> tables.ETable:
                 predicted = max(predicted, b.seconds)
         entry = _queue_build(key, predicted)
     retry = int(np.ceil(min(max(1.0, _seconds_left(key, entry, 1.0)), RETRY_MAX)))
-    raise Busy(f"the {_name(key)} is being built (~{entry['predicted']:.0f} s, outside this "
-               "request); retry after the time given, or use method=quadrature", retry, what=_name(key))
+    raise Busy(f"the {table_name(key)} is being built (~{entry['predicted']:.0f} s, outside this "
+               "request); retry after the time given, or use method=quadrature", retry, what=table_name(key))
+
+
+def table_if_ready(key: tuple) -> tables.ETable | None:
+    """The table for ``key`` if in memory or on disk now; else None, queued for the
+    background builder (``method=auto`` takes the quadrature rather than wait)."""
+    t = _ready(key)
+    if t is None and _state["accepting"]:
+        try:
+            _queue_build(key, STARTUP_GUESS_SECONDS, priority=1)
+        except Busy:
+            pass
+    return t
 
 
 def building() -> list[str]:
     """The tables queued or being built, by name."""
     with _lock:
-        return [_name(k) for k in _pending]
+        return [table_name(k) for k in _pending]
 
 
 def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) -> Path | None:
@@ -354,12 +363,8 @@ def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) 
             _state["directory"] = path
         except OSError as exc:
             log.warning("table cache: %s is not writable (%s); tables kept in memory only", path, exc)
-    for key in (keys or []):
-        if _ready(key) is None:
-            try:    # not probed: start-up is not delayed; the builder takes its time
-                _queue_build(key, STARTUP_GUESS_SECONDS, priority=1)
-            except Busy:
-                break
+    for key in keys or []:      # not probed: start-up is not delayed
+        table_if_ready(key)
     return _state["directory"]
 
 
@@ -376,12 +381,11 @@ def default_directory() -> Path:
 def wait(timeout: float | None = None) -> bool:
     """Block until the background builder has nothing left (tests, the CLI); False on timeout."""
     end = None if timeout is None else time.monotonic() + timeout
-    while True:
-        if not _pending:
-            return True
+    while _pending:
         if end is not None and time.monotonic() > end:
             return False
         time.sleep(0.05)
+    return True
 
 
 def cache_info() -> _CacheInfo:

@@ -27,6 +27,7 @@ from ..physics.fresnel import FRESNELS
 from ..physics.gauss import gauss_legendre_01
 from ..physics.numeric import where_valid
 from .. import kernels
+from ..errors import Busy
 from . import budget
 from .albedo import albedo
 
@@ -362,17 +363,25 @@ def _store_cache_clear():
 table_for_key.cache_info, table_for_key.cache_clear = _store_cache_info, _store_cache_clear
 
 
-def table_for(lobe: BRDF, basis_p: float | None = None) -> ETable:
-    """The (cached) default-size table for a single isotropic lobe (``BRDF.lobes()``)."""
+def table_for(lobe: BRDF, basis_p: float | None = None, ready_only: bool = False) -> ETable:
+    """The (cached) default-size table for a single isotropic lobe (``BRDF.lobes()``);
+    ``ready_only``: one already built, else Busy (and it is queued for the builder)."""
     if not lobe.ndf.isotropic:
         raise ValueError("E(μ, α) tables are for isotropic roughness only (alpha_y = alpha)")
-    return table_for_key(table_key(lobe, basis_p))
+    if not ready_only:
+        return table_for_key(table_key(lobe, basis_p))
+    from . import table_store
+    key = table_key(lobe, basis_p)
+    if (t := table_store.table_if_ready(key)) is None:
+        name = table_store.table_name(key)
+        raise Busy(f"the {name} is not built yet (queued for the background builder)", what=name)
+    return t
 
 
-def tabulated_albedo(brdf: BRDF, mu) -> tuple[np.ndarray, float, list[ETable]]:
+def tabulated_albedo(brdf: BRDF, mu, ready_only: bool = False) -> tuple[np.ndarray, float, list[ETable]]:
     """E(μ) of a BRDF from tables: Σ_lobes w (F₀ E₁ + (F₉₀ − F₀) E_S) + E_d (the diffuse
     term's albedo, kd for Lambert), for F = 1 or generalised Schlick (E is linear in f and in F). Returns (E, error bound, tables).
-    Raises ValueError for other Fresnel forms and anisotropic roughness."""
+    Raises ValueError for other Fresnel forms and anisotropic roughness; ``ready_only``: table_for."""
     parts = brdf.fresnel.schlick_basis()
     if parts is None:
         raise ValueError(f"method=table needs a Fresnel on the Schlick basis (none or schlick: E "
@@ -384,7 +393,7 @@ def tabulated_albedo(brdf: BRDF, mu) -> tuple[np.ndarray, float, list[ETable]]:
         for c, basis in parts:
             if c == 0:
                 continue
-            table = table_for(lobe, basis)
+            table = table_for(lobe, basis, ready_only)
             E = E + w * c * table.E(mu, lobe.ndf.alpha_x)
             error += abs(w * c) * table.error
             tables.append(table)

@@ -108,12 +108,21 @@ def test_a_request_is_told_to_retry_while_its_table_builds(monkeypatch):
         assert table_store.table(key).values.shape == (16, 16)
 
 
-def test_auto_takes_the_quadrature_while_the_table_builds(monkeypatch):
-    monkeypatch.setattr(table_store, "predict_seconds", lambda key: 1e4)
+def test_auto_takes_the_quadrature_until_the_table_is_built(monkeypatch):
+    """auto neither builds, probes nor waits for a table (nor for compiled loops): the
+    quadrature answers at once; once the table exists auto takes it."""
+    def no_probe(key):
+        raise AssertionError("auto probed a build")
+    monkeypatch.setattr(table_store, "predict_seconds", no_probe)
     brdf = make_spec(ndf="beckmann", fresnel="none").brdf()
+    misses = table_store.cache_info().misses
     with budget.limit(10.0):
-        method, reason = methods.choose(brdf, 1e-3)
-    assert method == "quadrature" and "being built" in reason
+        method, reason = methods.choose(brdf, 1e-2)     # a 16² table's bound meets 1e-2
+    assert method == "quadrature" and "not built yet" in reason
+    assert table_store.cache_info().misses == misses            # nothing built here
+    table_store.table(tables.table_key(brdf))                   # outside a request: built
+    with budget.limit(10.0):
+        assert methods.choose(brdf, 1e-2)[0] == "table"
 
 
 def test_outside_a_request_a_table_is_built_in_place(monkeypatch):
