@@ -6,7 +6,9 @@
 One uvicorn with 2 workers on 127.0.0.1 (a fresh table cache directory, so the start-up
 builds are part of the run). Phases:
 
-1. warm-up: slider traffic only (imports, compiles, tables); not counted;
+1. warm-up: slider traffic, every worst case once per worker and one export burst (imports,
+   compiles, tables, the allocator's arenas: every kind of work has run once); not counted;
+   it lasts at least a tenth of the run and until those requests are answered;
 2. baseline: slider traffic only: the cheap-request latencies to compare with;
 3. mixed: the same slider traffic, plus every WORST_EVERY seconds one worst case of an
    endpoint at the default limits, plus every BURST_EVERY seconds BURST PNG exports at
@@ -15,7 +17,9 @@ builds are part of the run). Phases:
 Reported: status counts (every 5xx, and the 503s that said "busy" with Retry-After
 apart), cheap-request p50/p99 in the baseline and in the mixed phase and their ratio, the
 worst cases' times, and the workers' resident memory (from /proc) sampled every few
-seconds: after warm-up, at the end, and the largest. Not a test: it measures.
+seconds: after warm-up, at the end, the largest, and the slope over the mixed phase's
+second half (a leak keeps a slope; a cache filling to its bound flattens). Not a test: it
+measures.
 """
 from __future__ import annotations
 
@@ -115,7 +119,7 @@ def _slider(url: str, rec: Recorder, phase: list, stop: threading.Event) -> None
                     rec.cheap[p].append(seconds)
 
 
-def _worst(url: str, rec: Recorder, body: bytes, k: int) -> None:
+def _worst(url: str, rec: Recorder, body: bytes, k: int, phase: str = "mixed") -> None:
     method, path = WORST[k % len(WORST)]
     path = path.format(g=f"{1.6 + 0.1 * (k // len(WORST)):.2f}")
     with httpx.Client(base_url=url, timeout=120) as c:
@@ -125,13 +129,37 @@ def _worst(url: str, rec: Recorder, body: bytes, k: int) -> None:
         else:
             r = c.get(path)
         seconds = time.perf_counter() - t0
-    rec.count(r, "mixed")
+    rec.count(r, phase)
     with rec.lock:
-        rec.worst.append({"request": f"{method} {path}", "status": r.status_code,
+        rec.worst.append({"request": f"{method} {path}", "status": r.status_code, "phase": phase,
                           "seconds": round(seconds, 2), "retry_after": r.headers.get("retry-after")})
 
 
-def _export(url: str, rec: Recorder, k: int) -> None:
+def _warm_up(url: str, rec: Recorder, body: bytes) -> None:
+    """Every worst case once per worker (two clients at a time) and one export burst."""
+    def one_worker(offset: int) -> None:
+        for k in range(len(WORST)):
+            _worst(url, rec, body, (k + offset) % len(WORST), phase="warmup")
+    workers = [threading.Thread(target=one_worker, args=(o,)) for o in (0, len(WORST) // 2)]
+    workers += [threading.Thread(target=_export, args=(url, rec, k, "warmup")) for k in range(BURST)]
+    for t in workers:
+        t.start()
+    for t in workers:
+        t.join(timeout=600)
+
+
+def _slope_mb_per_min(samples: list[tuple[float, int]]) -> float | None:
+    """Least-squares slope of RSS (bytes) against time (s), in MB per minute."""
+    if len(samples) < 3:
+        return None
+    t = [x for x, _ in samples]
+    b = [y / 2**20 for _, y in samples]
+    tm, bm = sum(t) / len(t), sum(b) / len(b)
+    var = sum((x - tm) ** 2 for x in t)
+    return 60.0 * sum((x - tm) * (y - bm) for x, y in zip(t, b)) / var if var else None
+
+
+def _export(url: str, rec: Recorder, k: int, phase: str = "mixed") -> None:
     """One PNG export by a client that honours Retry-After (at most 5 tries)."""
     path = f"/api/v1/figures/lobe.png?alpha={0.05 + 0.01 * (k % 90):.2f}&width=800&height=500"
     t0, tries = time.perf_counter(), 0
@@ -139,7 +167,7 @@ def _export(url: str, rec: Recorder, k: int) -> None:
         while True:
             tries += 1
             r = c.get(path)
-            rec.count(r, "mixed")
+            rec.count(r, phase)
             if r.status_code == 503 and "retry-after" in r.headers and tries < 5:
                 time.sleep(float(r.headers["retry-after"]))
                 continue
@@ -203,10 +231,18 @@ def main() -> None:
         for t in clients:
             t.start()
         t_start = time.monotonic()
+        warming = threading.Thread(target=_warm_up, args=(url, rec, body), daemon=True)
+        warming.start()
+        while warming.is_alive() or time.monotonic() - t_start < warmup:
+            rss.append((round(time.monotonic() - t_start, 1), "warmup", sum(_workers_rss(proc.pid).values())))
+            time.sleep(2.0)
+        warmup = time.monotonic() - t_start          # the run is extended by a long warm-up
+        total = warmup + 0.9 * args.minutes * 60
+        common.log(f"soak: warm-up done after {warmup:.0f} s")
         side: list[threading.Thread] = []
         next_worst, next_burst, k_worst, k_export = warmup + baseline, warmup + baseline + 5, 0, 0
         while (now := time.monotonic() - t_start) < total:
-            phase[0] = "warmup" if now < warmup else "baseline" if now < warmup + baseline else "mixed"
+            phase[0] = "baseline" if now < warmup + baseline else "mixed"
             rss.append((round(now, 1), phase[0], sum(_workers_rss(proc.pid).values())))
             if phase[0] == "mixed" and now >= next_worst:
                 side.append(threading.Thread(target=_worst, args=(url, rec, body, k_worst), daemon=True))
@@ -230,6 +266,7 @@ def main() -> None:
             proc.kill()
             proc.wait()
     after_warmup = [b for t, p, b in rss if p != "warmup"]
+    mixed = [(t, b) for t, p, b in rss if p == "mixed"]
     result = {
         "machine": common.machine(), "minutes": args.minutes,
         "status": {str(k): v for k, v in sorted(rec.status.items(), key=str)},
@@ -246,6 +283,8 @@ def main() -> None:
         "rss_mb": {"after_warmup": after_warmup[0] / 2**20 if after_warmup else None,
                    "end": after_warmup[-1] / 2**20 if after_warmup else None,
                    "max": max(after_warmup) / 2**20 if after_warmup else None,
+                   "mixed_second_half_mb_per_min": _slope_mb_per_min(mixed[len(mixed) // 2:]),
+                   "warmup_s": round(warmup, 1),
                    "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]]},
         "errors": rec.errors,
     }
@@ -264,8 +303,9 @@ def main() -> None:
         print(f"worst {w['status']} {w['seconds']:6.2f} s {w['request'][:100]}")
     print(f"exports {result['exports']}")
     r = result["rss_mb"]
-    print(f"workers' RSS: after warm-up {r['after_warmup']:.0f} MB, end {r['end']:.0f} MB, "
-          f"max {r['max']:.0f} MB")
+    print(f"workers' RSS: after warm-up ({r['warmup_s']:.0f} s) {r['after_warmup']:.0f} MB, end "
+          f"{r['end']:.0f} MB, max {r['max']:.0f} MB; mixed phase's second half "
+          f"{r['mixed_second_half_mb_per_min']:+.1f} MB/min")
     for e in rec.errors:
         print("error:", e)
 
