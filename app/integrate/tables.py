@@ -16,8 +16,8 @@ table of E(μ, r)); Heitz 2014 (a = 1/(α tanθ)); Dierckx 1993 (bicubic splines
 from __future__ import annotations
 
 import time
+import weakref
 from dataclasses import dataclass, replace
-from functools import lru_cache
 
 import numpy as np
 from scipy.interpolate import RectBivariateSpline
@@ -34,10 +34,7 @@ from .albedo import albedo
 #: Smallest tabulated perceptual roughness: √(1e-4), the smallest α the API takes.
 ROUGHNESS_MIN = 1e-2
 #: Default grid (μ axis y, roughness axis r): the smallest whose reported bound is
-#: ≤ 1e-5 for GGX. Measured by `python bench/table_sizes.py ggx 32 40 48 56 64`
-#: (reported bound / dense independent check): 32² 6.4e-5 / 3.0e-5, 48² 1.1e-5 /
-#: 4.4e-6, 56² 5.9e-6 / 2.1e-6, 64² 3.8e-6 / 1.2e-6; 56² takes ~1.7 s to build.
-#: Kulla & Conty's 32×32 is 3e-5 with these axes.
+#: ≤ 1e-5 for GGX (BENCHMARKS.md §2, "The interpolated table"; Kulla & Conty's 32² is 3e-5).
 TABLE_N_Y = 56
 TABLE_N_R = 56
 #: Grid of a lobe built without compiled loops (numba absent or BRDF_FAST=0, loops not
@@ -165,12 +162,19 @@ class ETable:
     def E_avg(self, alpha: float) -> float:
         """2 ∫₀¹ Ê(μ, α) μ dμ of the interpolant itself (so that the Kulla-Conty lobe
         built on Ê has albedo exactly 1 − Ê(μ)), by Gauss-Legendre in y on every interval
-        of the y grid, μ = μ(y)."""
-        return float(_E_avg_cached(self, float(alpha)))
+        of the y grid, μ = μ(y). Memoised per table, and dropped with it."""
+        memo = _E_AVG.setdefault(self, {})
+        if len(memo) > E_AVG_MEMO:
+            memo.clear()
+        return memo[alpha] if alpha in memo else memo.setdefault(alpha, _E_avg(self, float(alpha)))
 
 
-@lru_cache(maxsize=1024)
-def _E_avg_cached(table: ETable, alpha: float) -> float:
+#: E_avg by α of each live table, dropped with it (an lru_cache kept evicted tables alive)
+_E_AVG: "weakref.WeakKeyDictionary[ETable, dict]" = weakref.WeakKeyDictionary()
+E_AVG_MEMO = 256    # α values memoised per table at most
+
+
+def _E_avg(table: ETable, alpha: float) -> float:
     t, w = gauss_legendre_01(E_AVG_NODES_PER_CELL)
     # on the table's y cells (the Schlick table's contain the F = 1 table's, whose
     # spline is part of its E)
@@ -183,7 +187,7 @@ def _E_avg_cached(table: ETable, alpha: float) -> float:
     # da/dy = 2y/(1 − y)³ (y < 1 at every Gauss node).
     a = (y / (1.0 - y)) ** 2
     dmu = al / (1.0 + (a * al) ** 2) ** 1.5 * 2.0 * y / (1.0 - y) ** 3
-    return 2.0 * np.sum(table.E(mu, alpha) * mu * dmu * wy)
+    return float(2.0 * np.sum(table.E(mu, alpha) * mu * dmu * wy))
 
 
 def _basis_fresnel(basis_p):
@@ -346,21 +350,16 @@ def build_for_key(key: tuple, base: ETable | None = None) -> ETable:
 def table_for_key(key: tuple) -> ETable:
     """The table for ``key`` from the store (table_store.py: memory, disk, built in the
     background or here; one the request's time budget cut short is answered, not kept)."""
-    from . import table_store   # the store builds with this module
-    return table_store.table(key)
+    return _store().table(key)
 
 
-def _store_cache_info():
-    from . import table_store
-    return table_store.cache_info()
+def _store():
+    from . import table_store   # imported late: the store builds with this module
+    return table_store
 
 
-def _store_cache_clear():
-    from . import table_store
-    table_store.cache_clear()
-
-
-table_for_key.cache_info, table_for_key.cache_clear = _store_cache_info, _store_cache_clear
+table_for_key.cache_info = lambda: _store().cache_info()
+table_for_key.cache_clear = lambda: _store().cache_clear()
 
 
 def table_for(lobe: BRDF, basis_p: float | None = None, ready_only: bool = False) -> ETable:
@@ -370,10 +369,9 @@ def table_for(lobe: BRDF, basis_p: float | None = None, ready_only: bool = False
         raise ValueError("E(μ, α) tables are for isotropic roughness only (alpha_y = alpha)")
     if not ready_only:
         return table_for_key(table_key(lobe, basis_p))
-    from . import table_store
     key = table_key(lobe, basis_p)
-    if (t := table_store.table_if_ready(key)) is None:
-        name = table_store.table_name(key)
+    if (t := _store().table_if_ready(key)) is None:
+        name = _store().table_name(key)
         raise Busy(f"the {name} is not built yet (queued for the background builder)", what=name)
     return t
 

@@ -171,3 +171,17 @@ def test_the_code_digest_ignores_kernels_generated_at_run_time(monkeypatch):
         assert table_store.code_version() == before
     finally:
         extra.unlink()
+
+
+def test_a_table_the_store_lets_go_is_freed_after_its_E_avg():
+    """E_avg's memo holds no table alive (an lru_cache keyed by tables kept up to 1024 of
+    them past the store's byte bound)."""
+    import gc
+    import weakref
+    t = table_store.table(_ggx_key())
+    assert 0.0 < t.E_avg(0.3) < 1.0
+    ref = weakref.ref(t)
+    del t
+    table_store.cache_clear()
+    gc.collect()
+    assert ref() is None
