@@ -332,15 +332,9 @@ def table(key: tuple) -> tables.ETable:
 
 
 def table_if_ready(key: tuple) -> tables.ETable | None:
-    """The table for ``key`` if in memory or on disk now; else None, queued for the
-    background builder (``method=auto`` takes the quadrature rather than wait)."""
-    t = _ready(key)
-    if t is None and _state["accepting"]:
-        try:
-            _queue_build(key, STARTUP_GUESS_SECONDS, priority=1)
-        except Busy:
-            pass
-    return t
+    """The table for ``key`` if in memory or on disk now, else None: ``method=auto`` then
+    takes the quadrature, neither building nor queueing a table nobody asked for."""
+    return _ready(key)
 
 
 def building() -> list[str]:
@@ -363,8 +357,12 @@ def start(directory: str | os.PathLike | None, keys: list[tuple] | None = None) 
             _state["directory"] = path
         except OSError as exc:
             log.warning("table cache: %s is not writable (%s); tables kept in memory only", path, exc)
-    for key in keys or []:      # not probed: start-up is not delayed
-        table_if_ready(key)
+    for key in (keys or []):
+        if _ready(key) is None:
+            try:    # not probed: start-up is not delayed; the builder takes its time
+                _queue_build(key, STARTUP_GUESS_SECONDS, priority=1)
+            except Busy:
+                break
     return _state["directory"]
 
 

@@ -364,7 +364,7 @@ table_for_key.cache_clear = lambda: _store().cache_clear()
 
 def table_for(lobe: BRDF, basis_p: float | None = None, ready_only: bool = False) -> ETable:
     """The (cached) default-size table for a single isotropic lobe (``BRDF.lobes()``);
-    ``ready_only``: one already built, else Busy (and it is queued for the builder)."""
+    ``ready_only``: one already built, else Busy (nothing is built or queued)."""
     if not lobe.ndf.isotropic:
         raise ValueError("E(μ, α) tables are for isotropic roughness only (alpha_y = alpha)")
     if not ready_only:
@@ -372,7 +372,7 @@ def table_for(lobe: BRDF, basis_p: float | None = None, ready_only: bool = False
     key = table_key(lobe, basis_p)
     if (t := _store().table_if_ready(key)) is None:
         name = _store().table_name(key)
-        raise Busy(f"the {name} is not built yet (queued for the background builder)", what=name)
+        raise Busy(f"the {name} is not built yet", what=name)
     return t
 
 

@@ -1,6 +1,7 @@
 """POST/GET/DELETE /api/v1/datasets and the model exports: ids, summaries, and a 4xx
 naming what is wrong for every bad upload."""
 import asyncio
+from concurrent.futures import ThreadPoolExecutor
 import io
 import os
 import zipfile
@@ -104,7 +105,10 @@ def _asgi_post(app, headers, chunk=b"0" * (1 << 20)):
     scope = {"type": "http", "method": "POST", "path": "/api/v1/datasets", "raw_path": b"/api/v1/datasets",
              "query_string": b"", "headers": headers, "http_version": "1.1", "scheme": "http",
              "server": ("127.0.0.1", 80), "client": ("127.0.0.1", 1234), "root_path": ""}
-    asyncio.run(app(scope, receive, send))
+    # in a thread of its own: the browser tests (pytest-playwright's sync API) leave an
+    # event loop running in the main thread, where asyncio.run() refuses to start
+    with ThreadPoolExecutor(max_workers=1) as pool:
+        pool.submit(asyncio.run, app(scope, receive, send)).result()
     status = next(m["status"] for m in sent if m["type"] == "http.response.start")
     body = b"".join(m.get("body", b"") for m in sent if m["type"] == "http.response.body")
     return status, body, pulled[0]

@@ -109,8 +109,8 @@ def test_a_request_is_told_to_retry_while_its_table_builds(monkeypatch):
 
 
 def test_auto_takes_the_quadrature_until_the_table_is_built(monkeypatch):
-    """auto neither builds, probes nor waits for a table (nor for compiled loops): the
-    quadrature answers at once; once the table exists auto takes it."""
+    """auto neither builds, queues, probes nor waits for a table (nor for compiled loops):
+    the quadrature answers at once; once the table exists auto takes it."""
     def no_probe(key):
         raise AssertionError("auto probed a build")
     monkeypatch.setattr(table_store, "predict_seconds", no_probe)
@@ -120,6 +120,7 @@ def test_auto_takes_the_quadrature_until_the_table_is_built(monkeypatch):
         method, reason = methods.choose(brdf, 1e-2)     # a 16² table's bound meets 1e-2
     assert method == "quadrature" and "not built yet" in reason
     assert table_store.cache_info().misses == misses            # nothing built here
+    assert table_store.building() == []                          # nor queued
     table_store.table(tables.table_key(brdf))                   # outside a request: built
     with budget.limit(10.0):
         assert methods.choose(brdf, 1e-2)[0] == "table"
