@@ -20,8 +20,8 @@ def default_keys(brdfs) -> list[tuple]:
     for brdf in brdfs:
         for _, lobe in brdf.lobes():
             keys.append(tables.table_key(lobe, None))
-            if brdf.fresnel.name == "schlick":
-                keys.append(tables.table_key(lobe, brdf.fresnel.fresnel_p))
+            # its Fresnel's Schlick basis, if it has one (F = 1 is the None term)
+            keys += [tables.table_key(lobe, p) for _, p in brdf.fresnel.schlick_basis() or ()]
     keys = sorted(dict.fromkeys(keys), key=lambda k: k[-1] is not None)
     lobe = next((lobe for b in brdfs for _, lobe in b.lobes()), None)
     for cls in NDFS.values() if lobe is not None else ():
