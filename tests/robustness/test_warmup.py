@@ -55,7 +55,7 @@ def test_lookup_does_not_wait_for_a_compile():
     kernels._ready.pop(c, None)
     t0 = time.perf_counter()
     assert kernels.lookup(brdf) is None or not kernels.ENABLED
-    assert time.perf_counter() - t0 < 0.05
+    assert time.perf_counter() - t0 < 0.5      # a compile takes seconds; 0.05 failed once at load 20
 
 
 def test_fresh_process_with_empty_cache_answers_the_advice_whole(tmp_path):
