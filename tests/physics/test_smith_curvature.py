@@ -9,6 +9,7 @@ import pytest
 
 from app.physics import smith_integral, smith_table
 from app.physics.ndf import NDFS
+from tests.shape_extremes import shape_extremes
 
 A = np.concatenate([np.geomspace(1e-5, 1e3, 60), [0.37, 1.0, 3.0]])
 
@@ -74,10 +75,7 @@ def test_quintic_hermite_is_exact_for_quintics():
 
 def _cases():
     for name, cls in sorted(NDFS.items()):
-        shapes = [{}] if not cls.shape_params else [
-            {p.name: (p.lo * 1.017 if p.lo_open else p.lo)} for p in cls.shape_params] + [
-            {p.name: p.hi} for p in cls.shape_params]
-        for shape in shapes:
+        for shape in shape_extremes(cls):
             for alpha in ([1.0] if cls.shape_invariant else [1e-4, 1e-3, 0.3, 1.0]):
                 yield name, shape, alpha
 

@@ -8,16 +8,14 @@ import pytest
 
 from app.physics.masking import G1
 from app.physics.ndf import NDFS
+from tests.shape_extremes import shape_extremes
 from app.physics.smith_integral import mu_Lambda_numeric, mu_Lambda_quadrature
 from app.physics.smith_table import TABLE_G1_ERROR, lambda_table
 
 
 def _cases():
     for name, cls in sorted(NDFS.items()):
-        shapes = [{}] if not cls.shape_params else [
-            {p.name: (p.lo * 1.017 if p.lo_open else p.lo)} for p in cls.shape_params] + [
-            {p.name: p.hi} for p in cls.shape_params]
-        for shape in shapes:
+        for shape in shape_extremes(cls):
             for alphas in [(1e-4, None), (0.3, None), (1.0, None)] + (
                     [(0.05, 0.9)] if cls.shape_invariant else []):
                 yield name, shape, alphas
