@@ -47,7 +47,7 @@ def test_every_view_embeds_without_errors(page, page_log, base_url):
     page.set_viewport_size({"width": 640, "height": 440})        # a typical iframe
     for v in views(base_url):
         page.goto(f"/embed/{v['name']}?alpha=0.2")
-        page.wait_for_function(EMBED_QUIET, timeout=20_000)
+        page.wait_for_function(EMBED_QUIET, timeout=60_000)    # the trade-off view computes for seconds at load
         box = page.locator("#plot").bounding_box()
         assert box["width"] >= 600 and box["height"] >= 250, (v["name"], box)   # fills the frame
         assert page.evaluate("() => document.documentElement.scrollHeight <= innerHeight + 1")
