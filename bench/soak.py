@@ -6,7 +6,7 @@
 One uvicorn with 2 workers on 127.0.0.1 (a fresh table cache directory, so the start-up
 builds are part of the run). Phases:
 
-1. warm-up: slider traffic, every worst case once per worker and one export burst (imports,
+1. warm-up: slider traffic, every worst case three times and one export burst (imports,
    compiles, tables, the allocator's arenas: every kind of work has run once); not counted;
    it lasts at least a tenth of the run and until those requests are answered;
 2. baseline: slider traffic only: the cheap-request latencies to compare with;
@@ -136,11 +136,13 @@ def _worst(url: str, rec: Recorder, body: bytes, k: int, phase: str = "mixed") -
 
 
 def _warm_up(url: str, rec: Recorder, body: bytes) -> None:
-    """Every worst case once per worker (two clients at a time) and one export burst."""
+    """Every worst case three times (three clients at a time, so that each worker likely
+    meets each one) and one export burst."""
     def one_worker(offset: int) -> None:
         for k in range(len(WORST)):
             _worst(url, rec, body, (k + offset) % len(WORST), phase="warmup")
-    workers = [threading.Thread(target=one_worker, args=(o,)) for o in (0, len(WORST) // 2)]
+    workers = [threading.Thread(target=one_worker, args=(o,))
+               for o in (0, len(WORST) // 3, 2 * len(WORST) // 3)]
     workers += [threading.Thread(target=_export, args=(url, rec, k, "warmup")) for k in range(BURST)]
     for t in workers:
         t.start()
@@ -216,6 +218,7 @@ def main() -> None:
         env={**os.environ, "PYTHONPATH": str(common.ROOT), "BRDF_CACHE_DIR": cache})
     rec, phase, stop = Recorder(), ["warmup"], threading.Event()
     rss: list[tuple[float, str, int]] = []
+    per_worker: list[tuple[float, list[int]]] = []     # (t, each worker's MB), every sample
     try:
         deadline = time.monotonic() + 300
         while time.monotonic() < deadline:
@@ -243,7 +246,9 @@ def main() -> None:
         next_worst, next_burst, k_worst, k_export = warmup + baseline, warmup + baseline + 5, 0, 0
         while (now := time.monotonic() - t_start) < total:
             phase[0] = "baseline" if now < warmup + baseline else "mixed"
-            rss.append((round(now, 1), phase[0], sum(_workers_rss(proc.pid).values())))
+            workers = _workers_rss(proc.pid)
+            rss.append((round(now, 1), phase[0], sum(workers.values())))
+            per_worker.append((round(now, 1), [round(v / 2**20) for _, v in sorted(workers.items())]))
             if phase[0] == "mixed" and now >= next_worst:
                 side.append(threading.Thread(target=_worst, args=(url, rec, body, k_worst), daemon=True))
                 side[-1].start()
@@ -285,7 +290,8 @@ def main() -> None:
                    "max": max(after_warmup) / 2**20 if after_warmup else None,
                    "mixed_second_half_mb_per_min": _slope_mb_per_min(mixed[len(mixed) // 2:]),
                    "warmup_s": round(warmup, 1),
-                   "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]]},
+                   "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]],
+                   "per_worker": per_worker[::5]},
         "errors": rec.errors,
     }
     c = result["cheap"]
