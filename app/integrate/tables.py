@@ -166,7 +166,9 @@ class ETable:
         memo = _E_AVG.setdefault(self, {})
         if len(memo) > E_AVG_MEMO:
             memo.clear()
-        return memo[alpha] if alpha in memo else memo.setdefault(alpha, _E_avg(self, float(alpha)))
+        if alpha not in memo:
+            memo[alpha] = _E_avg(self, float(alpha))
+        return memo[alpha]
 
 
 #: E_avg by α of each live table, dropped with it (an lru_cache kept evicted tables alive)
