@@ -87,6 +87,11 @@ function fitsAxes(gd, data, fill) {
   return true;
 }
 
+/** An axis without what follows from its range: the range itself, and on a log axis
+ * the tick spacing, which the server derives from the range's span (app/figures/style.py
+ * log_dtick: "D1", "D2", then whole decades). */
+const withoutRange = (ax) => ({ ...ax, range: undefined, ...(ax.type === "log" ? { dtick: undefined } : {}) });
+
 /** A layout's axis ranges by axis ("xaxis", "yaxis2", "polar.radialaxis"), and the
  * layout without them (what must not change for a data-only redraw). */
 export function splitRanges(layout) {
@@ -95,10 +100,10 @@ export function splitRanges(layout) {
   for (const k of Object.keys(layout)) {
     if (/^[xy]axis\d*$/.test(k) && Array.isArray(layout[k]?.range)) {
       ranges[k] = layout[k].range;
-      rest[k] = { ...layout[k], range: undefined };
+      rest[k] = withoutRange(layout[k]);
     } else if (/^polar\d*$/.test(k) && Array.isArray(layout[k]?.radialaxis?.range)) {
       ranges[`${k}.radialaxis`] = layout[k].radialaxis.range;
-      rest[k] = { ...layout[k], radialaxis: { ...layout[k].radialaxis, range: undefined } };
+      rest[k] = { ...layout[k], radialaxis: withoutRange(layout[k].radialaxis) };
     }
   }
   return { ranges, rest: JSON.stringify(rest) };
@@ -123,12 +128,20 @@ export function withHeadroom(previous, next, headroom = HEADROOM) {
   return out;
 }
 
-/** The layout with these axis ranges (keys as splitRanges gives them). */
+/** The layout with these axis ranges (keys as splitRanges gives them). A log axis drawn
+ * over another span than the server's loses the server's tick spacing, chosen for its
+ * span: Plotly picks one for the span drawn. */
 export function withRanges(layout, ranges) {
   const out = { ...layout };
+  const ranged = (ax, r) => {
+    const same = Array.isArray(ax?.range) && ax.range[0] === r[0] && ax.range[1] === r[1];
+    const next = { ...ax, range: r };
+    if (ax?.type === "log" && !same) delete next.dtick;
+    return next;
+  };
   for (const [k, r] of Object.entries(ranges)) {
     const [top, sub] = k.split(".");
-    out[top] = sub ? { ...out[top], [sub]: { ...out[top][sub], range: r } } : { ...out[top], range: r };
+    out[top] = sub ? { ...out[top], [sub]: ranged(out[top][sub], r) } : ranged(out[top], r);
   }
   return out;
 }

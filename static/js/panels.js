@@ -13,6 +13,7 @@ import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from ".
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
          HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { canWrite, writePaths } from "./svgpaths.js";
+import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
 import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
 
@@ -221,32 +222,50 @@ export class Panel {
     return { data: body.data, layout: fitLayout(body.layout || {}), uirevision: this.uirevision(s), sub };
   }
 
-  /** A data-only redraw (see fastdraw.js) when only the data moved; null otherwise. */
+  /** A data-only redraw (see fastdraw.js) when only the data moved; null otherwise.
+   * While a slider is held, data that left a linear axis by decades is drawn rescaled on
+   * the axes as they are, their labels moved (decades.js). */
   quick({ data, layout, uirevision, sub }, frame = () => new Promise((r) => requestAnimationFrame(r))) {
     if (!this.drawn || this.error || uirevision !== this.uirev) return null;
     const { ranges, rest } = splitRanges(layout);
+    if (rest !== this.rest || (this.decades && !ctx.held)) return null;
     const fill = ctx.held ? HELD_FILL : undefined;
-    if (rest !== this.rest || !rangesFit(this.ranges, ranges, fill) || !canAnimate(this.div, data, this.styles, fill)) return null;
-    if (ctx.held && !rangesFit(this.ranges, ranges)) this.loose = true;
+    const fits = (shown, decades) => rangesFit(this.ranges, scaleRanges(ranges, decades, -1), fill)
+      && canAnimate(this.div, shown, this.styles, fill);
+    let decades = this.decades, shown = decades ? scaleData(data, decades) : data;
+    if (!fits(shown, decades)) {
+      if (!ctx.held) return null;
+      decades = decadesFor(this.div, data, this.ranges);
+      if (!decades) return null;
+      // an axis not shifted since Plotly drew it: its labels as drawn are the base
+      this.labels = { ...baseLabels(this.div, Object.keys(decades).filter((k) => !this.labels?.[k])), ...this.labels };
+      if (!labelsShift(this.labels, decades)) return null;
+      shown = scaleData(data, decades);
+      if (!fits(shown, decades) || !canWrite(this.div, shown)) return null;
+    }
+    const scaled = decades && Object.keys(decades).length ? decades : null;
+    if (ctx.held && (scaled || !rangesFit(this.ranges, ranges))) this.loose = true;
     this.setSub(sub);
     this.styles = data.map(traceStyle);
-    if (canWrite(this.div, data)) {
+    if (canWrite(this.div, shown)) {
       this.shown_();
-      return this.writeInFrame(data, frame);
+      return this.writeInFrame(data, frame, shown, scaled);
     }
     return this.drawn_(animateData(this.div, data));
   }
 
   /** Writes the newest data's paths in the animation frame `frame()` resolves in (one
    * write a frame however many answers land before it); Plotly draws it if the paths
-   * cannot take it. */
-  writeInFrame(data, frame) {
-    this.toWrite = data;
+   * cannot take it. `shown`: the data as drawn on axes rescaled by `decades`. */
+  writeInFrame(data, frame, shown = data, decades = null) {
+    this.toWrite = { data, shown, decades };
     this.writing ||= new Promise((resolve) => frame().then(() => {
-      const d = this.toWrite;
+      const { data: d, shown: s, decades: j } = this.toWrite;
       this.toWrite = null;
       this.writing = null;
-      if (writePaths(this.div, d)) {
+      if (writePaths(this.div, s)) {
+        if (this.labels) writeLabels(this.labels, j || {});
+        this.decades = j;
         renameLegend(this.div, d);
         this.div.data = d;        // what the plot shows, for readers of it; Plotly's own state follows in sync()
         this.stale = d;
@@ -255,6 +274,7 @@ export class Panel {
         this.announce();
         resolve();
       } else {
+        this.decades = this.labels = null;
         resolve(Plotly.react(this.div, d, this.layout, PLOT_CONFIG).then(() => this.announce()));
       }
     }));
@@ -262,7 +282,8 @@ export class Panel {
   }
 
   /** Plotly's state (read by hover, zoom, resize and its image export) brought to the
-   * data shown, after paths were written directly; the pixels stay as they are. */
+   * data shown, after paths were written directly; the pixels stay as they are (on
+   * rescaled axes, Plotly draws the axes that they stand for). */
   sync() {
     clearTimeout(this.syncTimer);
     if (!this.stale) return Promise.resolve();
@@ -272,6 +293,12 @@ export class Panel {
     }
     const data = this.stale;
     this.stale = null;
+    if (this.decades) {
+      this.ranges = scaleRanges(this.ranges, this.decades);
+      this.layout = { ...withRanges(this.layout, this.ranges) };
+      this.layoutKey = null;
+      this.decades = this.labels = null;
+    }
     return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
   }
 
@@ -292,7 +319,7 @@ export class Panel {
   draw({ data, layout, uirevision, sub }) {
     this.setSub(sub);
     this.styles = data.map(traceStyle);
-    this.stale = null;
+    this.stale = this.decades = this.labels = null;
     clearTimeout(this.syncTimer);
     const { ranges, rest } = splitRanges(layout);
     const same = rest === this.rest && uirevision === this.uirev;

@@ -15,6 +15,9 @@ pytestmark = pytest.mark.e2e
 PANELS = ("lobe", "ndf", "g1", "albedo")
 PATHS_JS = """(name) => [...document.querySelectorAll(`#plot-${name} .scatterlayer g.trace`)]
     .map((g) => [...g.querySelectorAll('path.js-line')].map((p) => p.getAttribute('d')))"""
+SIZE_JS = """(n) => { const fl = document.getElementById(`plot-${n}`)._fullLayout;
+    const ax = fl.polar ? fl.polar._subplot.xaxis : fl.xaxis, ay = fl.polar ? fl.polar._subplot.yaxis : fl.yaxis;
+    return [ax._length, ay._length]; }"""
 NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e-?\d+)?")
 
 
@@ -37,6 +40,7 @@ def test_written_paths_are_what_plotly_draws(page, page_log, position):
     page.evaluate(move, position + 4)      # a step: the data moves within the axes
     wait_quiet(page)
     written = {n: page.evaluate(PATHS_JS, n) for n in PANELS}
+    written_size = {n: page.evaluate(SIZE_JS, n) for n in PANELS}
     wrote = [n for n in PANELS if page.evaluate("(n) => !!window.__brdf.panel(n).stale", n)]
     assert wrote, "no panel took the path-writing redraw"
     for n in wrote:
@@ -44,17 +48,76 @@ def test_written_paths_are_what_plotly_draws(page, page_log, position):
     wait_quiet(page)
     for n in wrote:
         plotly = page.evaluate(PATHS_JS, n)
-        size = page.evaluate("""(n) => { const fl = document.getElementById(`plot-${n}`)._fullLayout;
-            const ax = fl.polar ? fl.polar._subplot.xaxis : fl.xaxis, ay = fl.polar ? fl.polar._subplot.yaxis : fl.yaxis;
-            return [ax._length, ay._length]; }""", n)
+        size = page.evaluate(SIZE_JS, n)
+        # Plotly's redraw may settle its automatic margins a pixel differently than its
+        # first draw did (the axes move with the curve): the written points are read
+        # on the axes they were written on, in fractions of the plot area
+        sx, sy = size[0] / written_size[n][0], size[1] / written_size[n][1]
         assert len(plotly) == len(written[n]), n
         for mine, theirs in zip(written[n], plotly):
             assert len(mine) == len(theirs), n
             for a, b in zip(mine, theirs):
-                ours, its = vertices(a), vertices(b)
+                ours, its = [(x * sx, y * sy) for x, y in vertices(a)], vertices(b)
                 assert len(ours) >= len(its) >= 2, (n, len(ours), len(its))
                 for x, y in its:      # every vertex Plotly draws in the plot area is one we drew
                     if not (-1 <= x <= size[0] + 1 and -1 <= y <= size[1] + 1):
                         continue      # far off the plot (Λ = 0 on a log axis): clipped, not seen
                     assert min(abs(x - u) + abs(y - v) for u, v in ours) < 0.05, (n, x, y)
     assert page_log.problems() == []
+
+
+LABELS_JS = """(n) => [...document.querySelectorAll(`#plot-${n} .radial-axis g.xtick text`)].map((t) => t.textContent)"""
+
+
+def test_a_held_slider_rescales_the_lobe_axis_by_decades_as_plotly_would(page, page_log):
+    """While a slider is held, a lobe whose peak leaves its axis by decades is drawn on
+    the axis as it is, scaled by a power of ten, its labels rewritten (static/js/
+    decades.js): Plotly, drawing the same data on the range those labels stand for,
+    draws the same curve and writes the same labels."""
+    page.goto("/?theta_i_deg=50")
+    wait_quiet(page)
+    page.evaluate("""() => { const p = window.__brdf.panel('lobe'); p.realSync = p.sync; p.sync = () => Promise.resolve(); }""")
+    move = """(v) => { const s = document.getElementById('alpha-slider');
+        s.value = String(v); s.dispatchEvent(new Event('input', { bubbles: true })); }"""
+    page.evaluate("() => document.getElementById('alpha-slider').dispatchEvent(new PointerEvent('pointerdown', { bubbles: true }))")
+    before = page.evaluate(LABELS_JS, "lobe")
+    for position in (500, 420, 340, 260):          # α falls: the peak climbs decades
+        page.evaluate(move, position)
+        wait_quiet(page)
+    decades = page.evaluate("() => window.__brdf.panel('lobe').decades")
+    assert decades and decades.get("polar.radialaxis", 0) >= 1, decades
+    assert page.evaluate("() => window.__brdf.panel('lobe').loose")      # refitted on release
+    written, labels = page.evaluate(PATHS_JS, "lobe"), page.evaluate(LABELS_JS, "lobe")
+    assert labels != before
+    page.evaluate("async () => { const p = window.__brdf.panel('lobe'); p.sync = p.realSync; await p.sync(); }")
+    wait_quiet(page)
+    assert page.evaluate(LABELS_JS, "lobe") == labels          # Plotly's own labels for that range
+    assert page.evaluate("() => window.__brdf.panel('lobe').decades") is None
+    plotly = page.evaluate(PATHS_JS, "lobe")
+    assert len(plotly) == len(written)
+    for mine, theirs in zip(written, plotly):
+        for a, b in zip(mine, theirs):
+            ours, its = vertices(a), vertices(b)
+            assert len(ours) >= len(its) >= 2
+            for x, y in its:
+                assert min(abs(x - u) + abs(y - v) for u, v in ours) < 0.05, (x, y)
+    assert page_log.problems() == []
+
+
+def test_label_shift_moves_the_decimal_point(page):
+    """decades.js shiftLabel against Python's Decimal.scaleb: the same number, written
+    as Plotly writes it (no trailing zeros, a Unicode minus); null past the limits."""
+    from decimal import Decimal
+    page.goto("/")
+    cases = [(t, j) for t in ("0", "0.02", "1500", "2.5", "−0.5", "120", "7") for j in range(-4, 5)]
+    got = page.evaluate("""async (cases) => { const m = await import('/static/js/decades.js');
+        return cases.map(([t, j]) => m.shiftLabel(t, j)); }""", cases)
+    for (text, j), out in zip(cases, got):
+        value = Decimal(text.replace("−", "-")).scaleb(j)
+        plain = format(value.normalize(), "f")
+        too_far = abs(value) >= 100_000 or (-value.normalize().as_tuple().exponent > 5)
+        if too_far:
+            assert out is None, (text, j, out)
+        else:
+            assert out == plain.replace("-", "−"), (text, j, out)
+    assert page.evaluate("""async () => (await import('/static/js/decades.js')).shiftLabel('10\u200b4', 1)""") is None

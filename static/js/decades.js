@@ -1,0 +1,136 @@
+/* While a slider is held, a linear axis that the data outgrows (or shrinks within) by
+ * decades keeps its pixels and changes its labels.
+ *
+ * A drag over α sweeps the lobe's peak over four or five decades: each time it leaves
+ * the axes, Plotly re-lays the figure out (15–40 ms of main thread, in which the slider's
+ * next input waits). Scaling a linear axis's range by 10^j leaves every tick where it was
+ * (Plotly's ticks are multiples of 1, 2 or 5 × 10^k of the range, scale-free under a
+ * power of ten): the data divided by 10^j is drawn on the axes as they are (svgpaths.js),
+ * and each tick label's decimal point moves j places. On release, or once the page is
+ * quiet, Plotly draws the figure on its own axes again (Panel.release, Panel.sync).
+ *
+ * Only plain decimal labels are moved ("0.02", "1500"), within LABEL_LIMIT; anything else
+ * (an exponent, a log axis, an axis the user zoomed) answers null, and Plotly redraws.
+ */
+import { numbers } from "./fastdraw.js";
+
+// Beyond these, Plotly writes labels with exponents: a full draw does them.
+const LABEL_MAX = 1e5;
+const LABEL_DECIMALS = 5;
+const DECIMAL = /^([−-]?)(\d+)(?:\.(\d+))?$/;
+
+/** "0.02" with its decimal point moved j places right (left for j < 0): "20" for j = 3;
+ * null for a label that is not a plain decimal or would leave LABEL_MAX / LABEL_DECIMALS. */
+export function shiftLabel(text, j) {
+  const m = DECIMAL.exec(text);
+  if (!m) return null;
+  const [, sign, int, frac = ""] = m;
+  let digits = int + frac, point = int.length + j;
+  if (point < 1) {
+    digits = "0".repeat(1 - point) + digits;
+    point = 1;
+  }
+  digits = digits.padEnd(point, "0");
+  const whole = digits.slice(0, point).replace(/^0+(?=\d)/, ""), part = digits.slice(point).replace(/0+$/, "");
+  if (part.length > LABEL_DECIMALS || Number(whole) >= LABEL_MAX) return null;
+  const out = part ? `${whole}.${part}` : whole;
+  return sign && /[1-9]/.test(out) ? `−${out}` : out;
+}
+
+/** The layout key of the axis a trace's values `key` ("x", "y", "r") are drawn on. */
+function axisOf(t, key) {
+  if ((t.type || "scatter") === "scatterpolar") return key === "r" ? `${t.subplot || "polar"}.radialaxis` : null;
+  const id = key === "x" ? t.xaxis || "x" : t.yaxis || "y";
+  return `${key}axis${id.slice(1)}`;
+}
+
+const fullAxis = (fl, key) => key.split(".").reduce((o, k) => o?.[k], fl);
+
+/** The power of ten per axis that brings `data` back into the axes as drawn (`drawn`:
+ * the ranges the panel drew, by layout key), or null if some axis cannot be scaled. */
+export function decadesFor(gd, data, drawn) {
+  const fl = gd._fullLayout;
+  const top = {};
+  for (const t of data) {
+    for (const key of (t.type || "scatter") === "scatterpolar" ? ["r"] : ["x", "y"]) {
+      const ax = axisOf(t, key), vs = numbers(t[key]);
+      if (!ax || !vs) return null;
+      const extra = key === "y" ? [numbers(t.error_y?.array), numbers(t.error_y?.arrayminus)] : [];
+      for (let i = 0; i < vs.length; i++) {
+        for (const w of [vs[i], ...extra.map((e) => (e ? vs[i] + e[i] : vs[i]))]) {
+          if (Number.isFinite(w)) top[ax] = Math.max(top[ax] || 0, Math.abs(w));
+        }
+      }
+    }
+  }
+  const out = {};
+  for (const [key, range] of Object.entries(drawn)) {
+    const reach = Math.max(Math.abs(range[0]), Math.abs(range[1]));
+    const j = top[key] > 0 && reach > 0 ? Math.ceil(Math.log10(top[key] / reach) - 1e-12) : 0;
+    if (!j) continue;
+    const ax = fullAxis(fl, key);
+    const shown = ax?.range;
+    if (ax?.type !== "linear" || !shown || shown[0] !== range[0] || shown[1] !== range[1]) return null;
+    out[key] = j;
+  }
+  return out;
+}
+
+/** `data` divided by 10^j on each scaled axis (new trace objects; the input untouched). */
+export function scaleData(data, decades) {
+  const keys = Object.keys(decades);
+  if (!keys.length) return data;
+  const div = (a, j) => {
+    const vs = numbers(a);
+    return vs ? Float64Array.from(vs, (v) => (v === null ? NaN : v / 10 ** j)) : a;
+  };
+  return data.map((t) => {
+    const out = { ...t };
+    for (const key of (t.type || "scatter") === "scatterpolar" ? ["r"] : ["x", "y"]) {
+      const j = decades[axisOf(t, key)];
+      if (!j) continue;
+      out[key] = div(t[key], j);
+      if (key === "y" && t.error_y) out.error_y = { ...t.error_y, array: div(t.error_y.array, j),
+                                                   arrayminus: div(t.error_y.arrayminus, j) };
+    }
+    return out;
+  });
+}
+
+/** The tick label nodes of an axis (layout key), in the plot's SVG. */
+function labelNodes(gd, key) {
+  const [top] = key.split(".");
+  if (key.endsWith(".radialaxis")) return [...gd.querySelectorAll(`.${top} .radial-axis g.xtick text`)];
+  const id = `${key[0]}${key.slice(5)}`;           // "yaxis2" -> "y2"
+  return [...gd.querySelectorAll(`.cartesianlayer g.${id}tick text`)];
+}
+
+/** The labels as Plotly drew them, per axis: what later shifts start from. */
+export function baseLabels(gd, keys) {
+  const out = {};
+  for (const key of keys) out[key] = labelNodes(gd, key).map((n) => [n, n.textContent]);
+  return out;
+}
+
+/** Can every label of these axes be shifted (their texts plain decimals within limits)? */
+export function labelsShift(base, decades) {
+  return Object.entries(decades).every(([key, j]) => base[key]?.length && base[key].every(([, t]) => shiftLabel(t, j) !== null));
+}
+
+/** Writes each axis's labels shifted by its decades (0: as Plotly drew them). */
+export function writeLabels(base, decades) {
+  for (const [key, nodes] of Object.entries(base)) {
+    for (const [node, text] of nodes) {
+      const next = shiftLabel(text, decades[key] || 0) ?? text;
+      if (node.textContent !== next) node.textContent = next;
+    }
+  }
+}
+
+/** The ranges with each scaled axis multiplied by 10^(sign·j): sign 1, what the drawn
+ * axes now mean; -1, a range in data units as the drawn axes take it. */
+export function scaleRanges(ranges, decades, sign = 1) {
+  const out = { ...ranges };
+  for (const [key, j] of Object.entries(decades || {})) if (out[key]) out[key] = out[key].map((v) => v * 10 ** (sign * j));
+  return out;
+}
