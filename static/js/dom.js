@@ -16,6 +16,13 @@ export function el(tag, attrs = {}, ...kids) {
 
 export const $ = (sel, root = document) => root.querySelector(sel);
 
+/** node[key] = value, only if it differs: an attribute set to the value it has is still a
+ * change for the browser (style invalidated, the layer repainted), and a slider's input
+ * event re-states dozens of them. */
+export function setIf(node, key, value) {
+  if (node[key] !== value) node[key] = value;
+}
+
 // A symbol with an index: one or two letters (θ, α, G, F0 is not one), then "_" and a
 // short index ("θ_i", "G_1", "E_avg", "α_{x,y}"). Anything longer is a name and stays
 // a name: "height_correlated", "lambda_phi", "theta_i_deg".

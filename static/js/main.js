@@ -2,7 +2,7 @@
  *   controls --(input)--> state --> URL (replaceState, throttled)
  *                               \--> every wanted panel fetches at once (scheduler)
  */
-import { el, $, richText, getJSON, copyText, flash } from "./dom.js";
+import { el, $, richText, getJSON, copyText, flash, setIf } from "./dom.js";
 import { setModels, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "./model.js";
 import { ctx, stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "./state.js";
 import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
@@ -31,7 +31,7 @@ function updateErrorLine() {
   const errs = [...new Set(panels.filter((p) => p.error && p.shown() && p.takesModel()).map((p) => p.error))];
   const text = errs.length ? `Error: ${errs.join(" · ")}` : "";
   if (line.textContent !== text) line.textContent = text;
-  line.hidden = !errs.length;
+  setIf(line, "hidden", !errs.length);
 }
 scheduler.onIdle = updateErrorLine;
 scheduler.held = () => ctx.held;
@@ -53,11 +53,11 @@ function syncPinList() {
     list.append(el("li", { class: samePin(pin, current) ? "pin is-current" : "pin", "data-pin": encodePin(pin) },
       el("span", { class: "pin-label", title: encodePin(pin) }, richText(label)), rm));
   });
-  list.hidden = !state.pins.length;
-  $("#pin-clear").disabled = !state.pins.length;
+  setIf(list, "hidden", !state.pins.length);
+  setIf($("#pin-clear"), "disabled", !state.pins.length);
   const full = state.pins.length >= MAX_PINS || state.pins.some((x) => samePin(x, current));
-  $("#pin-current").disabled = full;
-  for (const p of panels) if (p.pinButton) p.pinButton.disabled = full;
+  setIf($("#pin-current"), "disabled", full);
+  for (const p of panels) if (p.pinButton) setIf(p.pinButton, "disabled", full);
 }
 function setPins(pins) {
   state.pins = pins.slice(0, MAX_PINS);
@@ -118,12 +118,12 @@ function onStateChange() {
   syncPinList();
   syncActiveRows();
   for (const p of panels) {
-    p.section.hidden = !p.shown();
+    setIf(p.section, "hidden", !p.shown());
     p.syncModel();
     scheduler.touch(p);
   }
   scheduleUrlWrite();
-  for (const loc of ctx.locals.values()) loc.input.parentElement.hidden = !fieldApplies(loc.view, loc.field, state);
+  for (const loc of ctx.locals.values()) setIf(loc.input.parentElement, "hidden", !fieldApplies(loc.view, loc.field, state));
 }
 
 /** A slider held: the heavy images come coarser until it is let go. */

@@ -4,7 +4,7 @@
  * either is the scheduler's business. A view that does not take the chosen model
  * (model=principled: GET /api/v1/principled lists the views that do) says so instead.
  */
-import { API, el, $, richText, apiMessage, errorLoc, query } from "./dom.js";
+import { API, el, $, richText, apiMessage, errorLoc, query, setIf } from "./dom.js";
 import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
 import { ctx } from "./state.js";
 import { compareModels } from "./pins.js";
@@ -12,7 +12,7 @@ import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId, OPTION_LAB
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
          HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
-import { canWrite, writePaths } from "./svgpaths.js";
+import { writePaths } from "./svgpaths.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
 import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
@@ -241,22 +241,20 @@ export class Panel {
       this.labels = { ...baseLabels(this.div, Object.keys(decades).filter((k) => !this.labels?.[k])), ...this.labels };
       if (!labelsShift(this.labels, decades)) return null;
       shown = scaleData(data, decades);
-      if (!fits(shown, decades) || !canWrite(this.div, shown)) return null;
+      if (!fits(shown, decades)) return null;
     }
     const scaled = decades && Object.keys(decades).length ? decades : null;
     if (ctx.held && (scaled || !rangesFit(this.ranges, ranges))) this.loose = true;
     this.setSub(sub);
     this.styles = data.map(traceStyle);
-    if (canWrite(this.div, shown)) {
-      this.shown_();
-      return this.writeInFrame(data, frame, shown, scaled);
-    }
-    return this.drawn_(animateData(this.div, data));
+    this.shown_();
+    return this.writeInFrame(data, frame, shown, scaled);
   }
 
   /** Writes the newest data's paths in the animation frame `frame()` resolves in (one
    * write a frame however many answers land before it); Plotly draws it if the paths
-   * cannot take it. `shown`: the data as drawn on axes rescaled by `decades`. */
+   * cannot take it (Plotly's transition on its own axes). `shown`: the data as drawn on
+   * axes rescaled by `decades`. */
   writeInFrame(data, frame, shown = data, decades = null) {
     this.toWrite = { data, shown, decades };
     this.writing ||= new Promise((resolve) => frame().then(() => {
@@ -273,6 +271,8 @@ export class Panel {
         this.syncTimer = setTimeout(() => this.sync(), SYNC_IDLE_MS);
         this.announce();
         resolve();
+      } else if (!j && !this.decades) {        // axes as Plotly drew them: its own transition
+        resolve(animateData(this.div, d).then(() => this.announce()));
       } else {
         this.decades = this.labels = null;
         resolve(Plotly.react(this.div, d, this.layout, PLOT_CONFIG).then(() => this.announce()));
@@ -332,7 +332,7 @@ export class Panel {
     this.drawn = true;
     this.error = null;
     this.setStatus(null);
-    this.section.classList.remove("empty");
+    if (this.section.classList.contains("empty")) this.section.classList.remove("empty");
   }
 
   // one event per finished draw, whichever way it was drawn (the benchmark counts them)
@@ -357,9 +357,9 @@ export class Panel {
   }
 
   setStatus(kind, text = "") {
-    this.status.className = `panel-status${kind ? ` ${kind}` : ""}`;
-    this.status.textContent = text;
-    this.section.classList.toggle("has-error", kind === "error");
+    setIf(this.status, "className", `panel-status${kind ? ` ${kind}` : ""}`);
+    setIf(this.status, "textContent", text);
+    if (this.section.classList.contains("has-error") !== (kind === "error")) this.section.classList.toggle("has-error");
   }
 }
 

@@ -26,6 +26,11 @@ const MAX_IN_FLIGHT = 2;
 // their number. The frame waits until the requests sent with it have landed, GATE_MS at most.
 const GATE_MS = 20;
 const SAME_CHANGE_MS = 2;
+// While a slider is held, data-only redraws come at most every HELD_FRAME_MS (30 a
+// second, all panels in the same frame): each frame that changes the plots costs ~8 ms
+// of style, layout, paint and commit, and at 60 a second the input events of the drag
+// would wait behind them.
+const HELD_FRAME_MS = 33;
 
 export class Scheduler {
   constructor() {
@@ -34,6 +39,7 @@ export class Scheduler {
     this.flying = new Set();     // panels with a request in flight
     this.onIdle = () => {};
     this.held = () => false;     // a slider held: answers kept in memory may serve (batch.js)
+    this.heldFrame = -Infinity;  // when the last data-only redraw of a held slider was written
   }
 
   touch(panel) {
@@ -127,8 +133,15 @@ export class Scheduler {
   gate(born) {
     const t0 = performance.now();
     const sibling = () => [...this.flying].some((p) => p.flights.some((f) => Math.abs(f.born - born) <= SAME_CHANGE_MS));
+    // frames by their time (the same for every callback of one frame); the interval's
+    // jitter must not push a redraw to the frame after
+    const early = (ts) => this.held() && ts !== this.heldFrame && ts < this.heldFrame + HELD_FRAME_MS - 2;
     return new Promise((resolve) => {
-      const tick = () => (sibling() && performance.now() - t0 < GATE_MS ? requestAnimationFrame(tick) : resolve());
+      const tick = (ts) => {
+        if (early(ts) || (sibling() && performance.now() - t0 < GATE_MS)) return requestAnimationFrame(tick);
+        if (this.held()) this.heldFrame = ts;
+        resolve();
+      };
       requestAnimationFrame(tick);
     });
   }

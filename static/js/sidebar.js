@@ -3,7 +3,7 @@
  * principled model's from GET /api/v1/principled (principledform.js); only the chosen
  * model's are shown. Kept in step with the state.
  */
-import { el, $, richText } from "./dom.js";
+import { el, $, richText, setIf } from "./dom.js";
 import { paramControl } from "./sliders.js";
 import { reg, subOptions, choiceOf, sameSpec, switchChoice, fixApplicability, appliesTo, whyNot,
          subApplies, activeParams, anisoAllowed, isAnisotropic, isPerceptual, secondLobeAllowed } from "./model.js";
@@ -164,8 +164,9 @@ export function syncActiveRows() {
   const active = new Set([...activeParams(ctx.state), ...reg.models.geometry]);
   for (const c of controls.values()) {
     const on = active.has(c.param);
-    if (c.row.hidden === on) c.row.hidden = !on;
-    c.box.disabled = c.slider.disabled = !on;
+    setIf(c.row, "hidden", !on);
+    setIf(c.box, "disabled", !on);
+    setIf(c.slider, "disabled", !on);
   }
 }
 
@@ -202,11 +203,11 @@ export function syncDerived() {
   if (!out) out = el("p", { class: "derived", id: "derived", "aria-live": "polite" });
   const f = DERIVED[s.ndf];
   const row = controls.get(isPerceptual(s) ? "roughness" : "alpha")?.row;
-  if (!f || !row) { out.hidden = true; return; }
+  if (!f || !row) { setIf(out, "hidden", true); return; }
   const text = f(isPerceptual(s) ? s.roughness ** 2 : s.alpha);
-  if (out.textContent !== text) out.textContent = text;
-  out.title = choiceOf("ndf", s.ndf)?.derived_doc?.alpha_p || "";
-  out.hidden = false;
+  setIf(out, "textContent", text);
+  setIf(out, "title", choiceOf("ndf", s.ndf)?.derived_doc?.alpha_p || "");
+  setIf(out, "hidden", false);
   if (out.parentElement !== row) row.append(out);
 }
 

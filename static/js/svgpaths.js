@@ -136,9 +136,6 @@ function plan(gd, data) {
   return writes;
 }
 
-/** Can `data` be drawn on `gd` by writing its paths? */
-export const canWrite = (gd, data) => plan(gd, data) !== null;
-
 /** Draws `data` on `gd` by writing its paths (in an animation frame: it reads the axes
  * as they are then); false, and nothing written, if it cannot. */
 export function writePaths(gd, data) {
