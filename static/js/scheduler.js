@@ -29,7 +29,9 @@ const SAME_CHANGE_MS = 2;
 // While a slider is held, data-only redraws come at most every HELD_FRAME_MS (30 a
 // second, all panels in the same frame): each frame that changes the plots costs ~8 ms
 // of style, layout, paint and commit, and at 60 a second the input events of the drag
-// would wait behind them.
+// would wait behind them. Requests go out no more often (the newest state when the
+// interval is up): at every input event, most answers would come to be dropped unseen,
+// each having cost the page ~2 ms to send and read and the server ~8 ms of its 2 cores.
 const HELD_FRAME_MS = 33;
 
 export class Scheduler {
@@ -40,6 +42,8 @@ export class Scheduler {
     this.onIdle = () => {};
     this.held = () => false;     // a slider held: answers kept in memory may serve (batch.js)
     this.heldFrame = -Infinity;  // when the last data-only redraw of a held slider was written
+    this.deferred = new Set();   // panels whose request waits for the held interval
+    this.deferTimer = 0;
   }
 
   touch(panel) {
@@ -60,17 +64,37 @@ export class Scheduler {
         panel.dirty = true;
         return;
       }
-      this.fetch(panel, req);
+      if (!this.paced(panel)) this.fetch(panel, req);
       return;
     }
     const waiting = this.ready.get(panel);
     if ((waiting ? waiting.key : panel.drawnKey) === req.key) return;   // nothing it shows has changed
-    this.fetch(panel, req);
+    if (!this.paced(panel)) this.fetch(panel, req);
+  }
+
+  /** While a slider is held, a panel asks at most every HELD_FRAME_MS: sooner, it waits
+   * (dirty) and asks for the newest state when the interval is up. */
+  paced(panel) {
+    const wait = (panel.sentAt ?? -Infinity) + HELD_FRAME_MS - performance.now();
+    if (!this.held() || wait <= 0) return false;
+    panel.dirty = true;
+    this.deferred.add(panel);
+    this.deferTimer ||= setTimeout(() => {
+      this.deferTimer = 0;
+      const due = [...this.deferred];
+      this.deferred.clear();
+      for (const p of due) {        // in one task: they still go out as one batch
+        p.dirty = false;
+        this.touch(p);
+      }
+    }, wait);
+    return true;
   }
 
   async fetch(panel, req) {
     const ctrl = new AbortController();
     const flight = { key: req.key, ctrl, seq: (panel.seq = (panel.seq || 0) + 1), born: performance.now() };
+    panel.sentAt = flight.born;
     panel.flights.push(flight);
     panel.inflight = flight;
     this.flying.add(panel);
