@@ -6,7 +6,7 @@ the request's time budget (BRDF_MAX_SECONDS)."""
 from __future__ import annotations
 
 import json
-from collections import Counter
+from collections import Counter, deque
 from urllib.parse import parse_qsl
 
 from fastapi import FastAPI
@@ -31,6 +31,23 @@ async def _send_error(send, status: int, loc: list, msg: str, kind: str) -> None
     start, body = _json_error(status, loc, msg, kind)
     await send(start)
     await send({"type": "http.response.body", "body": body})
+
+
+def _replay(messages: list, receive):
+    """A receive that hands out the buffered ``messages``, then asks the server's
+    ``receive`` (a disconnect, say). Built outside the guard's call, with the server's
+    receive as an argument: a closure there that called ``receive`` after rebinding that
+    name to itself referred to itself (and recursed without end once the body was read).
+    That cycle kept each buffered body (a full POST /eval batch: ~20 MB) alive until the
+    cycle collector's oldest generation ran, which in a worker serving for minutes it
+    seldom did: its resident memory stepped up ~20 MB a batch (docs/robustness.md §3).
+    Without a cycle the body goes when the request ends; each message is let go as it
+    is handed out (the route keeps its own copy of the body)."""
+    replay = deque(messages)
+
+    async def receive_buffered():
+        return replay.popleft() if replay else await receive()
+    return receive_buffered
 
 
 class RequestGuard:
@@ -147,12 +164,7 @@ class RequestGuard:
                 except strict.Refusal as r:
                     await _send_error(send, r.status, r.loc, r.message, r.kind)
                     return
-            replay = iter(messages)
-
-            async def receive_buffered():
-                return next(replay, None) or await receive()
-
-            receive = receive_buffered
+            receive, messages = _replay(messages, receive), None
 
         started = False
         request_budget: budget.Budget | None = None
