@@ -104,3 +104,29 @@ def test_a_held_slider_moved_back_draws_from_memory_and_writes_the_url_on_releas
     wait_quiet(page)
     assert f"alpha={alpha}" in page.url
     assert page_log.problems() == []
+
+
+def test_a_held_slider_asks_at_most_every_33_ms_and_ends_on_the_newest_state(page, page_log):
+    """While a slider is held, a move every 4 ms sends a batch at most every 33 ms
+    (static/js/scheduler.js HELD_FRAME_MS, from the call that asked; the POST leaves at
+    the end of that task, a few ms later or sooner; unpaced, the second went out 4 ms
+    after the first), and the panels end drawing the last position."""
+    page.goto("/")
+    wait_quiet(page)
+    page.evaluate("() => performance.clearResourceTimings()")
+    page.evaluate("""async () => { const s = document.getElementById('alpha-slider');
+        s.dispatchEvent(new PointerEvent('pointerdown', { bubbles: true }));
+        for (let k = 0; k < 75; k++) {
+          s.value = String(300 + 4 * k);
+          s.dispatchEvent(new Event('input', { bubbles: true }));
+          await new Promise((r) => setTimeout(r, 4));
+        } }""")
+    wait_quiet(page)
+    starts = page.evaluate("""() => performance.getEntriesByType('resource')
+        .filter((e) => e.name.endsWith('/api/v1/batch')).map((e) => e.startTime)""")
+    assert len(starts) >= 3, starts
+    gaps = [b - a for a, b in zip(starts, starts[1:])]
+    assert min(gaps) >= 20, gaps
+    assert page.evaluate("() => document.getElementById('alpha-slider').value") == str(300 + 4 * 74)
+    assert page.evaluate("() => window.__brdf.panels().every((p) => !p.visible || p.current)")
+    assert page_log.problems() == []
