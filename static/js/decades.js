@@ -9,12 +9,15 @@
  * and each tick label's decimal point moves j places. On release, or once the page is
  * quiet, Plotly draws the figure on its own axes again (Panel.release, Panel.sync).
  *
- * Only plain decimal labels are moved ("0.02", "1500"), within LABEL_LIMIT; anything else
- * (an exponent, a log axis, an axis the user zoomed) answers null, and Plotly redraws.
+ * Plotly writes a linear axis's labels as plain decimals ("0.02", "1500") while its range
+ * reaches 10^-3 to 10^4, and beyond as a mantissa times 10 to the range's exponent
+ * ("0.2×10⁴"): each label is rewritten as Plotly would write its value times 10^j on the
+ * scaled range, in either form. A log axis, an axis the user zoomed or a label that is
+ * neither form answers null, and Plotly redraws.
  */
 import { numbers } from "./fastdraw.js";
 
-// Beyond these, Plotly writes labels with exponents: a full draw does them.
+// Sanity bounds of a shifted decimal (Plotly's own forms stay well within them).
 const LABEL_MAX = 1e5;
 const LABEL_DECIMALS = 5;
 const DECIMAL = /^([−-]?)(\d+)(?:\.(\d+))?$/;
@@ -45,6 +48,11 @@ function axisOf(t, key) {
 }
 
 const fullAxis = (fl, key) => key.split(".").reduce((o, k) => o?.[k], fl);
+
+/** Plotly's exponent of a linear range (axes.js autoTickRound): beyond ±3 its labels are
+ * written as a mantissa times 10 to this power, with exponentformat "power". */
+const rangeExp = (range) => Math.floor(Math.log10(Math.max(Math.abs(range[0]), Math.abs(range[1]))) + 0.01);
+const powered = (e) => Math.abs(e) > 3;
 
 /** The power of ten per axis that brings `data` back into the axes as drawn (`drawn`:
  * the ranges the panel drew, by layout key), or null if some axis cannot be scaled. */
@@ -105,24 +113,59 @@ function labelNodes(gd, key) {
   return [...gd.querySelectorAll(`.cartesianlayer g.${id}tick text`)];
 }
 
-/** The labels as Plotly drew them, per axis: what later shifts start from. */
-export function baseLabels(gd, keys) {
+// Plotly's power label: the mantissa and "×10", the exponent raised in a tspan, a spacer.
+const SVG = "http://www.w3.org/2000/svg";
+const exponentOf = (node) => [...node.querySelectorAll("tspan")].find((t) => t.getAttribute("dy") === "-0.6em");
+const minus = (text) => text.replace("−", "-");
+
+/** The labels as Plotly drew them, per axis: [node, mantissa, exponent] (a plain label's
+ * exponent is 0), and the axis's exponent after a shift of j decades (null: plain). */
+export function baseLabels(gd, keys, ranges) {
   const out = {};
-  for (const key of keys) out[key] = labelNodes(gd, key).map((n) => [n, n.textContent]);
+  for (const key of keys) {
+    const e0 = rangeExp(ranges[key]);
+    const labels = labelNodes(gd, key).map((n) => {
+      const sup = exponentOf(n);
+      if (!sup) return [n, n.textContent, 0];
+      return [n, n.firstChild?.nodeValue?.replace(/×10\u200b?$/, "") ?? "", Number(minus(sup.textContent))];
+    });
+    out[key] = { labels, exponent: (j) => (powered(e0 + j) ? e0 + j : null) };
+  }
   return out;
 }
 
-/** Can every label of these axes be shifted (their texts plain decimals within limits)? */
+/** A label's text for value mantissa × 10^exp × 10^j, written as Plotly writes it on an
+ * axis whose exponent is `axisExp` (null: plain decimals); null if it cannot be. */
+function labelText(mantissa, exp, j, axisExp) {
+  if (/^[−-]?0(\.0*)?$/.test(mantissa)) return "0";
+  return axisExp === null ? shiftLabel(mantissa, exp + j) : shiftLabel(mantissa, exp + j - axisExp);
+}
+
+/** Can every label of these axes be shifted? */
 export function labelsShift(base, decades) {
-  return Object.entries(decades).every(([key, j]) => base[key]?.length && base[key].every(([, t]) => shiftLabel(t, j) !== null));
+  return Object.entries(decades).every(([key, j]) => base[key]?.labels.length
+    && base[key].labels.every(([, m, e]) => labelText(m, e, j, base[key].exponent(j)) !== null));
 }
 
 /** Writes each axis's labels shifted by its decades (0: as Plotly drew them). */
 export function writeLabels(base, decades) {
-  for (const [key, nodes] of Object.entries(base)) {
-    for (const [node, text] of nodes) {
-      const next = shiftLabel(text, decades[key] || 0) ?? text;
-      if (node.textContent !== next) node.textContent = next;
+  for (const [key, { labels, exponent }] of Object.entries(base)) {
+    const j = decades[key] || 0, axisExp = exponent(j);
+    for (const [node, mantissa, exp] of labels) {
+      const text = labelText(mantissa, exp, j, axisExp) ?? mantissa;
+      const power = axisExp !== null && text !== "0";
+      const want = power ? `${text}×10\u200b${String(axisExp).replace("-", "−")}\u200b` : text;
+      if (node.textContent === want) continue;
+      node.textContent = power ? `${text}×10\u200b` : text;
+      if (!power) continue;
+      const sup = document.createElementNS(SVG, "tspan");
+      sup.setAttribute("style", "font-size:70%");
+      sup.setAttribute("dy", "-0.6em");
+      sup.textContent = String(axisExp).replace("-", "−");
+      const back = document.createElementNS(SVG, "tspan");
+      back.setAttribute("dy", "0.42em");
+      back.textContent = "\u200b";
+      node.append(sup, back);
     }
   }
 }

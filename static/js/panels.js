@@ -238,7 +238,7 @@ export class Panel {
       decades = decadesFor(this.div, data, this.ranges);
       if (!decades) return null;
       // an axis not shifted since Plotly drew it: its labels as drawn are the base
-      this.labels = { ...baseLabels(this.div, Object.keys(decades).filter((k) => !this.labels?.[k])), ...this.labels };
+      this.labels = { ...baseLabels(this.div, Object.keys(decades).filter((k) => !this.labels?.[k]), this.ranges), ...this.labels };
       if (!labelsShift(this.labels, decades)) return null;
       shown = scaleData(data, decades);
       if (!fits(shown, decades)) return null;
