@@ -114,7 +114,7 @@ export function splitRanges(layout) {
  * beyond it, so that the next moves in that direction still fit the axes as drawn.
  * An axis that does not move (θ from 0 to 90°) is drawn as the server gives it. */
 const HEADROOM = 0.1;
-export function withHeadroom(previous, next, headroom = HEADROOM) {
+export function withHeadroom(previous, next, headroom = HEADROOM, free = new Set()) {
   const out = {};
   for (const [k, w] of Object.entries(next)) {
     const p = previous?.[k];
@@ -122,8 +122,21 @@ export function withHeadroom(previous, next, headroom = HEADROOM) {
       out[k] = w;
       continue;
     }
+    // an axis in `free` (a log axis: its decades move at both ends as α does) gets the
+    // headroom at both ends once either moved
     const pad = headroom * Math.abs(w[1] - w[0]) * Math.sign(w[1] - w[0]);
-    out[k] = [p[0] === w[0] ? w[0] : w[0] - pad, p[1] === w[1] ? w[1] : w[1] + pad];
+    const both = free.has(k);
+    out[k] = [p[0] === w[0] && !both ? w[0] : w[0] - pad, p[1] === w[1] && !both ? w[1] : w[1] + pad];
+  }
+  return out;
+}
+
+/** The keys (as splitRanges gives them) of a layout's log axes. */
+export function logAxes(layout) {
+  const out = new Set();
+  for (const [k, ax] of Object.entries(layout)) {
+    if (/^[xy]axis\d*$/.test(k) && ax?.type === "log") out.add(k);
+    else if (/^polar\d*$/.test(k) && ax?.radialaxis?.type === "log") out.add(`${k}.radialaxis`);
   }
   return out;
 }

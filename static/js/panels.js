@@ -11,7 +11,7 @@ import { compareModels } from "./pins.js";
 import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
-         HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
+         logAxes, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { writePaths } from "./svgpaths.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
@@ -323,7 +323,8 @@ export class Panel {
     clearTimeout(this.syncTimer);
     const { ranges, rest } = splitRanges(layout);
     const same = rest === this.rest && uirevision === this.uirev;
-    const drawn = withHeadroom(same ? this.serverRanges : null, ranges, ctx.held ? HELD_HEADROOM : undefined);
+    const drawn = ctx.held ? withHeadroom(same ? this.serverRanges : null, ranges, HELD_HEADROOM, logAxes(layout))
+      : withHeadroom(same ? this.serverRanges : null, ranges);
     Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn, loose: ctx.held && same });
     return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
