@@ -43,6 +43,8 @@ export class Scheduler {
     this.held = () => false;     // a slider held: answers kept in memory may serve (batch.js)
     this.heldFrame = -Infinity;  // when the last data-only redraw of a held slider was written
     this.deferred = new Set();   // panels whose request waits for the held interval
+    this.sentAt = -Infinity;     // when the last task's requests went out
+    this.asking = false;         // a request went out in this task: others join it
     this.deferTimer = 0;
   }
 
@@ -72,11 +74,12 @@ export class Scheduler {
     if (!this.paced(panel)) this.fetch(panel, req);
   }
 
-  /** While a slider is held, a panel asks at most every HELD_FRAME_MS: sooner, it waits
-   * (dirty) and asks for the newest state when the interval is up. */
+  /** While a slider is held, the page asks at most every HELD_FRAME_MS (the panels asking
+   * in one task together, one batch); sooner, a panel waits (dirty) and asks for the
+   * newest state with the others when the interval is up. */
   paced(panel) {
-    const wait = (panel.sentAt ?? -Infinity) + HELD_FRAME_MS - performance.now();
-    if (!this.held() || wait <= 0) return false;
+    const wait = HELD_FRAME_MS - (performance.now() - this.sentAt);
+    if (!this.held() || this.asking || wait <= 0) return false;
     panel.dirty = true;
     this.deferred.add(panel);
     this.deferTimer ||= setTimeout(() => {
@@ -94,7 +97,11 @@ export class Scheduler {
   async fetch(panel, req) {
     const ctrl = new AbortController();
     const flight = { key: req.key, ctrl, seq: (panel.seq = (panel.seq || 0) + 1), born: performance.now() };
-    panel.sentAt = flight.born;
+    if (!this.asking) {                 // the first request of this task
+      this.asking = true;
+      this.sentAt = flight.born;
+      queueMicrotask(() => { this.asking = false; });
+    }
     panel.flights.push(flight);
     panel.inflight = flight;
     this.flying.add(panel);
