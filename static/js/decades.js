@@ -49,10 +49,13 @@ function axisOf(t, key) {
 
 const fullAxis = (fl, key) => key.split(".").reduce((o, k) => o?.[k], fl);
 
-/** Plotly's exponent of a linear range (axes.js autoTickRound): beyond ±3 its labels are
- * written as a mantissa times 10 to this power, with exponentformat "power". */
+/** Plotly's exponent of a linear range (axes.js autoTickRound, its 0.01 included): beyond
+ * ±3 its labels are written as a mantissa times 10 to this power (exponentformat "power"). */
 const rangeExp = (range) => Math.floor(Math.log10(Math.max(Math.abs(range[0]), Math.abs(range[1]))) + 0.01);
 const powered = (e) => Math.abs(e) > 3;
+// A ratio of data to axis that is a power of ten (the data at the axis's end) stays in the
+// decade below: log10's last-bit rounding must not push j up by one.
+const DECADE_SLACK = 1e-12;
 
 /** The power of ten per axis that brings `data` back into the axes as drawn (`drawn`:
  * the ranges the panel drew, by layout key), or null if some axis cannot be scaled. */
@@ -74,7 +77,7 @@ export function decadesFor(gd, data, drawn) {
   const out = {};
   for (const [key, range] of Object.entries(drawn)) {
     const reach = Math.max(Math.abs(range[0]), Math.abs(range[1]));
-    const j = top[key] > 0 && reach > 0 ? Math.ceil(Math.log10(top[key] / reach) - 1e-12) : 0;
+    const j = top[key] > 0 && reach > 0 ? Math.ceil(Math.log10(top[key] / reach) - DECADE_SLACK) : 0;
     if (!j) continue;
     const ax = fullAxis(fl, key);
     const shown = ax?.range;
@@ -88,6 +91,8 @@ export function decadesFor(gd, data, drawn) {
 export function scaleData(data, decades) {
   const keys = Object.keys(decades);
   if (!keys.length) return data;
+  // a gap (Plotly's null) stays a gap: a typed array holds NaN, which the path writer
+  // skips as Plotly skips null
   const div = (a, j) => {
     const vs = numbers(a);
     return vs ? Float64Array.from(vs, (v) => (v === null ? NaN : v / 10 ** j)) : a;
@@ -117,6 +122,7 @@ function labelNodes(gd, key) {
 const SVG = "http://www.w3.org/2000/svg";
 const exponentOf = (node) => [...node.querySelectorAll("tspan")].find((t) => t.getAttribute("dy") === "-0.6em");
 const minus = (text) => text.replace("−", "-");
+const unicodeMinus = (n) => String(n).replace("-", "−");     // as Plotly writes exponents
 
 /** The labels as Plotly drew them, per axis: [node, mantissa, exponent] (a plain label's
  * exponent is 0), and the axis's exponent after a shift of j decades (null: plain). */
@@ -154,14 +160,14 @@ export function writeLabels(base, decades) {
     for (const [node, mantissa, exp] of labels) {
       const text = labelText(mantissa, exp, j, axisExp) ?? mantissa;
       const power = axisExp !== null && text !== "0";
-      const want = power ? `${text}×10\u200b${String(axisExp).replace("-", "−")}\u200b` : text;
+      const want = power ? `${text}×10\u200b${unicodeMinus(axisExp)}\u200b` : text;
       if (node.textContent === want) continue;
       node.textContent = power ? `${text}×10\u200b` : text;
       if (!power) continue;
       const sup = document.createElementNS(SVG, "tspan");
       sup.setAttribute("style", "font-size:70%");
       sup.setAttribute("dy", "-0.6em");
-      sup.textContent = String(axisExp).replace("-", "−");
+      sup.textContent = unicodeMinus(axisExp);
       const back = document.createElementNS(SVG, "tspan");
       back.setAttribute("dy", "0.42em");
       back.textContent = "\u200b";

@@ -295,7 +295,7 @@ export class Panel {
     this.stale = null;
     if (this.decades) {
       this.ranges = scaleRanges(this.ranges, this.decades);
-      this.layout = { ...withRanges(this.layout, this.ranges) };
+      this.layout = withRanges(this.layout, this.ranges);
       this.layoutKey = null;
       this.decades = this.labels = null;
     }
@@ -333,7 +333,7 @@ export class Panel {
     this.drawn = true;
     this.error = null;
     this.setStatus(null);
-    if (this.section.classList.contains("empty")) this.section.classList.remove("empty");
+    this.section.classList.toggle("empty", false);     // remove() would re-set an unchanged class
   }
 
   // one event per finished draw, whichever way it was drawn (the benchmark counts them)
@@ -360,7 +360,7 @@ export class Panel {
   setStatus(kind, text = "") {
     setIf(this.status, "className", `panel-status${kind ? ` ${kind}` : ""}`);
     setIf(this.status, "textContent", text);
-    if (this.section.classList.contains("has-error") !== (kind === "error")) this.section.classList.toggle("has-error");
+    this.section.classList.toggle("has-error", kind === "error");
   }
 }
 

@@ -33,6 +33,9 @@ const SAME_CHANGE_MS = 2;
 // interval is up): at every input event, most answers would come to be dropped unseen,
 // each having cost the page ~2 ms to send and read and the server ~8 ms of its 2 cores.
 const HELD_FRAME_MS = 33;
+// Animation frames come every ~16.7 ms with a millisecond or so of jitter: a held redraw
+// due at HELD_FRAME_MS takes the frame that arrives up to this much before it, not the next.
+const FRAME_JITTER_MS = 2;
 
 export class Scheduler {
   constructor() {
@@ -164,9 +167,8 @@ export class Scheduler {
   gate(born) {
     const t0 = performance.now();
     const sibling = () => [...this.flying].some((p) => p.flights.some((f) => Math.abs(f.born - born) <= SAME_CHANGE_MS));
-    // frames by their time (the same for every callback of one frame); the interval's
-    // jitter must not push a redraw to the frame after
-    const early = (ts) => this.held() && ts !== this.heldFrame && ts < this.heldFrame + HELD_FRAME_MS - 2;
+    // frames by their time (the same for every callback of one frame)
+    const early = (ts) => this.held() && ts !== this.heldFrame && ts < this.heldFrame + HELD_FRAME_MS - FRAME_JITTER_MS;
     return new Promise((resolve) => {
       const tick = (ts) => {
         if (early(ts) || (sibling() && performance.now() - t0 < GATE_MS)) return requestAnimationFrame(tick);
