@@ -7,6 +7,15 @@ import hashlib
 from starlette.datastructures import Headers, MutableHeaders
 
 
+def cache_control(path: str, max_age: int) -> str:
+    """The Cache-Control of a 200 answer at ``path`` (see :class:`HttpCache`)."""
+    if path == "/api/v1/health":
+        return "no-store"
+    if path.startswith("/api/"):
+        return f"public, max-age={int(max_age)}"
+    return "no-cache"
+
+
 def _etag_matches(if_none_match: str, etag: str) -> bool:
     """Weak comparison (RFC 9110 13.1.2): W/ prefixes are ignored; * matches any."""
     tags = {t.strip().removeprefix("W/") for t in if_none_match.split(",")}
@@ -31,14 +40,10 @@ class HttpCache:
 
     def __init__(self, app, max_age: int):
         self.app = app
-        self.api_cache = f"public, max-age={int(max_age)}".encode()
+        self.max_age = max_age
 
     def _policy(self, path: str) -> bytes:
-        if path == "/api/v1/health":
-            return b"no-store"
-        if path.startswith("/api/"):
-            return self.api_cache
-        return b"no-cache"
+        return cache_control(path, self.max_age).encode()
 
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http" or scope["method"] not in ("GET", "HEAD"):
