@@ -81,14 +81,16 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     errors.install(app)
     openapi.install(app)
     http.install(app, app.state.settings, STATIC_DIR)
-    app.include_router(routes.router)
+    # the most asked first: FastAPI tries the routes in order, ~10 µs each here (the
+    # batch after the 147 routes before it took 2.5 ms of each slider move to find)
+    app.include_router(routes_batch.router)
     app.include_router(routes_figures.router)
+    app.include_router(routes.router)
     app.include_router(routes_pages.router)
     app.include_router(shader_router)
     app.include_router(data_router)
     app.include_router(lut_router)
     app.include_router(principled_router)
-    app.include_router(routes_batch.router)
 
     @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
     def plotly_js():

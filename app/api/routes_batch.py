@@ -1,13 +1,17 @@
 """POST /api/v1/batch: several figure GETs in one round trip (the page's panels, one
 request per slider move instead of one per panel).
 
-Each entry of ``requests`` is the path and query of a ``GET /api/v1/figures/...``; each
-runs through the whole application, middlewares included, exactly as that GET would (the
-same validation, errors, time budget and answer), all at once as separate GETs would run:
-one after another, each waited its turn for a worker thread (on a loaded 2-core machine
-the batch of four took as long as four GETs, or longer). What the batch saves is the
-page's four fetches and the server's four HTTP exchanges. The answer lists, in order,
-each one's status, its Cache-Control and its JSON body (null for a body that is not JSON).
+Each entry of ``requests`` is the path and query of a ``GET /api/v1/figures/...``, and
+its answer is that GET's: the same status, Cache-Control and JSON body (null for a body
+that is not JSON), in order. A figure's JSON GET (``/api/v1/figures/{view}``, the page's
+every entry) is answered by the steps its route takes, without the HTTP layers around
+it: the request guard's query checks, the route's query model, the view's pipeline, the
+application's error handlers. The entries run one after another in one worker thread
+under the request's one time budget, as the parts of one request. Run as four GETs
+through the whole application (the middlewares, FastAPI's route scan, one worker thread
+each, contending for the GIL), the page's four panels took 13–15 ms here against 8–9 ms
+(BENCHMARKS.md §5). Any other entry (an export, an unknown view) goes through the whole
+application as its GET would.
 """
 from __future__ import annotations
 
@@ -16,15 +20,28 @@ import json
 from urllib.parse import urlsplit
 
 from fastapi import APIRouter, Request, Response
+from fastapi.exceptions import RequestValidationError
 from pydantic import BaseModel, ConfigDict, Field
+from starlette.concurrency import run_in_threadpool
+from starlette.datastructures import QueryParams
 
+from ..config import Settings
 from ..errors import ParameterError
+from ..export import build
+from ..integrate import budget
+from .http.caching import cache_control
+from .http.guard import json_error, query_refusal
+from .http.query_route import read_query
+from .routes_figures import FIGURE_GETS, figure_body
 
 router = APIRouter(prefix="/api/v1")
 
 #: what a batch may ask for: the figures' JSON, by GET
 PREFIX = "/api/v1/figures/"
 MAX_REQUESTS = 16
+
+#: an answer: (status, Cache-Control, JSON body or None)
+Answer = tuple[int, "str | None", "bytes | None"]
 
 
 class BatchBody(BaseModel):
@@ -34,14 +51,14 @@ class BatchBody(BaseModel):
                                 description=f"paths under {PREFIX} with their queries")
 
 
-async def _get(request: Request, target: str) -> tuple[int, str | None, bytes | None]:
-    """``GET target`` through the whole application: (status, Cache-Control, JSON body)."""
+async def _through_the_app(request: Request, target: str) -> Answer:
+    """``GET target`` through the whole application."""
     parts = urlsplit(target)
     outer = request.scope
     scope = {"type": "http", "asgi": outer.get("asgi", {"version": "3.0"}), "http_version": "1.1",
              "method": "GET", "scheme": outer.get("scheme", "http"), "path": parts.path,
-             "raw_path": parts.path.encode("latin-1"), "root_path": outer.get("root_path", ""),
-             "query_string": parts.query.encode("latin-1"),
+             "raw_path": parts.path.encode("ascii"), "root_path": outer.get("root_path", ""),
+             "query_string": parts.query.encode("ascii"),
              "headers": [(b"accept", b"application/json"), *[(k, v) for k, v in outer["headers"] if k == b"host"]],
              "client": outer.get("client"), "server": outer.get("server"),
              "state": dict(outer.get("state") or {}), "extensions": {}}
@@ -64,23 +81,81 @@ async def _get(request: Request, target: str) -> tuple[int, str | None, bytes | 
     return status, head.get("cache-control"), body if is_json else None
 
 
+async def _handled(request: Request, exc: Exception) -> Answer:
+    """The answer the application's handler for ``exc`` gives (as Starlette finds it: the
+    nearest class in the exception's MRO)."""
+    handlers = request.app.exception_handlers
+    handler = next((handlers[c] for c in type(exc).__mro__ if c in handlers), None)
+    if handler is None:            # the application handles Exception: not reached
+        raise exc
+    response = await handler(request, exc)
+    return response.status_code, response.headers.get("cache-control", "no-store"), response.body
+
+
+def _compute(entries: list, settings: Settings) -> list:
+    """Each (view, query)'s figure, one after another, under one time budget: (body, cut)
+    or the exception it raised."""
+    out = []
+    with budget.limit(settings.max_seconds) as shared:
+        for view, query in entries:
+            cuts = len(shared.notes)
+            try:
+                out.append((figure_body(view, query, settings), len(shared.notes) > cuts))
+            except Exception as exc:     # answered by the application's handler for it
+                out.append(exc)
+    return out
+
+
 @router.post("/batch", tags=["figures"], response_class=Response,
              summary="Several figures in one request",
              openapi_extra={"requestBody": {"content": {"application/json": {"example": {
                  "requests": ["/api/v1/figures/ndf?alpha=0.2", "/api/v1/figures/g1?alpha=0.2"]}}}}},
              responses={200: {"content": {"application/json": {"example": {"responses": [
                  {"status": 200, "cache": "public, max-age=3600", "body": {"data": [], "layout": {}}},
-                 {"status": 422, "cache": None, "body": {"detail": [{"loc": ["query", "alpha"],
-                                                                    "msg": "…", "type": "…"}]}}]}}}}})
+                 {"status": 422, "cache": "no-store", "body": {"detail": [{"loc": ["query", "alpha"],
+                                                                        "msg": "…", "type": "…"}]}}]}}}}})
 async def batch(request: Request, body: BatchBody) -> Response:
     for k, target in enumerate(body.requests):
         parts = urlsplit(target)
         if parts.scheme or parts.netloc or not parts.path.startswith(PREFIX) or parts.fragment:
             raise ParameterError(f"requests[{k}]", f"requests[{k}]: {target[:80]!r} is not a path under "
                                  f"{PREFIX} (a batch answers the figures' GETs only)", loc="body")
-    out = []
-    for status, cache, content in await asyncio.gather(*(_get(request, t) for t in body.requests)):
-        out.append(b'{"status":%d,"cache":%s,"body":%s}'
-                   % (status, json.dumps(cache).encode(), content if content is not None else b"null"))
+        if not target.isascii():
+            raise ParameterError(f"requests[{k}]", f"requests[{k}]: {target[:80]!r} has characters "
+                                 "a URL does not: percent-encode them", loc="body")
+    app, settings = request.app, request.app.state.settings
+    answers: list[Answer | None] = [None] * len(body.requests)
+    direct, whole = [], []       # (k, view, query) for the figures' JSON; k for the rest
+    for k, target in enumerate(body.requests):
+        parts = urlsplit(target)
+        view = FIGURE_GETS.get(parts.path)
+        if view is None:
+            whole.append(k)
+            continue
+        refusal = query_refusal(app, settings, parts.path, "GET", parts.query.encode("ascii"))
+        if refusal is not None:
+            answers[k] = (refusal.status, "no-store",
+                          json_error(refusal.status, refusal.loc, refusal.message, refusal.kind)[1])
+            continue
+        try:
+            direct.append((k, view, read_query(build.export_query(view), QueryParams(parts.query))))
+        except RequestValidationError as exc:
+            answers[k] = await _handled(request, exc)
+    computed, answered = await asyncio.gather(
+        run_in_threadpool(_compute, [(view, q) for _, view, q in direct], settings)
+        if direct else asyncio.sleep(0, []),
+        asyncio.gather(*(_through_the_app(request, body.requests[k]) for k in whole)))
+    for (k, _, _), result in zip(direct, computed):
+        if isinstance(result, Exception):
+            answers[k] = await _handled(request, result)
+        else:
+            figure, cut = result
+            # an answer cut short by the time budget is not to be kept (as the guard says)
+            answers[k] = (200, "no-store" if cut else cache_control(PREFIX, settings.cache_max_age), figure)
+    for k, answer in zip(whole, answered):
+        answers[k] = answer
+    out = [b'{"status":%d,"cache":%s,"body":%s}'
+           % (status, json.dumps(cache).encode(), content if content is not None else b"null")
+           for status, cache, content in answers]
     return Response(b'{"responses":[' + b",".join(out) + b"]}", media_type="application/json",
                     headers={"Cache-Control": "no-store"})
