@@ -114,21 +114,32 @@ export function splitRanges(layout) {
  * beyond it, so that the next moves in that direction still fit the axes as drawn.
  * An axis that does not move (θ from 0 to 90°) is drawn as the server gives it. */
 const HEADROOM = 0.1;
+// Two ranges are the same within this fraction of their span: the server's range of one
+// figure differs in its last digits between its numpy and compiled paths (the first
+// answers of a fresh server and the later ones), which is no move of the data.
+const RANGE_SLACK = 1e-9;
 export function withHeadroom(previous, next, headroom = HEADROOM, free = new Set()) {
   const out = {};
   for (const [k, w] of Object.entries(next)) {
     const p = previous?.[k];
-    if (!p || p.length !== 2 || w.length !== 2 || (p[0] === w[0] && p[1] === w[1])) {
+    const slack = w.length === 2 ? RANGE_SLACK * Math.abs(w[1] - w[0]) : 0;
+    const still = (i) => Math.abs(p[i] - w[i]) <= slack;
+    if (!p || p.length !== 2 || w.length !== 2 || (still(0) && still(1))) {
       out[k] = w;
       continue;
     }
     // an axis in `free` (a log axis: its decades move at both ends as α does) gets the
     // headroom at both ends once either moved
-    const pad = headroom * Math.abs(w[1] - w[0]) * Math.sign(w[1] - w[0]);
-    const both = free.has(k);
-    out[k] = [p[0] === w[0] && !both ? w[0] : w[0] - pad, p[1] === w[1] && !both ? w[1] : w[1] + pad];
+    const both = free.has(k), [lo, hi] = padded(w, headroom);
+    out[k] = [still(0) && !both ? w[0] : lo, still(1) && !both ? w[1] : hi];
   }
   return out;
+}
+
+/** A range with `headroom` of its span added beyond each end. */
+export function padded(range, headroom) {
+  const pad = headroom * Math.abs(range[1] - range[0]) * Math.sign(range[1] - range[0]);
+  return [range[0] - pad, range[1] + pad];
 }
 
 /** The keys (as splitRanges gives them) of a layout's log axes. */
@@ -141,15 +152,24 @@ export function logAxes(layout) {
   return out;
 }
 
-/** The layout with these axis ranges (keys as splitRanges gives them). A log axis drawn
- * over another span than the server's loses the server's tick spacing, chosen for its
- * span: Plotly picks one for the span drawn. */
+/** The tick spacing of a log axis over `span` decades, by the server's rule for the
+ * ranges it draws (app/figures/style.py, log_dtick): every digit within 1.5 decades,
+ * 1-2-5 within 3.5, else a power of ten every ⌈span/10⌉ decades. Plotly's own choice
+ * on a short axis over many decades labels 2×10, 3×10⁻¹, 4×10⁻³… */
+export function logDtick(span) {
+  if (span <= 1.5) return "D1";
+  if (span <= 3.5) return "D2";
+  return Math.max(1, Math.ceil(span / 10));
+}
+
+/** The layout with these axis ranges (keys as splitRanges gives them). A log axis the
+ * server gave a tick spacing, drawn over another span, gets the spacing for that span. */
 export function withRanges(layout, ranges) {
   const out = { ...layout };
   const ranged = (ax, r) => {
     const same = Array.isArray(ax?.range) && ax.range[0] === r[0] && ax.range[1] === r[1];
     const next = { ...ax, range: r };
-    if (ax?.type === "log" && !same) delete next.dtick;
+    if (ax?.type === "log" && !same && ax.dtick !== undefined) next.dtick = logDtick(Math.abs(r[1] - r[0]));
     return next;
   };
   for (const [k, r] of Object.entries(ranges)) {
@@ -157,6 +177,18 @@ export function withRanges(layout, ranges) {
     out[top] = sub ? { ...out[top], [sub]: ranged(out[top][sub], r) } : ranged(out[top], r);
   }
   return out;
+}
+
+/** What Plotly.relayout takes to draw `layout`'s ranges (and tick spacing) of these axes. */
+export function rangeUpdate(layout, keys) {
+  const update = {};
+  for (const k of keys) {
+    const [top, sub] = k.split(".");
+    const ax = sub ? layout[top]?.[sub] : layout[top];
+    update[`${k}.range`] = ax.range;
+    if (ax.type === "log") update[`${k}.dtick`] = ax.dtick ?? null;
+  }
+  return update;
 }
 
 /** The server's new ranges are close enough to the drawn ones to keep the axes: each
@@ -169,7 +201,7 @@ export function rangesFit(drawn, wanted, fill = FILL) {
     const d = drawn[k], w = wanted[k];
     if (!d || d.length !== 2 || w.length !== 2) return false;
     const d0 = Math.min(...d), d1 = Math.max(...d), w0 = Math.min(...w), w1 = Math.max(...w);
-    const slack = 1e-9 * (d1 - d0);
+    const slack = RANGE_SLACK * (d1 - d0);
     return w0 >= d0 - slack && w1 <= d1 + slack && w1 - w0 >= fill * (d1 - d0);
   });
 }
@@ -178,7 +210,12 @@ export function rangesFit(drawn, wanted, fill = FILL) {
  * each trace drawn last. A plain-text legend name may change (E_avg = 0.0488 → 0.0505):
  * its legend entry is rewritten in place. */
 export function canAnimate(gd, data, styles, fill = FILL) {
-  if (!gd._fullLayout || !styles || styles.length !== data.length) return false;
+  return !!gd._fullLayout && sameTraces(data, styles) && fitsAxes(gd, data, fill);
+}
+
+/** Are `data` the traces drawn (styles: their traceStyle), with other arrays only? */
+export function sameTraces(data, styles) {
+  if (!styles || styles.length !== data.length) return false;
   for (let i = 0; i < data.length; i++) {
     if (!ANIMATABLE.has(data[i].type || "scatter")) return false;
     if (traceStyle(data[i]) === styles[i]) continue;
@@ -186,7 +223,7 @@ export function canAnimate(gd, data, styles, fill = FILL) {
     if (traceStyle({ ...data[i], name: drawnName }) !== styles[i]) return false;
     if (!renamable(drawnName, data[i].name)) return false;
   }
-  return fitsAxes(gd, data, fill);
+  return true;
 }
 
 export function animateData(gd, data) {

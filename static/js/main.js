@@ -9,7 +9,8 @@ import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
 import { HINTS, PANEL_ORDER, PAGE_DEFAULTS } from "./views.js";
 import { lightDrag } from "./spheredrag.js";
 import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows, controls } from "./sidebar.js";
-import { Panel, panelBar, fieldApplies } from "./panels.js";
+import { Panel } from "./panels.js";
+import { panelBar, fieldApplies } from "./panelcontrols.js";
 import { Scheduler } from "./scheduler.js";
 import { setPrincipled, principledDefaults, isPrincipled, preg, MICROFACET } from "./principled.js";
 
@@ -126,11 +127,15 @@ function onStateChange() {
   for (const loc of ctx.locals.values()) setIf(loc.input.parentElement, "hidden", !fieldApplies(loc.view, loc.field, state));
 }
 
-/** A slider held: the heavy images come coarser until it is let go. */
+/** A slider held: the log axes get room to move, the heavy images come coarser until it is
+ * let go. */
 function onHold(held) {
   if (ctx.held === held) return;
   ctx.held = held;
-  if (held) return;
+  if (held) {
+    for (const p of panels) p.hold();
+    return;
+  }
   releaseUrlWrite();
   for (const p of panels) {
     p.release();

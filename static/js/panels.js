@@ -4,14 +4,15 @@
  * either is the scheduler's business. A view that does not take the chosen model
  * (model=principled: GET /api/v1/principled lists the views that do) says so instead.
  */
-import { API, el, $, richText, apiMessage, errorLoc, query, setIf } from "./dom.js";
+import { API, el, richText, apiMessage, errorLoc, query, setIf } from "./dom.js";
 import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
 import { ctx } from "./state.js";
 import { compareModels } from "./pins.js";
-import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
+import { hintOf, viewTitle, fieldRole } from "./views.js";
+import { panelFields, localControl, fieldApplies } from "./panelcontrols.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
-         logAxes, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
+         logAxes, padded, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { writePaths } from "./svgpaths.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
@@ -21,60 +22,6 @@ const LOADING_DELAY_MS = 300;
 // After paths written directly, Plotly's own state is brought up to date (Panel.sync)
 // when the plot is used (hover, resize, export), or once the page has been quiet this long.
 const SYNC_IDLE_MS = 1500;
-
-/** The view's fields a panel sets itself: toggles, menus and bounded numbers that are
- * not geometry (the sidebar's θ_i, φ_i) nor resolution (left at the API's defaults). */
-function panelFields(view) {
-  const geometry = new Set(reg.models.geometry.map((p) => p.name));
-  const hint = hintOf(view.name);
-  const own = new Set(hint.fields || []);
-  // a number without a default (the quadrature's fixed order) is the API's to choose
-  return view.fields.filter((f) => (own.has(f.name) || fieldRole(f) !== "resolution") && !geometry.has(f.name)
-    && (f.default !== null && f.default !== undefined || f.type === "boolean" || !!f.enum)
-    && !(hint.slice && f.name === "phi_deg")
-    && (f.type === "boolean" || f.enum || ((f.type === "number" || f.type === "integer")
-                                           && Number.isFinite(f.minimum) && Number.isFinite(f.maximum))));
-}
-
-/** A field that matters only for some values of another (x-applies-to) is hidden, and
- * not sent, elsewhere: the API refuses it there. */
-export function fieldApplies(viewName, f, s) {
-  const view = ctx.views.find((v) => v.name === viewName);
-  return Object.entries(f.applies_to || {}).every(([other, allowed]) => {
-    const key = localKey(viewName, other);
-    return allowed.includes(key in s ? s[key] : view?.fields.find((x) => x.name === other)?.default);
-  });
-}
-
-function localControl(view, f, onChange) {
-  const key = localKey(view.name, f.name), id = localId(view.name, f.name);
-  const set = (v) => { ctx.state[key] = v; onChange(); };
-  let input, label;
-  if (f.type === "boolean") {
-    input = el("input", { type: "checkbox", id });
-    label = el("label", { class: "toggle", for: id, title: f.description }, input, el("span", {}, richText(fieldLabel(view, f))));
-    input.addEventListener("change", () => set(input.checked));
-  } else if (f.enum) {
-    input = el("select", { id, class: "mini" });
-    for (const x of f.enum) input.append(el("option", { value: x, text: OPTION_LABELS[f.name]?.[x] || x }));
-    label = el("label", { class: "mini-field", for: id, title: f.description }, el("span", {}, richText(fieldLabel(view, f))), input);
-    input.addEventListener("change", () => set(input.value));
-  } else {
-    const integer = f.type === "integer";
-    input = el("input", { type: "number", id, class: "mini", min: f.minimum, max: f.maximum,
-                          step: integer ? 1 : "any", inputmode: integer ? "numeric" : "decimal" });
-    label = el("label", { class: "mini-field", for: id, title: f.description }, el("span", {}, richText(fieldLabel(view, f))), input);
-    input.addEventListener("input", () => {
-      const x = input.value.trim() === "" ? NaN : Number(input.value);
-      const ok = Number.isFinite(x) && x >= f.minimum && x <= f.maximum && (!integer || Number.isInteger(x));
-      input.toggleAttribute("aria-invalid", !ok);
-      if (ok) set(x);
-    });
-    input.addEventListener("change", () => { input.value = String(ctx.state[key]); input.removeAttribute("aria-invalid"); });
-  }
-  ctx.locals.set(key, { view: view.name, field: f, input });
-  return label;
-}
 
 // D, Λ/G1 and E(μ) are taken at one azimuth: the plane of incidence's when anisotropic.
 const anisotropic = (s) => (isPrincipled(s) ? s.principled.anisotropic > 0 : isAnisotropic(s));
@@ -98,7 +45,8 @@ export class Panel {
     this.name = view.name;
     this.hint = hintOf(view.name);
     Object.assign(this, { inflight: null, dirty: false, drawing: null, drawnKey: null, inView: false,
-                          noOverlay: false, noPin: false, drawn: false, error: null, loadingTimer: 0 });
+                          noOverlay: false, noPin: false, drawn: false, error: null, loadingTimer: 0,
+                          relayout: {} });   // axis ranges to relay out in the next write (refit)
     const hid = `h-${view.name}`;
     this.heading = el("h2", { id: hid }, richText(viewTitle(view)));
     this.sub = el("span", { class: "sub" });
@@ -229,12 +177,19 @@ export class Panel {
     if (!this.drawn || this.error || uirevision !== this.uirev) return null;
     const { ranges, rest } = splitRanges(layout);
     if (rest !== this.rest || (this.decades && !ctx.held)) return null;
+    if (this.refitDue && !ctx.held) return this.refit({ data, layout, sub }, ranges, frame, true);
+    if (Object.keys(this.relayout).length) {
+      // new ranges wait for the next frame (refit): Plotly's axes are not yet what the
+      // answer is measured against; the server's ranges hold its data
+      return rangesFit(this.ranges, ranges) && sameTraces(data, this.styles)
+        ? this.refit({ data, layout, sub }, ranges, frame) : null;
+    }
     const fill = ctx.held ? HELD_FILL : undefined;
     const fits = (shown, decades) => rangesFit(this.ranges, scaleRanges(ranges, decades, -1), fill)
       && canAnimate(this.div, shown, this.styles, fill);
     let decades = this.decades, shown = decades ? scaleData(data, decades) : data;
     if (!fits(shown, decades)) {
-      if (!ctx.held) return null;
+      if (!ctx.held) return this.refit({ data, layout, sub }, ranges, frame);
       decades = decadesFor(this.div, data, this.ranges);
       if (!decades) return null;
       // an axis not shifted since Plotly drew it: its labels as drawn are the base
@@ -251,6 +206,25 @@ export class Panel {
     return this.writeInFrame(data, frame, shown, scaled);
   }
 
+  /** New axis ranges and nothing else new (the same traces and layout, no rescaled
+   * axes): the ranges are relaid out alone and the data written as a data-only redraw,
+   * in one animation frame (~25 ms, where Plotly.react took 45–120 ms: the NDF's and
+   * G1's full draws when a drag is let go were most of the time it took to settle);
+   * null when more than the ranges changed. exact: the server's ranges as they are (a
+   * drag let go: as a fresh page draws them), else with headroom where they moved. */
+  refit({ data, layout, sub }, ranges, frame, exact = false) {
+    if (this.decades || !sameTraces(data, this.styles)) return null;
+    if (!this.inflight) this.refitDue = false;    // else a newer state's answer is still to come
+    const drawn = exact ? ranges : withHeadroom(this.serverRanges, ranges);
+    const moved = Object.keys(drawn).filter((k) => !(this.ranges?.[k]?.[0] === drawn[k][0] && this.ranges?.[k]?.[1] === drawn[k][1]));
+    Object.assign(this.relayout, rangeUpdate(reuseLayout(this, withRanges(layout, drawn), this.uirev), moved));
+    Object.assign(this, { serverRanges: ranges, ranges: drawn, loose: false });
+    this.setSub(sub);
+    this.styles = data.map(traceStyle);
+    this.shown_();
+    return this.writeInFrame(data, frame);
+  }
+
   /** Writes the newest data's paths in the animation frame `frame()` resolves in (one
    * write a frame however many answers land before it); Plotly draws it if the paths
    * cannot take it (Plotly's transition on its own axes). `shown`: the data as drawn on
@@ -261,6 +235,11 @@ export class Panel {
       const { data: d, shown: s, decades: j } = this.toWrite;
       this.toWrite = null;
       this.writing = null;
+      if (Object.keys(this.relayout).length) {     // new ranges (refit): in this frame
+        const update = this.relayout;
+        this.relayout = {};
+        Plotly.relayout(this.div, update).catch(() => {});
+      }
       if (writePaths(this.div, s)) {
         if (this.labels) writeLabels(this.labels, j || {});
         this.decades = j;
@@ -302,10 +281,31 @@ export class Panel {
     return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
   }
 
-  /** The slider let go: axes left loose by the drag are fitted to the data again (the
-   * panel asks again; the answer's ranges then decide between a data-only and a full draw). */
+  /** A slider grabbed: the log axes, whose decades move at both ends as α does, get the
+   * held headroom at once, by a relayout of their ranges alone (~25 ms). Left as drawn,
+   * the first move of nearly every drag took the NDF out of its range, a full draw of
+   * 45–120 ms while the next input waited (the one stall of a drag). */
+  hold() {
+    if (!this.drawn || this.error || !this.inView || this.drawing || this.writing || !this.serverRanges) return;
+    const wide = {};
+    for (const k of logAxes(this.layout || {})) {
+      const server = this.serverRanges[k], drawn = this.ranges?.[k];
+      if (!server || !drawn) continue;
+      const w = padded(server, HELD_HEADROOM);
+      if (Math.min(...w) < Math.min(...drawn) || Math.max(...w) > Math.max(...drawn)) wide[k] = w;
+    }
+    if (!Object.keys(wide).length) return;
+    this.ranges = { ...this.ranges, ...wide };
+    this.layout = withRanges(this.layout, this.ranges);
+    this.layoutKey = null;
+    this.loose = true;
+    Plotly.relayout(this.div, rangeUpdate(this.layout, Object.keys(wide))).catch(() => {});
+  }
+
+  /** The slider let go: axes left loose by the drag are fitted to the data again, to the
+   * ranges the server gives, as a fresh page draws them (the panel asks again: refit). */
   release() {
-    if (this.loose) this.drawnKey = null;
+    if (this.loose) Object.assign(this, { drawnKey: null, refitDue: true });
     this.loose = false;
   }
 
@@ -320,11 +320,14 @@ export class Panel {
     this.setSub(sub);
     this.styles = data.map(traceStyle);
     this.stale = this.decades = this.labels = null;
+    this.relayout = {};
     clearTimeout(this.syncTimer);
     const { ranges, rest } = splitRanges(layout);
     const same = rest === this.rest && uirevision === this.uirev;
+    const exact = this.refitDue && !ctx.held;      // a drag let go (release)
+    if (!this.inflight) this.refitDue = false;
     const drawn = ctx.held ? withHeadroom(same ? this.serverRanges : null, ranges, HELD_HEADROOM, logAxes(layout))
-      : withHeadroom(same ? this.serverRanges : null, ranges);
+      : exact ? ranges : withHeadroom(same ? this.serverRanges : null, ranges);
     Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn, loose: ctx.held && same });
     return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
@@ -361,18 +364,5 @@ export class Panel {
     setIf(this.status, "className", `panel-status${kind ? ` ${kind}` : ""}`);
     setIf(this.status, "textContent", text);
     this.section.classList.toggle("has-error", kind === "error");
-  }
-}
-
-/** The list of panels, at the top of the figures: one toggle per view. */
-export function panelBar(views, onToggle) {
-  const bar = $("#panel-bar");
-  bar.textContent = "";
-  bar.append(el("span", { class: "panel-bar-label", text: "Panels" }));
-  for (const v of views) {
-    const box = el("input", { type: "checkbox", id: `show-${v.name}`, name: `show-${v.name}` });
-    box.addEventListener("change", () => onToggle(v.name, box.checked));
-    bar.append(el("label", { class: "chip", for: `show-${v.name}`, title: hintOf(v.name).caption || v.summary },
-      box, el("span", {}, richText(viewTitle(v)))));
   }
 }
