@@ -137,7 +137,7 @@ export function withHeadroom(previous, next, headroom = HEADROOM, free = new Set
 }
 
 /** A range with `headroom` of its span added beyond each end. */
-export function padded(range, headroom) {
+function padded(range, headroom) {
   const pad = headroom * Math.abs(range[1] - range[0]) * Math.sign(range[1] - range[0]);
   return [range[0] - pad, range[1] + pad];
 }

@@ -127,15 +127,11 @@ function onStateChange() {
   for (const loc of ctx.locals.values()) setIf(loc.input.parentElement, "hidden", !fieldApplies(loc.view, loc.field, state));
 }
 
-/** A slider held: the log axes get room to move, the heavy images come coarser until it is
- * let go. */
+/** A slider held: the heavy images come coarser until it is let go. */
 function onHold(held) {
   if (ctx.held === held) return;
   ctx.held = held;
-  if (held) {
-    for (const p of panels) p.hold();
-    return;
-  }
+  if (held) return;
   releaseUrlWrite();
   for (const p of panels) {
     p.release();

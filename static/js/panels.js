@@ -12,7 +12,7 @@ import { hintOf, viewTitle, fieldRole } from "./views.js";
 import { panelFields, localControl, fieldApplies } from "./panelcontrols.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
-         logAxes, padded, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
+         logAxes, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { writePaths } from "./svgpaths.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
@@ -177,7 +177,7 @@ export class Panel {
     if (!this.drawn || this.error || uirevision !== this.uirev) return null;
     const { ranges, rest } = splitRanges(layout);
     if (rest !== this.rest || (this.decades && !ctx.held)) return null;
-    if (this.refitDue && !ctx.held) return this.refit({ data, layout, sub }, ranges, frame, true);
+    if (this.refitDue && !ctx.held) return this.refit({ data, layout, sub }, ranges, frame, "exact");
     if (Object.keys(this.relayout).length) {
       // new ranges wait for the next frame (refit): Plotly's axes are not yet what the
       // answer is measured against; the server's ranges hold its data
@@ -190,6 +190,11 @@ export class Panel {
     let decades = this.decades, shown = decades ? scaleData(data, decades) : data;
     if (!fits(shown, decades)) {
       if (!ctx.held) return this.refit({ data, layout, sub }, ranges, frame);
+      if (logAxes(layout).size) {
+        // a log axis left: its decades move at both ends as α does, and get room at both
+        const moved = this.refit({ data, layout, sub }, ranges, frame, "held");
+        if (moved) { this.loose = true; return moved; }
+      }
       decades = decadesFor(this.div, data, this.ranges);
       if (!decades) return null;
       // an axis not shifted since Plotly drew it: its labels as drawn are the base
@@ -210,12 +215,16 @@ export class Panel {
    * axes): the ranges are relaid out alone and the data written as a data-only redraw,
    * in one animation frame (~25 ms, where Plotly.react took 45–120 ms: the NDF's and
    * G1's full draws when a drag is let go were most of the time it took to settle);
-   * null when more than the ranges changed. exact: the server's ranges as they are (a
-   * drag let go: as a fresh page draws them), else with headroom where they moved. */
-  refit({ data, layout, sub }, ranges, frame, exact = false) {
+   * null when more than the ranges changed. fit: "exact", the server's ranges as they
+   * are (a drag let go: as a fresh page draws them); "held", with HELD_HEADROOM, at both
+   * ends of a log axis (a held slider's NDF: a relayout, 25-50 ms, where its full draw
+   * took 45-120 ms, the one stall of a drag); else with headroom where they moved. */
+  refit({ data, layout, sub }, ranges, frame, fit = "moved") {
     if (this.decades || !sameTraces(data, this.styles)) return null;
-    if (!this.inflight) this.refitDue = false;    // else a newer state's answer is still to come
-    const drawn = exact ? ranges : withHeadroom(this.serverRanges, ranges);
+    if (fit === "exact" && !this.inflight) this.refitDue = false;    // else a newer state's answer is still to come
+    const drawn = fit === "exact" ? ranges
+      : fit === "held" ? withHeadroom(this.serverRanges, ranges, HELD_HEADROOM, logAxes(layout))
+        : withHeadroom(this.serverRanges, ranges);
     const moved = Object.keys(drawn).filter((k) => !(this.ranges?.[k]?.[0] === drawn[k][0] && this.ranges?.[k]?.[1] === drawn[k][1]));
     Object.assign(this.relayout, rangeUpdate(reuseLayout(this, withRanges(layout, drawn), this.uirev), moved));
     Object.assign(this, { serverRanges: ranges, ranges: drawn, loose: false });
@@ -279,27 +288,6 @@ export class Panel {
       this.decades = this.labels = null;
     }
     return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
-  }
-
-  /** A slider grabbed: the log axes, whose decades move at both ends as α does, get the
-   * held headroom at once, by a relayout of their ranges alone (~25 ms). Left as drawn,
-   * the first move of nearly every drag took the NDF out of its range, a full draw of
-   * 45–120 ms while the next input waited (the one stall of a drag). */
-  hold() {
-    if (!this.drawn || this.error || !this.inView || this.drawing || this.writing || !this.serverRanges) return;
-    const wide = {};
-    for (const k of logAxes(this.layout || {})) {
-      const server = this.serverRanges[k], drawn = this.ranges?.[k];
-      if (!server || !drawn) continue;
-      const w = padded(server, HELD_HEADROOM);
-      if (Math.min(...w) < Math.min(...drawn) || Math.max(...w) > Math.max(...drawn)) wide[k] = w;
-    }
-    if (!Object.keys(wide).length) return;
-    this.ranges = { ...this.ranges, ...wide };
-    this.layout = withRanges(this.layout, this.ranges);
-    this.layoutKey = null;
-    this.loose = true;
-    Plotly.relayout(this.div, rangeUpdate(this.layout, Object.keys(wide))).catch(() => {});
   }
 
   /** The slider let go: axes left loose by the drag are fitted to the data again, to the

@@ -140,11 +140,11 @@ RANGES_JS = """() => Object.fromEntries(['lobe', 'ndf', 'g1', 'albedo'].map((n) 
 
 
 def test_a_drag_draws_no_figure_whole_and_let_go_leaves_the_axes_a_fresh_page_draws(page, base_url):
-    """A slider grabbed gives the log axes room at once (a relayout of their ranges), so
-    that a drag over α from where the thumb is redraws their panels' data only:
-    Plotly.react (a whole figure, 45-120 ms, the one stall of a drag) is not called for
-    the NDF or G1 while it is held. Let go,
-    every panel's axes are the server's, as a fresh page of the same URL draws them."""
+    """A held slider's data leaving a log axis (the NDF's, at the first move of nearly
+    every drag) is drawn by a relayout of the ranges and a data-only write, not by
+    Plotly.react (a whole figure, 45-120 ms): react is not called for the NDF or G1
+    while the slider is held. Let go, every panel's axes are the server's, as a fresh
+    page of the same URL draws them."""
     page.goto("/")
     wait_quiet(page)
     page.evaluate("""() => { window.__reacts = []; const react = Plotly.react;
