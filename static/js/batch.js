@@ -8,14 +8,13 @@
  * status and JSON body, in order. A lone GET, a POST (pins) and a heavy image (which
  * would hold the curves back) go out as they are.
  *
- * Answers that a GET's Cache-Control lets a cache keep are kept here and used for the
- * same GET again, as the browser's HTTP cache did when each figure was its own GET: a
- * drag back over the positions it just crossed draws from memory, and so does the
- * release of a drag, whose last position every curve has drawn already (its axes are
- * fitted again without a round trip). A server without the batch route (404, 405) gets
+ * Answers that a GET's Cache-Control lets a cache keep are kept here, and used while a
+ * slider is held (`recall`): a drag back over the positions it just crossed draws from
+ * memory, as it drew from the browser's HTTP cache when each figure was its own GET.
+ * Any other change asks the server. A server without the batch route (404, 405) gets
  * plain GETs.
  *
- * send(req, signal, {batchable}) -> Promise<{res: {status, ok, statusText}, body}>;
+ * send(req, signal, {batchable, recall}) -> Promise<{res: {status, ok, statusText}, body}>;
  * rejects when the server cannot be reached or the signal aborted the request.
  */
 import { API } from "./dom.js";
@@ -88,8 +87,8 @@ async function post(items) {
   });
 }
 
-export function send(req, signal, { batchable = false } = {}) {
-  if (!req.init?.method) {
+export function send(req, signal, { batchable = false, recall: fromMemory = false } = {}) {
+  if (fromMemory && !req.init?.method) {
     const kept = recall(req.url);
     if (kept) return Promise.resolve(kept);
   }

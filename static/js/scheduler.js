@@ -43,7 +43,7 @@ export class Scheduler {
     this.frame = 0;
     this.flying = new Set();     // panels with a request in flight
     this.onIdle = () => {};
-    this.held = () => false;     // a slider held: requests and redraws are paced (HELD_FRAME_MS)
+    this.held = () => false;     // a slider held: answers kept in memory may serve (batch.js)
     this.heldFrame = -Infinity;  // when the last data-only redraw of a held slider was written
     this.deferred = new Set();   // panels whose request waits for the held interval
     this.sentAt = -Infinity;     // when the last task's requests went out
@@ -113,7 +113,7 @@ export class Scheduler {
     try {
       let res, body;
       try {
-        ({ res, body } = await send(req, ctrl.signal, { batchable: !!panel.batchable?.(req) }));
+        ({ res, body } = await send(req, ctrl.signal, { batchable: !!panel.batchable?.(req), recall: !!this.held?.() }));
       } catch (e) {
         if (ctrl.signal.aborted) return;
         throw new Error("Cannot reach the server.");
