@@ -12,8 +12,15 @@
  * Plotly writes a linear axis's labels as plain decimals ("0.02", "1500") while its range
  * reaches 10^-3 to 10^4, and beyond as a mantissa times 10 to the range's exponent
  * ("0.2×10⁴"): each label is rewritten as Plotly would write its value times 10^j on the
- * scaled range, in either form. A log axis, an axis the user zoomed or a label that is
- * neither form answers null, and Plotly redraws.
+ * scaled range, in either form.
+ *
+ * A log axis labelled every whole number of decades (the NDF's: its span is fixed and its
+ * decades move with the peak as α does) moves by whole decades the same way: the data
+ * divided by 10^j is the curve translated j decades down, on the ticks as they are, each
+ * label's exponent k written k + j. Its range is shifted so that the top of the server's
+ * fits (the tail below the bottom is cut, as the server's own range cuts it). An axis
+ * the user zoomed, a log axis labelled between decades, or a label of another form
+ * answers null, and Plotly redraws.
  */
 import { numbers } from "./fastdraw.js";
 
@@ -58,8 +65,9 @@ const powered = (e) => Math.abs(e) > 3;
 const DECADE_SLACK = 1e-12;
 
 /** The power of ten per axis that brings `data` back into the axes as drawn (`drawn`:
- * the ranges the panel drew, by layout key), or null if some axis cannot be scaled. */
-export function decadesFor(gd, data, drawn) {
+ * the ranges the panel drew, by layout key; `wanted`: the server's ranges of `data`, what
+ * a log axis is shifted by), or null if some axis cannot be scaled. */
+export function decadesFor(gd, data, drawn, wanted = {}) {
   const fl = gd._fullLayout;
   const top = {};
   for (const t of data) {
@@ -76,11 +84,19 @@ export function decadesFor(gd, data, drawn) {
   }
   const out = {};
   for (const [key, range] of Object.entries(drawn)) {
+    const ax = fullAxis(fl, key), shown = ax?.range;
+    if (ax?.type === "log") {
+      const w = wanted[key];
+      if (!w) continue;
+      const j = Math.ceil(Math.max(...w) - Math.max(...range) - DECADE_SLACK);
+      if (!j) continue;
+      if (!Number.isInteger(ax.dtick) || !shown || shown[0] !== range[0] || shown[1] !== range[1]) return null;
+      out[key] = j;
+      continue;
+    }
     const reach = Math.max(Math.abs(range[0]), Math.abs(range[1]));
     const j = top[key] > 0 && reach > 0 ? Math.ceil(Math.log10(top[key] / reach) - DECADE_SLACK) : 0;
     if (!j) continue;
-    const ax = fullAxis(fl, key);
-    const shown = ax?.range;
     if (ax?.type !== "linear" || !shown || shown[0] !== range[0] || shown[1] !== range[1]) return null;
     out[key] = j;
   }
@@ -124,11 +140,24 @@ const exponentOf = (node) => [...node.querySelectorAll("tspan")].find((t) => t.g
 const minus = (text) => text.replace("−", "-");
 const unicodeMinus = (n) => String(n).replace("-", "−");     // as Plotly writes exponents
 
+/** A log axis's label as Plotly writes 10^k ("1", "10", "10" and k raised): k, or null. */
+function logExponent(node) {
+  const sup = exponentOf(node);
+  if (sup) return node.textContent === `10\u200b${sup.textContent}\u200b` ? Number(minus(sup.textContent)) : null;
+  return node.textContent === "1" ? 0 : node.textContent === "10" ? 1 : null;
+}
+
 /** The labels as Plotly drew them, per axis: [node, mantissa, exponent] (a plain label's
- * exponent is 0), and the axis's exponent after a shift of j decades (null: plain). */
+ * exponent is 0; a log axis's mantissa is null), and the axis's exponent after a shift
+ * of j decades (null: plain). */
 export function baseLabels(gd, keys, ranges) {
   const out = {};
+  const fl = gd._fullLayout;
   for (const key of keys) {
+    if (fullAxis(fl, key)?.type === "log") {
+      out[key] = { labels: labelNodes(gd, key).map((n) => [n, null, logExponent(n)]), exponent: () => null, log: true };
+      continue;
+    }
     const e0 = rangeExp(ranges[key]);
     const labels = labelNodes(gd, key).map((n) => {
       const sup = exponentOf(n);
@@ -150,36 +179,56 @@ function labelText(mantissa, exp, j, axisExp) {
 /** Can every label of these axes be shifted? */
 export function labelsShift(base, decades) {
   return Object.entries(decades).every(([key, j]) => base[key]?.labels.length
-    && base[key].labels.every(([, m, e]) => labelText(m, e, j, base[key].exponent(j)) !== null));
+    && base[key].labels.every(([, m, e]) => (base[key].log ? Number.isInteger(e)
+                                              : labelText(m, e, j, base[key].exponent(j)) !== null)));
+}
+
+/** Writes 10^k on a log axis's label as Plotly writes it. */
+function writePower(node, k) {
+  const want = k === 0 ? "1" : k === 1 ? "10" : `10\u200b${unicodeMinus(k)}\u200b`;
+  if (node.textContent === want) return;
+  node.textContent = k === 0 || k === 1 ? want : "10\u200b";
+  if (k !== 0 && k !== 1) raise(node, unicodeMinus(k));
+}
+
+/** Plotly's raised exponent: a tspan at 70 % 0.6em up, and a spacer bringing it back. */
+function raise(node, text) {
+  const sup = document.createElementNS(SVG, "tspan");
+  sup.setAttribute("style", "font-size:70%");
+  sup.setAttribute("dy", "-0.6em");
+  sup.textContent = text;
+  const back = document.createElementNS(SVG, "tspan");
+  back.setAttribute("dy", "0.42em");
+  back.textContent = "\u200b";
+  node.append(sup, back);
 }
 
 /** Writes each axis's labels shifted by its decades (0: as Plotly drew them). */
 export function writeLabels(base, decades) {
-  for (const [key, { labels, exponent }] of Object.entries(base)) {
+  for (const [key, { labels, exponent, log }] of Object.entries(base)) {
     const j = decades[key] || 0, axisExp = exponent(j);
+    if (log) {
+      for (const [node, , k] of labels) if (Number.isInteger(k)) writePower(node, k + j);
+      continue;
+    }
     for (const [node, mantissa, exp] of labels) {
       const text = labelText(mantissa, exp, j, axisExp) ?? mantissa;
       const power = axisExp !== null && text !== "0";
       const want = power ? `${text}×10\u200b${unicodeMinus(axisExp)}\u200b` : text;
       if (node.textContent === want) continue;
       node.textContent = power ? `${text}×10\u200b` : text;
-      if (!power) continue;
-      const sup = document.createElementNS(SVG, "tspan");
-      sup.setAttribute("style", "font-size:70%");
-      sup.setAttribute("dy", "-0.6em");
-      sup.textContent = unicodeMinus(axisExp);
-      const back = document.createElementNS(SVG, "tspan");
-      back.setAttribute("dy", "0.42em");
-      back.textContent = "\u200b";
-      node.append(sup, back);
+      if (power) raise(node, unicodeMinus(axisExp));
     }
   }
 }
 
-/** The ranges with each scaled axis multiplied by 10^(sign·j): sign 1, what the drawn
- * axes now mean; -1, a range in data units as the drawn axes take it. */
-export function scaleRanges(ranges, decades, sign = 1) {
+/** The ranges with each scaled axis multiplied by 10^(sign·j) (a log axis, in decades:
+ * shifted by sign·j): sign 1, what the drawn axes now mean; -1, a range in data units as
+ * the drawn axes take it. `logs`: the keys of the log axes. */
+export function scaleRanges(ranges, decades, sign = 1, logs = new Set()) {
   const out = { ...ranges };
-  for (const [key, j] of Object.entries(decades || {})) if (out[key]) out[key] = out[key].map((v) => v * 10 ** (sign * j));
+  for (const [key, j] of Object.entries(decades || {})) {
+    if (out[key]) out[key] = out[key].map((v) => (logs.has(key) ? v + sign * j : v * 10 ** (sign * j)));
+  }
   return out;
 }

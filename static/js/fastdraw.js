@@ -193,8 +193,9 @@ export function rangeUpdate(layout, keys) {
 
 /** The server's new ranges are close enough to the drawn ones to keep the axes: each
  * inside the drawn range and spanning at least FILL of it (in the axis's own units,
- * log10 on a log axis, as Plotly keeps them). */
-export function rangesFit(drawn, wanted, fill = FILL) {
+ * log10 on a log axis, as Plotly keeps them). An axis in `openBelow` may reach below the
+ * drawn range (a held slider's log axis: the tail the bottom cuts is cut a little more). */
+export function rangesFit(drawn, wanted, fill = FILL, openBelow = new Set()) {
   const keys = Object.keys(wanted);
   if (keys.length !== Object.keys(drawn).length) return false;
   return keys.every((k) => {
@@ -202,7 +203,7 @@ export function rangesFit(drawn, wanted, fill = FILL) {
     if (!d || d.length !== 2 || w.length !== 2) return false;
     const d0 = Math.min(...d), d1 = Math.max(...d), w0 = Math.min(...w), w1 = Math.max(...w);
     const slack = RANGE_SLACK * (d1 - d0);
-    return w0 >= d0 - slack && w1 <= d1 + slack && w1 - w0 >= fill * (d1 - d0);
+    return (w0 >= d0 - slack || openBelow.has(k)) && w1 <= d1 + slack && Math.min(w1, d1) - Math.max(w0, d0) >= fill * (d1 - d0);
   });
 }
 

@@ -185,23 +185,26 @@ export class Panel {
         ? this.refit({ data, layout, sub }, ranges, frame) : null;
     }
     const fill = ctx.held ? HELD_FILL : undefined;
-    const fits = (shown, decades) => rangesFit(this.ranges, scaleRanges(ranges, decades, -1), fill)
+    const logs = logAxes(layout), openBelow = ctx.held ? logs : undefined;
+    const fits = (shown, decades) => rangesFit(this.ranges, scaleRanges(ranges, decades, -1, logs), fill, openBelow)
       && canAnimate(this.div, shown, this.styles, fill);
     let decades = this.decades, shown = decades ? scaleData(data, decades) : data;
     if (!fits(shown, decades)) {
       if (!ctx.held) return this.refit({ data, layout, sub }, ranges, frame);
-      if (logAxes(layout).size) {
-        // a log axis left: its decades move at both ends as α does, and get room at both
-        const moved = this.refit({ data, layout, sub }, ranges, frame, "held");
-        if (moved) { this.loose = true; return moved; }
+      decades = decadesFor(this.div, data, this.ranges, ranges);
+      if (decades) {
+        // an axis not shifted since Plotly drew it: its labels as drawn are the base
+        this.labels = { ...baseLabels(this.div, Object.keys(decades).filter((k) => !this.labels?.[k]), this.ranges), ...this.labels };
+        shown = labelsShift(this.labels, decades) ? scaleData(data, decades) : null;
       }
-      decades = decadesFor(this.div, data, this.ranges);
-      if (!decades) return null;
-      // an axis not shifted since Plotly drew it: its labels as drawn are the base
-      this.labels = { ...baseLabels(this.div, Object.keys(decades).filter((k) => !this.labels?.[k]), this.ranges), ...this.labels };
-      if (!labelsShift(this.labels, decades)) return null;
-      shown = scaleData(data, decades);
-      if (!fits(shown, decades)) return null;
+      if (!decades || !shown || !fits(shown, decades)) {
+        if (!logs.size || this.decades) return null;
+        // a log axis its decades cannot follow: relaid out with room at both ends
+        this.labels = null;
+        const moved = this.refit({ data, layout, sub }, ranges, frame, "held");
+        if (moved) this.loose = true;
+        return moved;
+      }
     }
     const scaled = decades && Object.keys(decades).length ? decades : null;
     if (ctx.held && (scaled || !rangesFit(this.ranges, ranges))) this.loose = true;
@@ -216,9 +219,10 @@ export class Panel {
    * in one animation frame (~25 ms, where Plotly.react took 45–120 ms: the NDF's and
    * G1's full draws when a drag is let go were most of the time it took to settle);
    * null when more than the ranges changed. fit: "exact", the server's ranges as they
-   * are (a drag let go: as a fresh page draws them); "held", with HELD_HEADROOM, at both
-   * ends of a log axis (a held slider's NDF: a relayout, 25-50 ms, where its full draw
-   * took 45-120 ms, the one stall of a drag); else with headroom where they moved. */
+   * are (a drag let go: as a fresh page draws them); "held", with HELD_HEADROOM at both
+   * ends of a log axis that whole decades cannot follow (labelled between decades: a
+   * relayout, 17-40 ms, where its full draw took 45-120); else with headroom where they
+   * moved. */
   refit({ data, layout, sub }, ranges, frame, fit = "moved") {
     if (this.decades || !sameTraces(data, this.styles)) return null;
     if (fit === "exact" && !this.inflight) this.refitDue = false;    // else a newer state's answer is still to come
@@ -282,7 +286,7 @@ export class Panel {
     const data = this.stale;
     this.stale = null;
     if (this.decades) {
-      this.ranges = scaleRanges(this.ranges, this.decades);
+      this.ranges = scaleRanges(this.ranges, this.decades, 1, logAxes(this.layout));
       this.layout = withRanges(this.layout, this.ranges);
       this.layoutKey = null;
       this.decades = this.labels = null;

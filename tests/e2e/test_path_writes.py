@@ -125,3 +125,48 @@ def test_label_shift_moves_the_decimal_point(page):
         else:
             assert out == plain.replace("-", "−"), (text, j, out)
     assert page.evaluate("""async () => (await import('/static/js/decades.js')).shiftLabel('10\u200b4', 1)""") is None
+
+
+NDF_LABELS_JS = """() => [...document.querySelectorAll('#plot-ndf .cartesianlayer g.ytick text')].map((t) => t.textContent)"""
+
+
+def test_a_held_slider_moves_the_ndf_log_axis_by_whole_decades_as_plotly_would(page, page_log):
+    """While a slider is held, the NDF's peak moving past the top of its log axis is drawn
+    on the axis as it is, the curve moved by whole decades and each label's exponent
+    with it (static/js/decades.js): Plotly, drawing the same data on the range those
+    labels stand for, draws the same curve and writes the same labels, at each step of
+    a drag over α both ways."""
+    page.goto("/?alpha=0.01")             # an NDF over decades: labelled every whole one
+    wait_quiet(page)
+    page.evaluate("""() => { const p = window.__brdf.panel('ndf'); p.realSync = p.sync; p.sync = () => Promise.resolve(); }""")
+    move = """(v) => { const s = document.getElementById('alpha-slider');
+        s.value = String(v); s.dispatchEvent(new Event('input', { bubbles: true })); }"""
+    start = int(page.evaluate("() => document.getElementById('alpha-slider').value"))
+    page.evaluate("() => document.getElementById('alpha-slider').dispatchEvent(new PointerEvent('pointerdown', { bubbles: true }))")
+    compared = []
+    for step in range(1, 13):
+        page.evaluate(move, start - 25 * step if step <= 8 else start - 25 * (16 - step))
+        wait_quiet(page)
+        if not page.evaluate("() => window.__brdf.panel('ndf').decades"):
+            continue
+        assert page.evaluate("() => window.__brdf.panel('ndf').loose")       # refitted on release
+        written, labels = page.evaluate(PATHS_JS, "ndf"), page.evaluate(NDF_LABELS_JS)
+        page.evaluate("async () => { const p = window.__brdf.panel('ndf'); await p.realSync(); }")
+        wait_quiet(page)
+        assert page.evaluate(NDF_LABELS_JS) == labels, step                  # Plotly's own labels there
+        assert page.evaluate("() => window.__brdf.panel('ndf').decades") is None
+        plotly = page.evaluate(PATHS_JS, "ndf")
+        size = page.evaluate(SIZE_JS, "ndf")
+        assert len(plotly) == len(written)
+        for mine, theirs in zip(written, plotly):
+            for a, b in zip(mine, theirs):
+                ours, its = vertices(a), vertices(b)
+                assert len(ours) >= len(its) >= 2
+                for x, y in its:
+                    if not (-1 <= y <= size[1] + 1):
+                        continue      # the tail below the axis: cut, not seen
+                    assert min(abs(x - u) + abs(y - v) for u, v in ours) < 0.05, (step, x, y)
+        compared.append(labels)
+    assert len(compared) >= 3, compared
+    assert len({tuple(c) for c in compared}) >= 2, compared               # the exponents moved
+    assert page_log.problems() == []
