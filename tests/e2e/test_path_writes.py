@@ -69,6 +69,30 @@ def test_written_paths_are_what_plotly_draws(page, page_log, position):
 LABELS_JS = """(n) => [...document.querySelectorAll(`#plot-${n} .radial-axis g.xtick text`)].map((t) => t.textContent)"""
 
 
+def _as_plotly_draws_it(page, name: str, labels_js: str, where, seen_only: bool = False) -> list[str]:
+    """The panel's written curve and rewritten labels against Plotly's own draw of the
+    same data on the range those labels stand for (Panel.sync, held back by the test
+    until now): the same labels, and every vertex Plotly draws one we drew (those in the
+    plot's height only, with `seen_only`). Returns the labels."""
+    assert page.evaluate("(n) => window.__brdf.panel(n).loose", name)      # refitted on release
+    written, labels = page.evaluate(PATHS_JS, name), page.evaluate(labels_js, name)
+    page.evaluate("async (n) => { const p = window.__brdf.panel(n); await p.realSync(); }", name)
+    wait_quiet(page)
+    assert page.evaluate(labels_js, name) == labels, where                # Plotly's own labels there
+    assert page.evaluate("(n) => window.__brdf.panel(n).decades", name) is None
+    plotly, size = page.evaluate(PATHS_JS, name), page.evaluate(SIZE_JS, name)
+    assert len(plotly) == len(written)
+    for mine, theirs in zip(written, plotly):
+        for a, b in zip(mine, theirs):
+            ours, its = vertices(a), vertices(b)
+            assert len(ours) >= len(its) >= 2
+            for x, y in its:
+                if seen_only and not -1 <= y <= size[1] + 1:
+                    continue
+                assert min(abs(x - u) + abs(y - v) for u, v in ours) < 0.05, (where, x, y)
+    return labels
+
+
 def test_a_held_slider_rescales_the_lobe_axis_by_decades_as_plotly_would(page, page_log):
     """While a slider is held, a lobe whose peak leaves its axis by decades is drawn on
     the axis as it is, scaled by a power of ten, its labels rewritten (static/js/
@@ -87,21 +111,7 @@ def test_a_held_slider_rescales_the_lobe_axis_by_decades_as_plotly_would(page, p
         wait_quiet(page)
         if not page.evaluate("() => window.__brdf.panel('lobe').decades"):
             continue
-        assert page.evaluate("() => window.__brdf.panel('lobe').loose")      # refitted on release
-        written, labels = page.evaluate(PATHS_JS, "lobe"), page.evaluate(LABELS_JS, "lobe")
-        page.evaluate("async () => { const p = window.__brdf.panel('lobe'); await p.realSync(); }")
-        wait_quiet(page)
-        assert page.evaluate(LABELS_JS, "lobe") == labels, position   # Plotly's own labels there
-        assert page.evaluate("() => window.__brdf.panel('lobe').decades") is None
-        plotly = page.evaluate(PATHS_JS, "lobe")
-        assert len(plotly) == len(written)
-        for mine, theirs in zip(written, plotly):
-            for a, b in zip(mine, theirs):
-                ours, its = vertices(a), vertices(b)
-                assert len(ours) >= len(its) >= 2
-                for x, y in its:
-                    assert min(abs(x - u) + abs(y - v) for u, v in ours) < 0.05, (position, x, y)
-        compared.append(labels)
+        compared.append(_as_plotly_draws_it(page, "lobe", LABELS_JS, position))
     assert len(compared) >= 4, compared
     assert any(any("×10" in t for t in c) for c in compared), compared        # powers of ten
     assert any(all("×10" not in t for t in c) for c in compared), compared    # plain decimals
@@ -127,7 +137,7 @@ def test_label_shift_moves_the_decimal_point(page):
     assert page.evaluate("""async () => (await import('/static/js/decades.js')).shiftLabel('10\u200b4', 1)""") is None
 
 
-NDF_LABELS_JS = """() => [...document.querySelectorAll('#plot-ndf .cartesianlayer g.ytick text')].map((t) => t.textContent)"""
+Y_LABELS_JS = """(n) => [...document.querySelectorAll(`#plot-${n} .cartesianlayer g.ytick text`)].map((t) => t.textContent)"""
 
 
 def test_a_held_slider_moves_the_ndf_log_axis_by_whole_decades_as_plotly_would(page, page_log):
@@ -149,24 +159,8 @@ def test_a_held_slider_moves_the_ndf_log_axis_by_whole_decades_as_plotly_would(p
         wait_quiet(page)
         if not page.evaluate("() => window.__brdf.panel('ndf').decades"):
             continue
-        assert page.evaluate("() => window.__brdf.panel('ndf').loose")       # refitted on release
-        written, labels = page.evaluate(PATHS_JS, "ndf"), page.evaluate(NDF_LABELS_JS)
-        page.evaluate("async () => { const p = window.__brdf.panel('ndf'); await p.realSync(); }")
-        wait_quiet(page)
-        assert page.evaluate(NDF_LABELS_JS) == labels, step                  # Plotly's own labels there
-        assert page.evaluate("() => window.__brdf.panel('ndf').decades") is None
-        plotly = page.evaluate(PATHS_JS, "ndf")
-        size = page.evaluate(SIZE_JS, "ndf")
-        assert len(plotly) == len(written)
-        for mine, theirs in zip(written, plotly):
-            for a, b in zip(mine, theirs):
-                ours, its = vertices(a), vertices(b)
-                assert len(ours) >= len(its) >= 2
-                for x, y in its:
-                    if not (-1 <= y <= size[1] + 1):
-                        continue      # the tail below the axis: cut, not seen
-                    assert min(abs(x - u) + abs(y - v) for u, v in ours) < 0.05, (step, x, y)
-        compared.append(labels)
+        # the tail below the axis is cut, not seen
+        compared.append(_as_plotly_draws_it(page, "ndf", Y_LABELS_JS, step, seen_only=True))
     assert len(compared) >= 3, compared
     assert len({tuple(c) for c in compared}) >= 2, compared               # the exponents moved
     assert page_log.problems() == []
