@@ -156,9 +156,10 @@ export function logAxes(layout) {
  * ranges it draws (app/figures/style.py, log_dtick): every digit within 1.5 decades,
  * 1-2-5 within 3.5, else a power of ten every ⌈span/10⌉ decades. Plotly's own choice
  * on a short axis over many decades labels 2×10, 3×10⁻¹, 4×10⁻³… */
+const LOG_DIGITS_DECADES = 1.5, LOG_TICKS_125_DECADES = 3.5;   // style.py's, the same rule
 export function logDtick(span) {
-  if (span <= 1.5) return "D1";
-  if (span <= 3.5) return "D2";
+  if (span <= LOG_DIGITS_DECADES) return "D1";
+  if (span <= LOG_TICKS_125_DECADES) return "D2";
   return Math.max(1, Math.ceil(span / 10));
 }
 

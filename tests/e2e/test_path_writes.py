@@ -137,6 +137,17 @@ def test_label_shift_moves_the_decimal_point(page):
     assert page.evaluate("""async () => (await import('/static/js/decades.js')).shiftLabel('10\u200b4', 1)""") is None
 
 
+def test_the_page_spaces_log_ticks_by_the_servers_rule(page):
+    """fastdraw.js logDtick, the tick spacing of a log axis the page draws over another
+    span than the server's, against the server's own rule (app/figures/style.py)."""
+    from app.figures.style import log_dtick
+    page.goto("/")
+    spans = [0.2, 1.0, 1.5, 1.5001, 2.7, 3.5, 3.5001, 9.99, 10.0, 10.15, 20.3, 31.0]
+    got = page.evaluate("""async (spans) => { const m = await import('/static/js/fastdraw.js');
+        return spans.map((s) => m.logDtick(s)); }""", spans)
+    assert got == [log_dtick(s) for s in spans]
+
+
 Y_LABELS_JS = """(n) => [...document.querySelectorAll(`#plot-${n} .cartesianlayer g.ytick text`)].map((t) => t.textContent)"""
 
 
