@@ -9,9 +9,9 @@ it: the request guard's query checks, the route's query model, the view's pipeli
 application's error handlers. The entries run one after another in one worker thread
 under the request's one time budget, as the parts of one request. Run as four GETs
 through the whole application (the middlewares, FastAPI's route scan, one worker thread
-each, contending for the GIL), the page's four panels took 13–15 ms here against 8–9 ms
-(BENCHMARKS.md §5). Any other entry (an export, an unknown view) goes through the whole
-application as its GET would.
+each, contending for the GIL), the page's four panels took 10–14 ms in process here,
+against 5–8 ms (bench/batch.py, BENCHMARKS.md §5). Any other entry (an export, an
+unknown view) goes through the whole application as its GET would.
 """
 from __future__ import annotations
 
@@ -41,7 +41,7 @@ PREFIX = "/api/v1/figures/"
 MAX_REQUESTS = 16
 
 #: an answer: (status, Cache-Control, JSON body or None)
-Answer = tuple[int, "str | None", "bytes | None"]
+Answer = tuple[int, str | None, bytes | None]
 
 
 class BatchBody(BaseModel):
@@ -115,8 +115,8 @@ def _compute(entries: list, settings: Settings) -> list:
                  {"status": 422, "cache": "no-store", "body": {"detail": [{"loc": ["query", "alpha"],
                                                                         "msg": "…", "type": "…"}]}}]}}}}})
 async def batch(request: Request, body: BatchBody) -> Response:
-    for k, target in enumerate(body.requests):
-        parts = urlsplit(target)
+    targets = [urlsplit(target) for target in body.requests]
+    for k, (target, parts) in enumerate(zip(body.requests, targets)):
         if parts.scheme or parts.netloc or not parts.path.startswith(PREFIX) or parts.fragment:
             raise ParameterError(f"requests[{k}]", f"requests[{k}]: {target[:80]!r} is not a path under "
                                  f"{PREFIX} (a batch answers the figures' GETs only)", loc="body")
@@ -126,8 +126,7 @@ async def batch(request: Request, body: BatchBody) -> Response:
     app, settings = request.app, request.app.state.settings
     answers: list[Answer | None] = [None] * len(body.requests)
     direct, whole = [], []       # (k, view, query) for the figures' JSON; k for the rest
-    for k, target in enumerate(body.requests):
-        parts = urlsplit(target)
+    for k, parts in enumerate(targets):
         view = FIGURE_GETS.get(parts.path)
         if view is None:
             whole.append(k)

@@ -181,8 +181,7 @@ export class Panel {
     if (Object.keys(this.relayout).length) {
       // new ranges wait for the next frame (refit): Plotly's axes are not yet what the
       // answer is measured against; the server's ranges hold its data
-      return rangesFit(this.ranges, ranges) && sameTraces(data, this.styles)
-        ? this.refit({ data, layout, sub }, ranges, frame) : null;
+      return rangesFit(this.ranges, ranges) ? this.refit({ data, layout, sub }, ranges, frame) : null;
     }
     const fill = ctx.held ? HELD_FILL : undefined;
     const logs = logAxes(layout), openBelow = ctx.held ? logs : undefined;
@@ -225,10 +224,7 @@ export class Panel {
    * moved. */
   refit({ data, layout, sub }, ranges, frame, fit = "moved") {
     if (this.decades || !sameTraces(data, this.styles)) return null;
-    if (fit === "exact" && !this.inflight) this.refitDue = false;    // else a newer state's answer is still to come
-    const drawn = fit === "exact" ? ranges
-      : fit === "held" ? withHeadroom(this.serverRanges, ranges, HELD_HEADROOM, logAxes(layout))
-        : withHeadroom(this.serverRanges, ranges);
+    const drawn = this.rangesToDraw(fit, this.serverRanges, ranges, layout);
     const moved = Object.keys(drawn).filter((k) => !(this.ranges?.[k]?.[0] === drawn[k][0] && this.ranges?.[k]?.[1] === drawn[k][1]));
     Object.assign(this.relayout, rangeUpdate(reuseLayout(this, withRanges(layout, drawn), this.uirev), moved));
     Object.assign(this, { serverRanges: ranges, ranges: drawn, loose: false });
@@ -236,6 +232,16 @@ export class Panel {
     this.styles = data.map(traceStyle);
     this.shown_();
     return this.writeInFrame(data, frame);
+  }
+
+  /** The ranges to draw for the server's `ranges`, by `fit`: "exact", as they are (a
+   * drag let go; so for every answer until the one still in flight is in); "held", with
+   * HELD_HEADROOM at both ends of a log axis and where the others moved since `previous`;
+   * "moved", with HEADROOM where they moved. */
+  rangesToDraw(fit, previous, ranges, layout) {
+    if (fit === "exact" && !this.inflight) this.refitDue = false;
+    if (fit === "exact") return ranges;
+    return fit === "held" ? withHeadroom(previous, ranges, HELD_HEADROOM, logAxes(layout)) : withHeadroom(previous, ranges);
   }
 
   /** Writes the newest data's paths in the animation frame `frame()` resolves in (one
@@ -316,10 +322,8 @@ export class Panel {
     clearTimeout(this.syncTimer);
     const { ranges, rest } = splitRanges(layout);
     const same = rest === this.rest && uirevision === this.uirev;
-    const exact = this.refitDue && !ctx.held;      // a drag let go (release)
-    if (!this.inflight) this.refitDue = false;
-    const drawn = ctx.held ? withHeadroom(same ? this.serverRanges : null, ranges, HELD_HEADROOM, logAxes(layout))
-      : exact ? ranges : withHeadroom(same ? this.serverRanges : null, ranges);
+    const fit = ctx.held ? "held" : this.refitDue ? "exact" : "moved";
+    const drawn = this.rangesToDraw(fit, same ? this.serverRanges : null, ranges, layout);
     Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn, loose: ctx.held && same });
     return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
