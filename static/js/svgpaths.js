@@ -59,64 +59,78 @@ function pixels(proj, t) {
   return out;
 }
 
-/** The line segments (runs of at least two points between gaps) as path strings. */
-function segments(points) {
-  const segs = [];
+/** The runs of at least two points between gaps: the line segments Plotly draws. */
+export function runs(points) {
+  const out = [];
   let run = [];
-  const close = () => {
-    if (run.length > 1) segs.push(`M${run.join("L")}`);
-    run = [];
-  };
   for (const p of points) {
-    if (p) run.push(`${round(p[0])},${round(p[1])}`);
-    else close();
+    if (p) run.push(p);
+    else {
+      if (run.length > 1) out.push(run);
+      run = [];
+    }
   }
-  close();
-  return segs;
+  if (run.length > 1) out.push(run);
+  return out;
 }
 
-/** One trace's writes, or null if what is drawn cannot take them. */
-function traceWrites(gd, group, t) {
+const pathOf = (run) => `M${run.map((p) => `${round(p[0])},${round(p[1])}`).join("L")}`;
+
+/** One trace as Plotly would place it, in its layer's pixels, or null if what is drawn
+ * cannot take it: {group, ft, lines, fill, marks, bars, half, segs, drawn, ticks}
+ * (segs: the line runs; drawn: the points with a marker; ticks: each error bar's
+ * [x, top, bottom]; half: half its cap width). */
+function traceGeometry(gd, group, t) {
   const ft = group.__data__?.[0]?.trace;
   if (!ft || (ft.type !== "scatter" && ft.type !== "scatterpolar")) return null;
   const proj = projector(gd, ft);
   const points = proj && pixels(proj, t);
   if (!points) return null;
-  const writes = [];
   const mode = String(ft.mode || "");
   const lines = [...group.querySelectorAll("path.js-line")];
+  let segs = [], fill = null;
   if (mode.includes("lines")) {
-    const segs = segments(points);
+    segs = runs(points);
+    fill = group.querySelector("path.js-fill");
     if (segs.length !== lines.length) return null;
-    segs.forEach((d, i) => writes.push([lines[i], "d", d]));
-    const fill = group.querySelector("path.js-fill");
-    if (fill && ft.fill === "toself") writes.push([fill, "d", segs.length ? `${segs.join("Z")}Z` : "M0,0Z"]);
-    else if (fill || (ft.fill && ft.fill !== "none")) return null;
+    if (fill ? ft.fill !== "toself" : ft.fill && ft.fill !== "none") return null;
   } else if (lines.length) return null;
   const drawn = points.filter(Boolean);
   const marks = [...group.querySelectorAll("g.points path.point")];
   if (mode.includes("markers") ? marks.length !== drawn.length : marks.length) return null;
-  marks.forEach((m, i) => writes.push([m, "transform", `translate(${round(drawn[i][0])},${round(drawn[i][1])})`]));
   const bars = [...group.querySelectorAll("g.errorbar path.yerror")];
+  const ticks = [];
+  let half = 0;
   if (bars.length || t.error_y?.array) {
     const plus = numbers(t.error_y?.array), minus = numbers(t.error_y?.arrayminus) || plus;
     const ys = numbers(t.y), ya = proj.ya;
     if (!plus || !ya || bars.length !== drawn.length) return null;
-    const w = Number(/h(-?[\d.]+)/.exec(bars[0]?.getAttribute("d") || "")?.[1]) / 2;
-    if (bars.length && !Number.isFinite(w)) return null;
-    let k = 0;
+    half = Number(/h(-?[\d.]+)/.exec(bars[0]?.getAttribute("d") || "")?.[1]) / 2;
+    if (bars.length && !Number.isFinite(half)) return null;
     for (let i = 0; i < points.length; i++) {
       if (!points[i]) continue;
-      const [x] = points[i], hi = ya.c2p(ys[i] + (plus[i] || 0)), lo = ya.c2p(ys[i] - (minus[i] || 0));
+      const hi = ya.c2p(ys[i] + (plus[i] || 0)), lo = ya.c2p(ys[i] - (minus[i] || 0));
       if (!Number.isFinite(hi) || !Number.isFinite(lo)) return null;
-      writes.push([bars[k++], "d", `M${round(x - w)},${round(hi)}h${2 * w}m-${w},0V${round(lo)}m-${w},0h${2 * w}`]);
+      ticks.push([points[i][0], hi, lo]);
     }
   }
+  return { group, ft, lines, fill, marks, bars, half, segs, drawn, ticks };
+}
+
+/** One trace's attribute writes. */
+function traceWrites({ lines, fill, marks, bars, half: w, segs, drawn, ticks }) {
+  const writes = [];
+  const ds = segs.map(pathOf);
+  ds.forEach((d, i) => writes.push([lines[i], "d", d]));
+  if (fill) writes.push([fill, "d", ds.length ? `${ds.join("Z")}Z` : "M0,0Z"]);
+  marks.forEach((m, i) => writes.push([m, "transform", `translate(${round(drawn[i][0])},${round(drawn[i][1])})`]));
+  ticks.forEach(([x, hi, lo], k) => writes.push([bars[k], "d", `M${round(x - w)},${round(hi)}h${2 * w}m-${w},0V${round(lo)}m-${w},0h${2 * w}`]));
   return writes;
 }
 
-/** The attribute writes that redraw `data` on `gd`, or null if they cannot. */
-function plan(gd, data) {
+/** Every drawn trace of `data` placed on `gd` as Plotly would place it (trace order),
+ * or null if they cannot all be: read in an animation frame, with the axes as they are. */
+export function geometry(gd, data) {
   // every trace that Plotly drew (a hidden one is not drawn) must be placed
   if (!gd._fullLayout || !gd._fullData || gd._fullData.length !== data.length) return null;
   const groups = new Map();
@@ -127,20 +141,20 @@ function plan(gd, data) {
   for (let i = 0; i < data.length; i++) {
     if ((gd._fullData[i].visible === true) !== groups.has(i)) return null;
   }
-  const writes = [];
-  for (const [i, g] of groups) {
-    const w = traceWrites(gd, g, data[i]);
-    if (!w) return null;
-    writes.push(...w);
+  const out = [];
+  for (const i of [...groups.keys()].sort((a, b) => a - b)) {
+    const g = traceGeometry(gd, groups.get(i), data[i]);
+    if (!g) return null;
+    out.push(g);
   }
-  return writes;
+  return out;
 }
 
 /** Draws `data` on `gd` by writing its paths (in an animation frame: it reads the axes
  * as they are then); false, and nothing written, if it cannot. */
 export function writePaths(gd, data) {
-  const writes = plan(gd, data);
-  if (!writes) return false;
-  for (const [node, attr, value] of writes) node.setAttribute(attr, value);
+  const traces = geometry(gd, data);
+  if (!traces) return false;
+  for (const [node, attr, value] of traces.flatMap(traceWrites)) node.setAttribute(attr, value);
   return true;
 }
