@@ -14,6 +14,7 @@ import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from ".
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
          logAxes, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { writePaths } from "./svgpaths.js";
+import { drawHeld, endHeld } from "./heldcanvas.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
 import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
@@ -259,7 +260,10 @@ export class Panel {
         this.relayout = {};
         Plotly.relayout(this.div, update).catch(() => {});
       }
-      if (writePaths(this.div, s)) {
+      // a held slider's curves on the canvas over the plot (heldcanvas.js), else the SVG's
+      const onCanvas = ctx.held && drawHeld(this.div, s);
+      if (onCanvas || writePaths(this.div, s)) {
+        if (!onCanvas) endHeld(this.div);
         if (this.labels) writeLabels(this.labels, j || {});
         this.decades = j;
         renameLegend(this.div, d);
@@ -270,9 +274,11 @@ export class Panel {
         this.announce();
         resolve();
       } else if (!j && !this.decades) {        // axes as Plotly drew them: its own transition
+        endHeld(this.div);
         resolve(animateData(this.div, d).then(() => this.announce()));
       } else {
         this.decades = this.labels = null;
+        endHeld(this.div);
         resolve(Plotly.react(this.div, d, this.layout, PLOT_CONFIG).then(() => this.announce()));
       }
     }));
@@ -297,6 +303,7 @@ export class Panel {
       this.layoutKey = null;
       this.decades = this.labels = null;
     }
+    endHeld(this.div);
     return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
   }
 
@@ -325,6 +332,7 @@ export class Panel {
     const fit = ctx.held ? "held" : this.refitDue ? "exact" : "moved";
     const drawn = this.rangesToDraw(fit, same ? this.serverRanges : null, ranges, layout);
     Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn, loose: ctx.held && same });
+    endHeld(this.div);
     return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
 

@@ -13,8 +13,14 @@ from test_page import wait_quiet   # tests/e2e is not a package
 pytestmark = pytest.mark.e2e
 
 PANELS = ("lobe", "ndf", "g1", "albedo")
-PATHS_JS = """(name) => [...document.querySelectorAll(`#plot-${name} .scatterlayer g.trace`)]
-    .map((g) => [...g.querySelectorAll('path.js-line')].map((p) => p.getAttribute('d')))"""
+# The curves a plot shows, as path strings: its SVG traces' lines, or while a slider is
+# held, the runs the canvas over it drew (static/js/heldcanvas.js; test_held_canvas.py
+# holds the canvas to them)
+PATHS_JS = """(name) => { const gd = document.getElementById(`plot-${name}`);
+    if (gd.classList.contains('held-canvas'))
+      return gd.heldCurves.map((runs) => runs.map((run) => 'M' + run.map(([x, y]) => `${x},${y}`).join('L')));
+    return [...gd.querySelectorAll('.scatterlayer g.trace')]
+      .map((g) => [...g.querySelectorAll('path.js-line')].map((p) => p.getAttribute('d'))); }"""
 SIZE_JS = """(n) => { const fl = document.getElementById(`plot-${n}`)._fullLayout;
     const ax = fl.polar ? fl.polar._subplot.xaxis : fl.xaxis, ay = fl.polar ? fl.polar._subplot.yaxis : fl.yaxis;
     return [ax._length, ay._length]; }"""

@@ -1,0 +1,172 @@
+/* While a slider is held, the curves drawn on a canvas laid over the plot.
+ *
+ * Writing a trace's SVG paths (svgpaths.js) costs the page's main thread, besides
+ * building the path strings, Blink's layout, paint and layerisation of the changed
+ * paths and a raster of the plot's layer under them (text and grid included): a frame
+ * that redraws four panels took 7-9 ms of main thread, where one that only moved the
+ * slider took 3 (BENCHMARKS.md §5), and the slider's input events wait behind it.
+ * On a canvas the same points are a few hundred lineTo calls, and the SVG underneath
+ * is not touched. The points are the ones svgpaths.js would write (its geometry()), so
+ * what is drawn is what Plotly would draw, in the same styles, read from the elements
+ * Plotly drew; on release the SVG is written again and the canvas put away (endHeld).
+ *
+ * The plot's SVG traces are hidden while the canvas shows (the class HELD on the plot
+ * div, style.css). Anything the canvas cannot place as the SVG would (a transform other
+ * than a translation, a clip it cannot read) leaves drawHeld false, and the caller
+ * writes the SVG.
+ */
+import { geometry } from "./svgpaths.js";
+
+const HELD = "held-canvas";
+
+/** An element's own translation ([0, 0] without a transform), or null if its
+ * transform is another one. */
+function translation(node) {
+  const t = node.getAttribute?.("transform");
+  if (!t) return [0, 0];
+  const m = /^\s*translate\(\s*(-?[\d.e+-]+)[\s,]+(-?[\d.e+-]+)\s*\)\s*$/.exec(t);
+  return m ? [Number(m[1]), Number(m[2])] : null;
+}
+
+/** The sum of the translations from `node` up to its <svg>, or null if one of them is
+ * another transform. */
+function offset(node) {
+  let x = 0, y = 0;
+  for (let n = node; n && n.tagName !== "svg"; n = n.parentNode) {
+    const t = translation(n);
+    if (!t) return null;
+    x += t[0];
+    y += t[1];
+  }
+  return [x, y];
+}
+
+/** The clip of a trace group as a Path2D in the SVG's pixels (its nearest clip-path:
+ * a rect or a path), undefined when it has none, null when it cannot be read. */
+function clipOf(group) {
+  const owner = group.closest("[clip-path]");
+  if (!owner || !group.ownerSVGElement?.contains(owner)) return undefined;
+  const id = /url\(["']?#([^"')]+)["']?\)/.exec(owner.getAttribute("clip-path"))?.[1];
+  const shape = id && document.getElementById(id)?.firstElementChild;
+  const at = offset(owner), own = shape && translation(shape);
+  if (!shape || !at || !own) return null;
+  at[0] += own[0];
+  at[1] += own[1];
+  const path = new Path2D();
+  if (shape.tagName === "rect") {
+    const n = (a) => Number(shape.getAttribute(a) || 0);
+    path.rect(at[0] + n("x"), at[1] + n("y"), n("width"), n("height"));
+  } else if (shape.tagName === "path") {
+    path.addPath(new Path2D(shape.getAttribute("d") || ""), new DOMMatrix().translate(at[0], at[1]));
+  } else return null;
+  return path;
+}
+
+const px = (v) => Number.parseFloat(v) || 0;
+const alpha = (...vs) => vs.reduce((a, v) => a * (v === "" || v === undefined ? 1 : Number(v)), 1);
+const dashes = (v) => (!v || v === "none" ? [] : v.split(/[\s,]+/).map(px));
+
+/** The overlay canvas of a plot div, made once, sized to its SVG. */
+function canvasOf(gd, svg) {
+  let cv = gd.querySelector(`canvas.${HELD}-layer`);
+  if (!cv) {
+    cv = document.createElement("canvas");
+    cv.className = `${HELD}-layer`;
+    svg.after(cv);
+  }
+  const w = px(svg.getAttribute("width")), h = px(svg.getAttribute("height")), r = window.devicePixelRatio || 1;
+  if (cv.width !== Math.round(w * r) || cv.height !== Math.round(h * r)) {
+    cv.width = Math.round(w * r);
+    cv.height = Math.round(h * r);
+    cv.style.width = `${w}px`;
+    cv.style.height = `${h}px`;
+  }
+  return cv;
+}
+
+function stroke(ctx, style) {
+  ctx.strokeStyle = style.stroke;
+  ctx.lineWidth = px(style.strokeWidth);
+  ctx.globalAlpha = alpha(style.strokeOpacity, style.opacity);
+  ctx.setLineDash(dashes(style.strokeDasharray));
+}
+
+function drawTrace(ctx, { lines, fill, marks, bars, half, segs, drawn, ticks }) {
+  if (fill) {
+    ctx.fillStyle = fill.style.fill;
+    ctx.globalAlpha = alpha(fill.style.fillOpacity, fill.style.opacity);
+    ctx.beginPath();
+    for (const run of segs) {
+      ctx.moveTo(run[0][0], run[0][1]);
+      for (let i = 1; i < run.length; i++) ctx.lineTo(run[i][0], run[i][1]);
+      ctx.closePath();
+    }
+    ctx.fill();
+  }
+  if (ticks.length) {
+    stroke(ctx, bars[0].style);
+    ctx.beginPath();
+    for (const [x, hi, lo] of ticks) {
+      ctx.moveTo(x - half, hi); ctx.lineTo(x + half, hi);
+      ctx.moveTo(x, hi); ctx.lineTo(x, lo);
+      ctx.moveTo(x - half, lo); ctx.lineTo(x + half, lo);
+    }
+    ctx.stroke();
+  }
+  segs.forEach((run, k) => {
+    const style = lines[k].style;
+    if (!(px(style.strokeWidth) > 0)) return;
+    stroke(ctx, style);
+    ctx.beginPath();
+    ctx.moveTo(run[0][0], run[0][1]);
+    for (let i = 1; i < run.length; i++) ctx.lineTo(run[i][0], run[i][1]);
+    ctx.stroke();
+  });
+  if (marks.length) {
+    const style = marks[0].style, shape = new Path2D(marks[0].getAttribute("d") || "");
+    ctx.fillStyle = style.fill;
+    ctx.globalAlpha = alpha(style.fillOpacity, style.opacity);
+    ctx.setLineDash([]);
+    const edge = px(style.strokeWidth);
+    if (edge > 0) Object.assign(ctx, { strokeStyle: style.stroke, lineWidth: edge });
+    for (const [x, y] of drawn) {
+      ctx.translate(x, y);
+      ctx.fill(shape);
+      if (edge > 0) ctx.stroke(shape);
+      ctx.translate(-x, -y);
+    }
+  }
+}
+
+/** Draws `data` on the canvas over `gd` as svgpaths.js would write it, and hides the SVG
+ * traces; false, and nothing drawn, if it cannot. gd.heldCurves: the line runs drawn
+ * (pixel points in each trace's layer), for the tests. */
+export function drawHeld(gd, data) {
+  const svg = gd.querySelector(".svg-container > svg.main-svg");
+  const traces = svg && geometry(gd, data);
+  if (!traces) return false;
+  const placed = traces.map((t) => ({ t, at: offset(t.group), clip: clipOf(t.group) }));
+  if (placed.some((p) => !p.at || p.clip === null)) return false;
+  const cv = canvasOf(gd, svg), ctx = cv.getContext("2d"), r = cv.width / (px(svg.getAttribute("width")) || 1);
+  ctx.setTransform(1, 0, 0, 1, 0, 0);
+  ctx.clearRect(0, 0, cv.width, cv.height);
+  for (const { t, at, clip } of placed) {
+    ctx.save();
+    ctx.setTransform(r, 0, 0, r, 0, 0);
+    if (clip) ctx.clip(clip);
+    ctx.translate(at[0], at[1]);
+    drawTrace(ctx, t);
+    ctx.restore();
+  }
+  gd.heldCurves = traces.map((t) => t.segs);
+  if (!gd.classList.contains(HELD)) gd.classList.add(HELD);
+  return true;
+}
+
+/** The SVG traces shown again (they show the data now: written, or drawn by Plotly)
+ * and the canvas put away. */
+export function endHeld(gd) {
+  if (!gd.classList.contains(HELD)) return;
+  gd.classList.remove(HELD);
+  gd.heldCurves = null;
+}

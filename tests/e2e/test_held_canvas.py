@@ -1,0 +1,103 @@
+"""While a slider is held, the curves are drawn on a canvas over each plot (static/js/
+heldcanvas.js) with the SVG traces hidden; on release the SVG shows them again.
+
+What the canvas stands for (the runs of pixel points it was given) is held to Plotly's own
+drawing by test_path_writes.py; here, that it paints them: the canvas has ink on every
+run it drew and none in the plot area away from them, and the hidden SVG lines are the
+ones it replaces."""
+from __future__ import annotations
+
+import pytest
+
+from test_page import wait_quiet   # tests/e2e is not a package
+
+pytestmark = pytest.mark.e2e
+
+PANELS = ("lobe", "ndf", "g1", "albedo")
+MOVE_JS = """(v) => { const s = document.getElementById('alpha-slider');
+    s.value = String(v); s.dispatchEvent(new Event('input', { bubbles: true })); }"""
+GRAB_JS = "() => document.getElementById('alpha-slider').dispatchEvent(new PointerEvent('pointerdown', { bubbles: true }))"
+LET_GO_JS = """() => { const s = document.getElementById('alpha-slider');
+    s.dispatchEvent(new Event('change', { bubbles: true }));
+    s.dispatchEvent(new PointerEvent('pointerup', { bubbles: true })); }"""
+
+# For a held plot: how many of its runs' points (25 a run, of solid lines, in the plot
+# area) have ink on the canvas within a pixel, of how many; how much of the plot area
+# away from every run (12 px from each point, every 9 px) is blank; and whether its SVG
+# traces are hidden. Points are in each trace layer's pixels: the canvas is the SVG's
+# size, its layers offset as the SVG's translate() say.
+INK_JS = """(name) => {
+  const gd = document.getElementById(`plot-${name}`);
+  const cv = gd.querySelector('canvas.held-canvas-layer');
+  const svg = gd.querySelector('.svg-container > svg.main-svg');
+  const r = cv.width / Number.parseFloat(svg.getAttribute('width'));
+  const img = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height);
+  const alphaAt = (x, y) => {
+    let best = 0;
+    for (let dx = -1; dx <= 1; dx++) for (let dy = -1; dy <= 1; dy++) {
+      const u = Math.round((x + dx) * r), v = Math.round((y + dy) * r);
+      if (u >= 0 && v >= 0 && u < cv.width && v < cv.height) best = Math.max(best, img.data[4 * (v * cv.width + u) + 3]);
+    }
+    return best;
+  };
+  const groups = [...gd.querySelectorAll('.scatterlayer g.trace')];
+  const shift = (node) => { let x = 0, y = 0;
+    for (let n = node; n && n.tagName !== 'svg'; n = n.parentNode) {
+      const m = /translate\\(([-\\d.e]+)[ ,]+([-\\d.e]+)\\)/.exec(n.getAttribute('transform') || '');
+      if (m) { x += +m[1]; y += +m[2]; } }
+    return [x, y]; };
+  // a point Plotly would show: in the plot area (a cartesian plot), on the canvas (polar)
+  const fl = gd._fullLayout, xa = fl.xaxis, ya = fl.yaxis;
+  const inside = (x, y) => xa && ya
+    ? x > xa._offset + 1 && x < xa._offset + xa._length - 1 && y > ya._offset + 1 && y < ya._offset + ya._length - 1
+    : x > 1 && y > 1 && x < cv.width / r - 1 && y < cv.height / r - 1;
+  let inked = 0, tried = 0;
+  const pts = [];
+  gd.heldCurves.forEach((runs, i) => {
+    const [ox, oy] = shift(groups[i]);
+    const line = groups[i].querySelector('path.js-line')?.style;
+    const solid = Number.parseFloat(line?.strokeWidth || '0') > 0 && !(line.strokeDasharray && line.strokeDasharray !== 'none');
+    for (const run of runs) for (let k = 0; k < run.length; k++) {
+      const [x, y] = [run[k][0] + ox, run[k][1] + oy];
+      pts.push([x, y]);
+      if (k % Math.max(1, Math.floor(run.length / 25)) || !solid || !inside(x, y)) continue;
+      tried++;
+      if (alphaAt(x, y) > 0) inked++;
+    }
+  });
+  let blank = 0, away = 0;
+  if (xa && ya) for (let x = xa._offset + 4; x < xa._offset + xa._length - 4; x += 9)
+    for (let y = ya._offset + 4; y < ya._offset + ya._length - 4; y += 9) {
+      if (pts.some(([u, v]) => Math.abs(u - x) < 12 && Math.abs(v - y) < 12)) continue;
+      away++;
+      if (alphaAt(x, y) === 0) blank++;
+    }
+  const hidden = groups.every((g) => getComputedStyle(g).visibility === 'hidden');
+  return { inked, tried, blank, away, hidden };
+}"""
+SHOWN_JS = """(name) => { const gd = document.getElementById(`plot-${name}`);
+  const cv = gd.querySelector('canvas.held-canvas-layer');
+  return { held: gd.classList.contains('held-canvas'), canvas: !!cv && getComputedStyle(cv).display !== 'none',
+           traces: [...gd.querySelectorAll('.scatterlayer g.trace')].every((g) => getComputedStyle(g).visibility === 'visible') }; }"""
+
+
+def test_a_held_slider_draws_the_curves_on_a_canvas_and_gives_them_back_on_release(page, page_log):
+    page.goto("/?alpha=0.3")
+    wait_quiet(page)
+    page.evaluate(GRAB_JS)
+    for v in range(620, 560, -6):
+        page.evaluate(MOVE_JS, v)
+        page.wait_for_timeout(40)
+    wait_quiet(page)
+    for name in PANELS:
+        assert page.evaluate("(n) => document.getElementById(`plot-${n}`).classList.contains('held-canvas')", name), name
+        ink = page.evaluate(INK_JS, name)
+        assert ink["hidden"], (name, ink)
+        assert ink["tried"] >= 10 and ink["inked"] == ink["tried"], (name, ink)
+        if name in ("ndf", "g1"):  # lines only (the lobe is polar, the albedo has a band and bars)
+            assert ink["away"] >= 20 and ink["blank"] == ink["away"], (name, ink)
+    page.evaluate(LET_GO_JS)
+    wait_quiet(page)
+    for name in PANELS:
+        assert page.evaluate(SHOWN_JS, name) == {"held": False, "canvas": False, "traces": True}, name
+    assert page_log.problems() == []
