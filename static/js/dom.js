@@ -51,6 +51,25 @@ export function richText(text) {
   return frag;
 }
 
+/** Shows `frag` in `node`: where both have the same nodes (a heading whose numbers
+ * moved: "GGX α=0.0425" → "GGX α=0.0431"), by rewriting the text that changed in place,
+ * which lays out only that text where replacing the nodes restyled and laid out each. */
+export function replaceText(node, frag) {
+  const old = node.childNodes, nu = frag.childNodes;
+  // text, or an element holding one text (<sub>), node for node
+  const leaf = (n) => (n.nodeType === Node.TEXT_NODE ? n : n.childNodes.length === 1 && n.firstChild.nodeType === Node.TEXT_NODE ? n.firstChild : null);
+  const same = old.length === nu.length && [...nu].every((n, i) => n.nodeName === old[i].nodeName && leaf(n) && leaf(old[i]));
+  if (!same) {
+    node.textContent = "";
+    node.append(frag);
+    return;
+  }
+  nu.forEach((n, i) => {
+    const was = leaf(old[i]), text = leaf(n).data;
+    if (was.data !== text) was.data = text;
+  });
+}
+
 /** FastAPI's errors: {"detail": "message"} or {"detail": [{loc, msg, ...}, ...]}. */
 export function apiMessage(body, res) {
   const d = body && body.detail;

@@ -10,8 +10,8 @@
  * what is drawn is what Plotly would draw, in the same styles, read from the elements
  * Plotly drew; on release the SVG is written again and the canvas put away (endHeld).
  *
- * The plot's SVG traces are hidden while the canvas shows (the class HELD on the plot
- * div, style.css). Anything the canvas cannot place as the SVG would (a transform other
+ * The canvas stays over the plot, blank when no slider is held; the plot's SVG traces
+ * are hidden while it shows the curves (the class HELD on the plot div, style.css). Anything the canvas cannot place as the SVG would (a transform other
  * than a translation, a clip it cannot read) leaves drawHeld false, and the caller
  * writes the SVG.
  */
@@ -163,10 +163,22 @@ export function drawHeld(gd, data) {
   return true;
 }
 
+/** A plot's canvas made and given its pixels before a drag (at the grab): the first
+ * held frames then only draw (making the canvas, its first pixels and its compositor
+ * layer cost the first held frame of each panel up to 6 ms more). */
+export function readyHeld(gd) {
+  const svg = gd.querySelector(".svg-container > svg.main-svg");
+  if (!svg) return;
+  const cv = canvasOf(gd, svg);
+  cv.getContext("2d").clearRect(0, 0, cv.width, cv.height);
+}
+
 /** The SVG traces shown again (they show the data now: written, or drawn by Plotly)
  * and the canvas put away. */
 export function endHeld(gd) {
   if (!gd.classList.contains(HELD)) return;
   gd.classList.remove(HELD);
   gd.heldCurves = null;
+  const cv = gd.querySelector(`canvas.${HELD}-layer`);
+  cv?.getContext("2d").clearRect(0, 0, cv.width, cv.height);
 }

@@ -127,11 +127,15 @@ function onStateChange() {
   for (const loc of ctx.locals.values()) setIf(loc.input.parentElement, "hidden", !fieldApplies(loc.view, loc.field, state));
 }
 
-/** A slider held: the heavy images come coarser until it is let go. */
+/** A slider held: the heavy images come coarser until it is let go, and the plots in
+ * view draw their curves on a canvas (heldcanvas.js), made ready at the grab. */
 function onHold(held) {
   if (ctx.held === held) return;
   ctx.held = held;
-  if (held) return;
+  if (held) {
+    for (const p of panels) p.grab();
+    return;
+  }
   releaseUrlWrite();
   for (const p of panels) {
     p.release();

@@ -4,7 +4,7 @@
  * either is the scheduler's business. A view that does not take the chosen model
  * (model=principled: GET /api/v1/principled lists the views that do) says so instead.
  */
-import { API, el, richText, apiMessage, errorLoc, query, setIf } from "./dom.js";
+import { API, el, richText, replaceText, apiMessage, errorLoc, query, setIf } from "./dom.js";
 import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
 import { ctx } from "./state.js";
 import { compareModels } from "./pins.js";
@@ -14,7 +14,7 @@ import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from ".
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
          logAxes, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { writePaths } from "./svgpaths.js";
-import { drawHeld, endHeld } from "./heldcanvas.js";
+import { drawHeld, endHeld, readyHeld } from "./heldcanvas.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
 import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
@@ -307,6 +307,11 @@ export class Panel {
     return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
   }
 
+  /** A slider grabbed: a plot in view gets its canvas for the drag ready (heldcanvas.js). */
+  grab() {
+    if (this.inView && this.drawn && !this.error) readyHeld(this.div);
+  }
+
   /** The slider let go: axes left loose by the drag are fitted to the data again, to the
    * ranges the server gives, as a fresh page draws them (the panel asks again: refit). */
   release() {
@@ -317,8 +322,7 @@ export class Panel {
   setSub(sub) {
     if (this.subText === sub) return;
     this.subText = sub;
-    this.sub.textContent = "";
-    this.sub.append(richText(sub));
+    replaceText(this.sub, richText(sub));
   }
 
   draw({ data, layout, uirevision, sub }) {

@@ -1,5 +1,5 @@
 """While a slider is held, the curves are drawn on a canvas over each plot (static/js/
-heldcanvas.js) with the SVG traces hidden; on release the SVG shows them again.
+heldcanvas.js) with the SVG traces hidden; on release the SVG shows them again and the canvas is blank.
 
 What the canvas stands for (the runs of pixel points it was given) is held to Plotly's own
 drawing by test_path_writes.py; here, that it paints them: the canvas has ink on every
@@ -77,7 +77,8 @@ INK_JS = """(name) => {
 }"""
 SHOWN_JS = """(name) => { const gd = document.getElementById(`plot-${name}`);
   const cv = gd.querySelector('canvas.held-canvas-layer');
-  return { held: gd.classList.contains('held-canvas'), canvas: !!cv && getComputedStyle(cv).display !== 'none',
+  const ink = !!cv && cv.getContext('2d').getImageData(0, 0, cv.width, cv.height).data.some((v, i) => i % 4 === 3 && v > 0);
+  return { held: gd.classList.contains('held-canvas'), canvas: ink,
            traces: [...gd.querySelectorAll('.scatterlayer g.trace')].every((g) => getComputedStyle(g).visibility === 'visible') }; }"""
 
 
@@ -101,3 +102,26 @@ def test_a_held_slider_draws_the_curves_on_a_canvas_and_gives_them_back_on_relea
     for name in PANELS:
         assert page.evaluate(SHOWN_JS, name) == {"held": False, "canvas": False, "traces": True}, name
     assert page_log.problems() == []
+
+
+def test_a_heading_whose_numbers_moved_is_rewritten_in_place(page):
+    """A panel's heading (GGX α=0.0425, θ<sub>i</sub>=45°) is redrawn with each held frame:
+    the same markup keeps its nodes and only their text changes (static/js/dom.js
+    replaceText); other markup replaces them. Either way it reads as richText renders it."""
+    page.goto("/")
+    got = page.evaluate("""async () => {
+      const { richText, replaceText } = await import('/static/js/dom.js');
+      const h = document.createElement('span');
+      const say = (t) => { replaceText(h, richText(t)); return [h.textContent, h.innerHTML]; };
+      const first = say('GGX α=0.0425, θ_i=45°');
+      const nodes = [...h.childNodes];
+      const moved = say('GGX α=0.0431, θ_i=45°');
+      const kept = nodes.length === h.childNodes.length && nodes.every((n, i) => n === h.childNodes[i]);
+      const other = say('GGX α=0.05, comparing vary = 1, 2');
+      const fresh = document.createElement('span'); fresh.append(richText('GGX α=0.05, comparing vary = 1, 2'));
+      return { first, moved, kept, other, fresh: fresh.innerHTML, replaced: !nodes.some((n) => n.parentNode === h) };
+    }""")
+    assert got["first"] == ["GGX α=0.0425, θi=45°", "GGX α=0.0425, θ<sub>i</sub>=45°"]
+    assert got["moved"] == ["GGX α=0.0431, θi=45°", "GGX α=0.0431, θ<sub>i</sub>=45°"]
+    assert got["kept"]
+    assert got["other"][1] == got["fresh"] and got["replaced"]
