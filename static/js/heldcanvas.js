@@ -163,14 +163,16 @@ export function drawHeld(gd, data) {
   return true;
 }
 
-/** A plot's canvas made and given its pixels before a drag (at the grab): the first
- * held frames then only draw (making the canvas, its first pixels and its compositor
- * layer cost the first held frame of each panel up to 6 ms more). */
+/** A plot's canvas made, at its size, and given its (blank) pixels before a drag: the
+ * first held frames then only draw (making the canvas, its first pixels and its
+ * compositor layer cost the first held frame of each panel up to 6 ms more). */
 export function readyHeld(gd) {
   const svg = gd.querySelector(".svg-container > svg.main-svg");
   if (!svg) return;
-  const cv = canvasOf(gd, svg);
+  const cv = canvasOf(gd, svg), ready = `${cv.width}x${cv.height}`;
+  if (cv.dataset.ready === ready) return;
   cv.getContext("2d").clearRect(0, 0, cv.width, cv.height);
+  cv.dataset.ready = ready;
 }
 
 /** The SVG traces shown again (they show the data now: written, or drawn by Plotly)

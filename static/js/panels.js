@@ -22,6 +22,8 @@ import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
 const LOADING_DELAY_MS = 300;
 // After paths written directly, Plotly's own state is brought up to date (Panel.sync)
 // when the plot is used (hover, resize, export), or once the page has been quiet this long.
+// a browser without requestIdleCallback (Safari before 18) gets a short timer
+const whenIdle = (f) => (window.requestIdleCallback ? requestIdleCallback(f, { timeout: 2000 }) : setTimeout(f, 200));
 const SYNC_IDLE_MS = 1500;
 
 // D, Λ/G1 and E(μ) are taken at one azimuth: the plane of incidence's when anisotropic.
@@ -307,9 +309,10 @@ export class Panel {
     return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
   }
 
-  /** A slider grabbed: a plot in view gets its canvas for the drag ready (heldcanvas.js). */
+  /** A slider grabbed (or the page idle after a draw): a plot in view has its canvas for
+   * a drag ready, at its size (heldcanvas.js). */
   grab() {
-    if (this.inView && this.drawn && !this.error) readyHeld(this.div);
+    if (this.inView && this.drawn && !this.error && !this.div.classList.contains("held-canvas")) readyHeld(this.div);
   }
 
   /** The slider let go: axes left loose by the drag are fitted to the data again, to the
@@ -352,7 +355,14 @@ export class Panel {
 
   drawn_(promise) {
     this.shown_();
-    return promise.then(() => this.announce());
+    return promise.then(() => {
+      this.announce();
+      // the canvas a held slider draws on, made while the page is idle (else at the grab)
+      if (!this.canvasDue) {
+        this.canvasDue = true;
+        whenIdle(() => { this.canvasDue = false; this.grab(); });
+      }
+    });
   }
 
   fail(message) {
