@@ -66,22 +66,25 @@ const px = (v) => Number.parseFloat(v) || 0;
 const alpha = (...vs) => vs.reduce((a, v) => a * (v === "" || v === undefined ? 1 : Number(v)), 1);
 const dashes = (v) => (!v || v === "none" ? [] : v.split(/[\s,]+/).map(px));
 
-/** The overlay canvas of a plot div, made once, sized to its SVG. */
+/** The overlay canvas of a plot div, made once, sized to its SVG; `surface`: what is
+ * drawn on, its OffscreenCanvas where the browser can hand one over (its frames then
+ * go to the compositor directly, not through the page's paint and commit). */
 function canvasOf(gd, svg) {
   let cv = gd.querySelector(`canvas.${HELD}-layer`);
   if (!cv) {
     cv = document.createElement("canvas");
     cv.className = `${HELD}-layer`;
     svg.after(cv);
+    cv.surface = cv.transferControlToOffscreen ? cv.transferControlToOffscreen() : cv;
   }
-  const w = px(svg.getAttribute("width")), h = px(svg.getAttribute("height")), r = window.devicePixelRatio || 1;
-  if (cv.width !== Math.round(w * r) || cv.height !== Math.round(h * r)) {
-    cv.width = Math.round(w * r);
-    cv.height = Math.round(h * r);
+  const s = cv.surface, w = px(svg.getAttribute("width")), h = px(svg.getAttribute("height")), r = window.devicePixelRatio || 1;
+  if (s.width !== Math.round(w * r) || s.height !== Math.round(h * r)) {
+    s.width = Math.round(w * r);
+    s.height = Math.round(h * r);
     cv.style.width = `${w}px`;
     cv.style.height = `${h}px`;
   }
-  return cv;
+  return s;
 }
 
 function stroke(ctx, style) {
@@ -170,9 +173,9 @@ export function readyHeld(gd) {
   const svg = gd.querySelector(".svg-container > svg.main-svg");
   if (!svg) return;
   const cv = canvasOf(gd, svg), ready = `${cv.width}x${cv.height}`;
-  if (cv.dataset.ready === ready) return;
+  if (gd.dataset.heldReady === ready) return;
   cv.getContext("2d").clearRect(0, 0, cv.width, cv.height);
-  cv.dataset.ready = ready;
+  gd.dataset.heldReady = ready;
 }
 
 /** The SVG traces shown again (they show the data now: written, or drawn by Plotly)
@@ -181,6 +184,6 @@ export function endHeld(gd) {
   if (!gd.classList.contains(HELD)) return;
   gd.classList.remove(HELD);
   gd.heldCurves = null;
-  const cv = gd.querySelector(`canvas.${HELD}-layer`);
+  const cv = gd.querySelector(`canvas.${HELD}-layer`)?.surface;
   cv?.getContext("2d").clearRect(0, 0, cv.width, cv.height);
 }

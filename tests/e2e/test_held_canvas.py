@@ -7,6 +7,8 @@ run it drew and none in the plot area away from them, and the hidden SVG lines a
 ones it replaces."""
 from __future__ import annotations
 
+import base64
+
 import pytest
 
 from test_page import wait_quiet   # tests/e2e is not a package
@@ -28,7 +30,7 @@ LET_GO_JS = """() => { const s = document.getElementById('alpha-slider');
 # size, its layers offset as the SVG's translate() say.
 INK_JS = """(name) => {
   const gd = document.getElementById(`plot-${name}`);
-  const cv = gd.querySelector('canvas.held-canvas-layer');
+  const cv = gd.querySelector('canvas.held-canvas-layer').surface;     // an OffscreenCanvas, where it can be
   const svg = gd.querySelector('.svg-container > svg.main-svg');
   const r = cv.width / Number.parseFloat(svg.getAttribute('width'));
   const img = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height);
@@ -75,8 +77,38 @@ INK_JS = """(name) => {
   const hidden = groups.every((g) => getComputedStyle(g).visibility === 'hidden');
   return { inked, tried, blank, away, hidden };
 }"""
+# A held plot's solid-line points (25 a run, in the plot area), in the plot div's CSS px
+POINTS_JS = """(name) => {
+  const gd = document.getElementById(`plot-${name}`), fl = gd._fullLayout, xa = fl.xaxis, ya = fl.yaxis;
+  const out = [];
+  [...gd.querySelectorAll('.scatterlayer g.trace')].forEach((g, i) => {
+    const line = g.querySelector('path.js-line')?.style;
+    if (!line || line.strokeDasharray || !(Number.parseFloat(line.strokeWidth) > 0)) return;
+    let ox = 0, oy = 0;
+    for (let n = g; n && n.tagName !== 'svg'; n = n.parentNode) {
+      const m = /translate\\(([-\\d.e]+)[ ,]+([-\\d.e]+)\\)/.exec(n.getAttribute('transform') || '');
+      if (m) { ox += +m[1]; oy += +m[2]; } }
+    for (const run of gd.heldCurves[i]) for (let k = 0; k < run.length; k += Math.max(1, Math.floor(run.length / 25))) {
+      const [x, y] = [run[k][0] + ox, run[k][1] + oy];
+      if (x > xa._offset + 2 && x < xa._offset + xa._length - 2 && y > ya._offset + 2 && y < ya._offset + ya._length - 2) out.push([x, y]);
+    }
+  });
+  return out;
+}"""
+# How many of these points of a PNG (base64) are inked (a channel below 200) within a pixel
+INKED_PNG_JS = """async ([png, pts]) => {
+  const img = new Image(); img.src = 'data:image/png;base64,' + png; await img.decode();
+  const c = document.createElement('canvas'); c.width = img.width; c.height = img.height;
+  const g = c.getContext('2d'); g.drawImage(img, 0, 0);
+  const d = g.getImageData(0, 0, c.width, c.height).data;
+  const ink = (x, y) => { for (let dx = -1; dx <= 1; dx++) for (let dy = -1; dy <= 1; dy++) {
+    const u = Math.round(x) + dx, v = Math.round(y) + dy, o = 4 * (v * c.width + u);
+    if (u >= 0 && v >= 0 && u < c.width && v < c.height && Math.min(d[o], d[o + 1], d[o + 2]) < 200) return true; }
+    return false; };
+  return pts.filter(([x, y]) => ink(x, y)).length;
+}"""
 SHOWN_JS = """(name) => { const gd = document.getElementById(`plot-${name}`);
-  const cv = gd.querySelector('canvas.held-canvas-layer');
+  const cv = gd.querySelector('canvas.held-canvas-layer')?.surface;
   const ink = !!cv && cv.getContext('2d').getImageData(0, 0, cv.width, cv.height).data.some((v, i) => i % 4 === 3 && v > 0);
   return { held: gd.classList.contains('held-canvas'), canvas: ink,
            traces: [...gd.querySelectorAll('.scatterlayer g.trace')].every((g) => getComputedStyle(g).visibility === 'visible') }; }"""
@@ -97,6 +129,10 @@ def test_a_held_slider_draws_the_curves_on_a_canvas_and_gives_them_back_on_relea
         assert ink["tried"] >= 10 and ink["inked"] == ink["tried"], (name, ink)
         if name in ("ndf", "g1"):  # lines only (the lobe is polar, the albedo has a band and bars)
             assert ink["away"] >= 20 and ink["blank"] == ink["away"], (name, ink)
+    # and on the screen: with the SVG lines hidden, the ink at the NDF's points is the canvas's
+    points = page.evaluate(POINTS_JS, "ndf")
+    png = base64.b64encode(page.locator("#plot-ndf").screenshot()).decode()
+    assert len(points) >= 10 and page.evaluate(INKED_PNG_JS, [png, points]) == len(points)
     page.evaluate(LET_GO_JS)
     wait_quiet(page)
     for name in PANELS:
