@@ -1,19 +1,20 @@
 /* While a slider is held, the curves drawn on a canvas laid over the plot.
  *
- * Writing a trace's SVG paths (svgpaths.js) costs the page's main thread, besides
- * building the path strings, Blink's layout, paint and layerisation of the changed
- * paths and a raster of the plot's layer under them (text and grid included): a frame
- * that redraws four panels took 7-9 ms of main thread, where one that only moved the
- * slider took 3 (BENCHMARKS.md §5), and the slider's input events wait behind it.
- * On a canvas the same points are a few hundred lineTo calls, and the SVG underneath
- * is not touched. The points are the ones svgpaths.js would write (its geometry()), so
- * what is drawn is what Plotly would draw, in the same styles, read from the elements
- * Plotly drew; on release the SVG is written again and the canvas put away (endHeld).
+ * Writing a trace's SVG paths (svgpaths.js) costs the page's main thread the path
+ * strings, then Blink's style, layout, paint and layerisation of the changed paths: a
+ * frame that redrew four panels took 7-10 ms, one that only moved the slider 3-4 ms
+ * (BENCHMARKS.md §5), and the slider's input events waited behind it. On a canvas the
+ * same points are a few hundred lineTo calls and the SVG underneath is not touched; the
+ * canvas draws on its OffscreenCanvas, whose frames go to the compositor without the
+ * page's paint and commit. The points are the ones svgpaths.js would write (its
+ * geometry()), in the styles read from the elements Plotly drew, clipped as Plotly
+ * clips them; on release the SVG is written again and the canvas cleared (endHeld).
  *
- * The canvas stays over the plot, blank when no slider is held; the plot's SVG traces
- * are hidden while it shows the curves (the class HELD on the plot div, style.css). Anything the canvas cannot place as the SVG would (a transform other
- * than a translation, a clip it cannot read) leaves drawHeld false, and the caller
- * writes the SVG.
+ * The canvas stays over the plot, blank when no slider is held, made while the page is
+ * idle (readyHeld); the plot's SVG traces are hidden while it shows the curves (the
+ * class HELD on the plot div, style.css). What the canvas cannot place as the SVG would
+ * (a transform other than a translation, a clip it cannot read) leaves drawHeld false,
+ * and the caller writes the SVG.
  */
 import { geometry } from "./svgpaths.js";
 
@@ -66,9 +67,9 @@ const px = (v) => Number.parseFloat(v) || 0;
 const alpha = (...vs) => vs.reduce((a, v) => a * (v === "" || v === undefined ? 1 : Number(v)), 1);
 const dashes = (v) => (!v || v === "none" ? [] : v.split(/[\s,]+/).map(px));
 
-/** The overlay canvas of a plot div, made once, sized to its SVG; `surface`: what is
- * drawn on, its OffscreenCanvas where the browser can hand one over (its frames then
- * go to the compositor directly, not through the page's paint and commit). */
+/** What a plot div's overlay canvas (made once) is drawn on, sized to its SVG: the
+ * canvas's OffscreenCanvas where the browser can hand one over (its frames then go to
+ * the compositor directly, not through the page's paint and commit), else the canvas. */
 function canvasOf(gd, svg) {
   let cv = gd.querySelector(`canvas.${HELD}-layer`);
   if (!cv) {
@@ -150,9 +151,9 @@ export function drawHeld(gd, data) {
   if (!traces) return false;
   const placed = traces.map((t) => ({ t, at: offset(t.group), clip: clipOf(t.group) }));
   if (placed.some((p) => !p.at || p.clip === null)) return false;
-  const cv = canvasOf(gd, svg), ctx = cv.getContext("2d"), r = cv.width / (px(svg.getAttribute("width")) || 1);
+  const surface = canvasOf(gd, svg), ctx = surface.getContext("2d"), r = surface.width / (px(svg.getAttribute("width")) || 1);
   ctx.setTransform(1, 0, 0, 1, 0, 0);
-  ctx.clearRect(0, 0, cv.width, cv.height);
+  ctx.clearRect(0, 0, surface.width, surface.height);
   for (const { t, at, clip } of placed) {
     ctx.save();
     ctx.setTransform(r, 0, 0, r, 0, 0);
@@ -172,18 +173,18 @@ export function drawHeld(gd, data) {
 export function readyHeld(gd) {
   const svg = gd.querySelector(".svg-container > svg.main-svg");
   if (!svg) return;
-  const cv = canvasOf(gd, svg), ready = `${cv.width}x${cv.height}`;
+  const surface = canvasOf(gd, svg), ready = `${surface.width}x${surface.height}`;
   if (gd.dataset.heldReady === ready) return;
-  cv.getContext("2d").clearRect(0, 0, cv.width, cv.height);
+  surface.getContext("2d").clearRect(0, 0, surface.width, surface.height);
   gd.dataset.heldReady = ready;
 }
 
 /** The SVG traces shown again (they show the data now: written, or drawn by Plotly)
- * and the canvas put away. */
+ * and the canvas cleared. */
 export function endHeld(gd) {
   if (!gd.classList.contains(HELD)) return;
   gd.classList.remove(HELD);
   gd.heldCurves = null;
-  const cv = gd.querySelector(`canvas.${HELD}-layer`)?.surface;
-  cv?.getContext("2d").clearRect(0, 0, cv.width, cv.height);
+  const surface = gd.querySelector(`canvas.${HELD}-layer`)?.surface;
+  surface?.getContext("2d").clearRect(0, 0, surface.width, surface.height);
 }
