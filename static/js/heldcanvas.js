@@ -107,16 +107,16 @@ function drawTrace(ctx, { lines, fill, marks, bars, half, segs, drawn, ticks }) 
     }
     ctx.fill();
   }
-  if (ticks.length) {
-    stroke(ctx, bars[0].style);
+  // error bars and markers each in their own element's style, as the SVG writer leaves
+  // them (Plotly may style them point by point)
+  ticks.forEach(([x, hi, lo], k) => {
+    stroke(ctx, bars[k].style);
     ctx.beginPath();
-    for (const [x, hi, lo] of ticks) {
-      ctx.moveTo(x - half, hi); ctx.lineTo(x + half, hi);
-      ctx.moveTo(x, hi); ctx.lineTo(x, lo);
-      ctx.moveTo(x - half, lo); ctx.lineTo(x + half, lo);
-    }
+    ctx.moveTo(x - half, hi); ctx.lineTo(x + half, hi);
+    ctx.moveTo(x, hi); ctx.lineTo(x, lo);
+    ctx.moveTo(x - half, lo); ctx.lineTo(x + half, lo);
     ctx.stroke();
-  }
+  });
   segs.forEach((run, k) => {
     const style = lines[k].style;
     if (!(px(style.strokeWidth) > 0)) return;
@@ -126,20 +126,21 @@ function drawTrace(ctx, { lines, fill, marks, bars, half, segs, drawn, ticks }) 
     for (let i = 1; i < run.length; i++) ctx.lineTo(run[i][0], run[i][1]);
     ctx.stroke();
   });
-  if (marks.length) {
-    const style = marks[0].style, shape = new Path2D(marks[0].getAttribute("d") || "");
+  const shapes = new Map();        // a marker's outline by its path (one symbol and size: one)
+  marks.forEach((m, k) => {
+    const d = m.getAttribute("d") || "", style = m.style, edge = px(style.strokeWidth), [x, y] = drawn[k];
+    if (!shapes.has(d)) shapes.set(d, new Path2D(d));
     ctx.fillStyle = style.fill;
     ctx.globalAlpha = alpha(style.fillOpacity, style.opacity);
-    ctx.setLineDash([]);
-    const edge = px(style.strokeWidth);
-    if (edge > 0) Object.assign(ctx, { strokeStyle: style.stroke, lineWidth: edge });
-    for (const [x, y] of drawn) {
-      ctx.translate(x, y);
-      ctx.fill(shape);
-      if (edge > 0) ctx.stroke(shape);
-      ctx.translate(-x, -y);
+    ctx.translate(x, y);
+    ctx.fill(shapes.get(d));
+    if (edge > 0) {
+      stroke(ctx, style);
+      ctx.setLineDash([]);
+      ctx.stroke(shapes.get(d));
     }
-  }
+    ctx.translate(-x, -y);
+  });
 }
 
 /** Draws `data` on the canvas over `gd` as svgpaths.js would write it, and hides the SVG
@@ -172,7 +173,7 @@ export function drawHeld(gd, data) {
  * compositor layer cost the first held frame of each panel up to 6 ms more). */
 export function readyHeld(gd) {
   const svg = gd.querySelector(".svg-container > svg.main-svg");
-  if (!svg) return;
+  if (!svg || gd.classList.contains(HELD)) return;      // drawing on it already
   const surface = canvasOf(gd, svg), ready = `${surface.width}x${surface.height}`;
   if (gd.dataset.heldReady === ready) return;
   surface.getContext("2d").clearRect(0, 0, surface.width, surface.height);
