@@ -128,7 +128,8 @@ function onStateChange() {
 }
 
 /** A slider held: the heavy images come coarser until it is let go, and the plots in
- * view draw their curves on a canvas (heldcanvas.js), made ready at the grab. */
+ * view draw their curves on a canvas (heldcanvas.js; made when the page was idle, or
+ * here at the grab). */
 function onHold(held) {
   if (ctx.held === held) return;
   ctx.held = held;

@@ -22,9 +22,9 @@ import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
 const LOADING_DELAY_MS = 300;
 // After paths written directly, Plotly's own state is brought up to date (Panel.sync)
 // when the plot is used (hover, resize, export), or once the page has been quiet this long.
+const SYNC_IDLE_MS = 1500;
 // a browser without requestIdleCallback (Safari before 18) gets a short timer
 const whenIdle = (f) => (window.requestIdleCallback ? requestIdleCallback(f, { timeout: 2000 }) : setTimeout(f, 200));
-const SYNC_IDLE_MS = 1500;
 
 // D, Λ/G1 and E(μ) are taken at one azimuth: the plane of incidence's when anisotropic.
 const anisotropic = (s) => (isPrincipled(s) ? s.principled.anisotropic > 0 : isAnisotropic(s));
@@ -312,7 +312,7 @@ export class Panel {
   /** A slider grabbed (or the page idle after a draw): a plot in view has its canvas for
    * a drag ready, at its size (heldcanvas.js). */
   grab() {
-    if (this.inView && this.drawn && !this.error && !this.div.classList.contains("held-canvas")) readyHeld(this.div);
+    if (this.inView && this.drawn && !this.error) readyHeld(this.div);
   }
 
   /** The slider let go: axes left loose by the drag are fitted to the data again, to the

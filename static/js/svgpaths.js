@@ -10,7 +10,9 @@
  * Supported: scatter and scatterpolar traces drawn as lines and/or markers, with a
  * `toself` fill and y error bars. Anything the page cannot place exactly as Plotly
  * would (another trace type, a count of line segments, markers or bars that does not
- * match what is drawn) makes `writer` answer null, and the caller takes Plotly's way.
+ * match what is drawn) makes `writePaths` answer false, and the caller takes Plotly's
+ * way. The points themselves (`geometry`) also serve heldcanvas.js, which draws them on
+ * a canvas while a slider is held.
  *
  * Plotly's own state (its calcdata, read by hover, zoom, resize and its image export)
  * still describes the previous data: the caller keeps the new figure and hands it to
@@ -60,7 +62,7 @@ function pixels(proj, t) {
 }
 
 /** The runs of at least two points between gaps: the line segments Plotly draws. */
-export function runs(points) {
+function runs(points) {
   const out = [];
   let run = [];
   for (const p of points) {
@@ -77,7 +79,7 @@ export function runs(points) {
 const pathOf = (run) => `M${run.map((p) => `${round(p[0])},${round(p[1])}`).join("L")}`;
 
 /** One trace as Plotly would place it, in its layer's pixels, or null if what is drawn
- * cannot take it: {group, ft, lines, fill, marks, bars, half, segs, drawn, ticks}
+ * cannot take it: {group, lines, fill, marks, bars, half, segs, drawn, ticks}
  * (segs: the line runs; drawn: the points with a marker; ticks: each error bar's
  * [x, top, bottom]; half: half its cap width). */
 function traceGeometry(gd, group, t) {
@@ -114,7 +116,7 @@ function traceGeometry(gd, group, t) {
       ticks.push([points[i][0], hi, lo]);
     }
   }
-  return { group, ft, lines, fill, marks, bars, half, segs, drawn, ticks };
+  return { group, lines, fill, marks, bars, half, segs, drawn, ticks };
 }
 
 /** One trace's attribute writes. */

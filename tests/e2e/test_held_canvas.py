@@ -23,14 +23,39 @@ LET_GO_JS = """() => { const s = document.getElementById('alpha-slider');
     s.dispatchEvent(new Event('change', { bubbles: true }));
     s.dispatchEvent(new PointerEvent('pointerup', { bubbles: true })); }"""
 
-# For a held plot: how many of its runs' points (25 a run, of solid lines, in the plot
-# area) have ink on the canvas within a pixel, of how many; how much of the plot area
-# away from every run (12 px from each point, every 9 px) is blank; and whether its SVG
-# traces are hidden. Points are in each trace layer's pixels: the canvas is the SVG's
-# size, its layers offset as the SVG's translate() say.
-INK_JS = """(name) => {
+# A held plot's drawn runs (gd.heldCurves, in each trace layer's pixels) in the SVG's
+# pixels, the layers offset as the SVG's translate() say: every point (`all`), and those
+# to look for ink at (`sample`: 25 a run, of solid lines, inside the plot area of a
+# cartesian plot or the canvas of a polar one, a pixel in from its edges).
+POINTS_JS = """(name) => {
+  const gd = document.getElementById(`plot-${name}`), fl = gd._fullLayout, xa = fl.xaxis, ya = fl.yaxis;
+  const svg = gd.querySelector('.svg-container > svg.main-svg');
+  const w = Number.parseFloat(svg.getAttribute('width')), h = Number.parseFloat(svg.getAttribute('height'));
+  const inside = (x, y) => xa && ya
+    ? x > xa._offset + 1 && x < xa._offset + xa._length - 1 && y > ya._offset + 1 && y < ya._offset + ya._length - 1
+    : x > 1 && y > 1 && x < w - 1 && y < h - 1;
+  const all = [], sample = [];
+  [...gd.querySelectorAll('.scatterlayer g.trace')].forEach((g, i) => {
+    let ox = 0, oy = 0;
+    for (let n = g; n && n.tagName !== 'svg'; n = n.parentNode) {
+      const m = /translate\\(([-\\d.e]+)[ ,]+([-\\d.e]+)\\)/.exec(n.getAttribute('transform') || '');
+      if (m) { ox += +m[1]; oy += +m[2]; } }
+    const line = g.querySelector('path.js-line')?.style;
+    const solid = Number.parseFloat(line?.strokeWidth || '0') > 0 && !(line.strokeDasharray && line.strokeDasharray !== 'none');
+    for (const run of gd.heldCurves[i]) for (let k = 0; k < run.length; k++) {
+      const p = [run[k][0] + ox, run[k][1] + oy];
+      all.push(p);
+      if (solid && !(k % Math.max(1, Math.floor(run.length / 25))) && inside(...p)) sample.push(p);
+    }
+  });
+  return { all, sample };
+}"""
+# On a held plot's canvas (its OffscreenCanvas, where it has one): how many of the sample
+# points have ink within a pixel, of how many; how much of the plot area away from every
+# point (12 px, looked at every 9 px) is blank; and whether the SVG traces are hidden.
+INK_JS = """([name, { all, sample }]) => {
   const gd = document.getElementById(`plot-${name}`);
-  const cv = gd.querySelector('canvas.held-canvas-layer').surface;     // an OffscreenCanvas, where it can be
+  const cv = gd.querySelector('canvas.held-canvas-layer').surface;
   const svg = gd.querySelector('.svg-container > svg.main-svg');
   const r = cv.width / Number.parseFloat(svg.getAttribute('width'));
   const img = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height);
@@ -42,58 +67,17 @@ INK_JS = """(name) => {
     }
     return best;
   };
-  const groups = [...gd.querySelectorAll('.scatterlayer g.trace')];
-  const shift = (node) => { let x = 0, y = 0;
-    for (let n = node; n && n.tagName !== 'svg'; n = n.parentNode) {
-      const m = /translate\\(([-\\d.e]+)[ ,]+([-\\d.e]+)\\)/.exec(n.getAttribute('transform') || '');
-      if (m) { x += +m[1]; y += +m[2]; } }
-    return [x, y]; };
-  // a point Plotly would show: in the plot area (a cartesian plot), on the canvas (polar)
-  const fl = gd._fullLayout, xa = fl.xaxis, ya = fl.yaxis;
-  const inside = (x, y) => xa && ya
-    ? x > xa._offset + 1 && x < xa._offset + xa._length - 1 && y > ya._offset + 1 && y < ya._offset + ya._length - 1
-    : x > 1 && y > 1 && x < cv.width / r - 1 && y < cv.height / r - 1;
-  let inked = 0, tried = 0;
-  const pts = [];
-  gd.heldCurves.forEach((runs, i) => {
-    const [ox, oy] = shift(groups[i]);
-    const line = groups[i].querySelector('path.js-line')?.style;
-    const solid = Number.parseFloat(line?.strokeWidth || '0') > 0 && !(line.strokeDasharray && line.strokeDasharray !== 'none');
-    for (const run of runs) for (let k = 0; k < run.length; k++) {
-      const [x, y] = [run[k][0] + ox, run[k][1] + oy];
-      pts.push([x, y]);
-      if (k % Math.max(1, Math.floor(run.length / 25)) || !solid || !inside(x, y)) continue;
-      tried++;
-      if (alphaAt(x, y) > 0) inked++;
-    }
-  });
+  const inked = sample.filter(([x, y]) => alphaAt(x, y) > 0).length;
+  const xa = gd._fullLayout.xaxis, ya = gd._fullLayout.yaxis;
   let blank = 0, away = 0;
   if (xa && ya) for (let x = xa._offset + 4; x < xa._offset + xa._length - 4; x += 9)
     for (let y = ya._offset + 4; y < ya._offset + ya._length - 4; y += 9) {
-      if (pts.some(([u, v]) => Math.abs(u - x) < 12 && Math.abs(v - y) < 12)) continue;
+      if (all.some(([u, v]) => Math.abs(u - x) < 12 && Math.abs(v - y) < 12)) continue;
       away++;
       if (alphaAt(x, y) === 0) blank++;
     }
-  const hidden = groups.every((g) => getComputedStyle(g).visibility === 'hidden');
-  return { inked, tried, blank, away, hidden };
-}"""
-# A held plot's solid-line points (25 a run, in the plot area), in the plot div's CSS px
-POINTS_JS = """(name) => {
-  const gd = document.getElementById(`plot-${name}`), fl = gd._fullLayout, xa = fl.xaxis, ya = fl.yaxis;
-  const out = [];
-  [...gd.querySelectorAll('.scatterlayer g.trace')].forEach((g, i) => {
-    const line = g.querySelector('path.js-line')?.style;
-    if (!line || line.strokeDasharray || !(Number.parseFloat(line.strokeWidth) > 0)) return;
-    let ox = 0, oy = 0;
-    for (let n = g; n && n.tagName !== 'svg'; n = n.parentNode) {
-      const m = /translate\\(([-\\d.e]+)[ ,]+([-\\d.e]+)\\)/.exec(n.getAttribute('transform') || '');
-      if (m) { ox += +m[1]; oy += +m[2]; } }
-    for (const run of gd.heldCurves[i]) for (let k = 0; k < run.length; k += Math.max(1, Math.floor(run.length / 25))) {
-      const [x, y] = [run[k][0] + ox, run[k][1] + oy];
-      if (x > xa._offset + 2 && x < xa._offset + xa._length - 2 && y > ya._offset + 2 && y < ya._offset + ya._length - 2) out.push([x, y]);
-    }
-  });
-  return out;
+  const hidden = [...gd.querySelectorAll('.scatterlayer g.trace')].every((g) => getComputedStyle(g).visibility === 'hidden');
+  return { inked, tried: sample.length, blank, away, hidden };
 }"""
 # How many of these points of a PNG (base64) are inked (a channel below 200) within a pixel
 INKED_PNG_JS = """async ([png, pts]) => {
@@ -124,13 +108,13 @@ def test_a_held_slider_draws_the_curves_on_a_canvas_and_gives_them_back_on_relea
     wait_quiet(page)
     for name in PANELS:
         assert page.evaluate("(n) => document.getElementById(`plot-${n}`).classList.contains('held-canvas')", name), name
-        ink = page.evaluate(INK_JS, name)
+        ink = page.evaluate(INK_JS, [name, page.evaluate(POINTS_JS, name)])
         assert ink["hidden"], (name, ink)
         assert ink["tried"] >= 10 and ink["inked"] == ink["tried"], (name, ink)
         if name in ("ndf", "g1"):  # lines only (the lobe is polar, the albedo has a band and bars)
             assert ink["away"] >= 20 and ink["blank"] == ink["away"], (name, ink)
     # and on the screen: with the SVG lines hidden, the ink at the NDF's points is the canvas's
-    points = page.evaluate(POINTS_JS, "ndf")
+    points = page.evaluate(POINTS_JS, "ndf")["sample"]
     png = base64.b64encode(page.locator("#plot-ndf").screenshot()).decode()
     assert len(points) >= 10 and page.evaluate(INKED_PNG_JS, [png, points]) == len(points)
     page.evaluate(LET_GO_JS)
