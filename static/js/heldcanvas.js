@@ -5,10 +5,12 @@
  * frame that redrew four panels took 7-10 ms, one that only moved the slider 3-4 ms
  * (BENCHMARKS.md §5), and the slider's input events waited behind it. On a canvas the
  * same points are a few hundred lineTo calls and the SVG underneath is not touched; the
- * canvas draws on its OffscreenCanvas, whose frames go to the compositor without the
- * page's paint and commit. The points are the ones svgpaths.js would write (its
- * geometry()), in the styles read from the elements Plotly drew, clipped as Plotly
- * clips them; on release the SVG is written again and the canvas cleared (endHeld).
+ * canvas's OffscreenCanvas is handed to a worker (heldworker.js), which draws there, so
+ * its frames go to the compositor without the page's paint and commit and the main
+ * thread neither issues the 2-D calls nor finalises the frames (7.97 → 6.78 ms of main
+ * thread a drag event, BENCHMARKS.md §5). The points are the ones svgpaths.js would
+ * write (its geometry()), in the styles read from the elements Plotly drew, clipped as
+ * Plotly clips them; on release the SVG is written again and the canvas cleared (endHeld).
  *
  * The canvas stays over the plot, blank when no slider is held, made while the page is
  * idle (readyHeld); the plot's SVG traces are hidden while it shows the curves (the
@@ -42,8 +44,8 @@ function offset(node) {
   return [x, y];
 }
 
-/** The clip of a trace group as a Path2D in the SVG's pixels (its nearest clip-path:
- * a rect or a path), undefined when it has none, null when it cannot be read. */
+/** The clip of a trace group in the SVG's pixels (its nearest clip-path: a rect, or a
+ * path and its offset), undefined when it has none, null when it cannot be read. */
 function clipOf(group) {
   const owner = group.closest("[clip-path]");
   if (!owner || !group.ownerSVGElement?.contains(owner)) return undefined;
@@ -53,116 +55,90 @@ function clipOf(group) {
   if (!shape || !at || !own) return null;
   at[0] += own[0];
   at[1] += own[1];
-  const path = new Path2D();
   if (shape.tagName === "rect") {
     const n = (a) => Number(shape.getAttribute(a) || 0);
-    path.rect(at[0] + n("x"), at[1] + n("y"), n("width"), n("height"));
-  } else if (shape.tagName === "path") {
-    path.addPath(new Path2D(shape.getAttribute("d") || ""), new DOMMatrix().translate(at[0], at[1]));
-  } else return null;
-  return path;
+    return { rect: [at[0] + n("x"), at[1] + n("y"), n("width"), n("height")] };
+  }
+  return shape.tagName === "path" ? { d: shape.getAttribute("d") || "", at } : null;
 }
 
 const px = (v) => Number.parseFloat(v) || 0;
-const alpha = (...vs) => vs.reduce((a, v) => a * (v === "" || v === undefined ? 1 : Number(v)), 1);
-const dashes = (v) => (!v || v === "none" ? [] : v.split(/[\s,]+/).map(px));
 
-/** What a plot div's overlay canvas (made once) is drawn on, sized to its SVG: the
- * canvas's OffscreenCanvas where the browser can hand one over (its frames then go to
- * the compositor directly, not through the page's paint and commit), else the canvas. */
+/** The drawing thread (heldworker.js), started with the first canvas; null where a
+ * canvas cannot be drawn from a worker (then the held plots keep their SVG). */
+let worker;
+function drawer() {
+  if (worker === undefined) {
+    const able = typeof Worker === "function" && "transferControlToOffscreen" in HTMLCanvasElement.prototype;
+    worker = able ? new Worker(new URL("./heldworker.js", import.meta.url), { type: "module" }) : null;
+  }
+  return worker;
+}
+let ids = 0;
+
+/** A plot div's overlay canvas (made once, its surface handed to the worker), sized to
+ * its SVG: {id, scale} (scale: device pixels per SVG pixel), null without a worker. */
 function canvasOf(gd, svg) {
+  const w = drawer();
+  if (!w) return null;
   let cv = gd.querySelector(`canvas.${HELD}-layer`);
   if (!cv) {
     cv = document.createElement("canvas");
     cv.className = `${HELD}-layer`;
+    cv.heldId = ++ids;
     svg.after(cv);
-    cv.surface = cv.transferControlToOffscreen ? cv.transferControlToOffscreen() : cv;
+    const canvas = cv.transferControlToOffscreen();
+    w.postMessage({ id: cv.heldId, canvas }, [canvas]);
   }
-  const s = cv.surface, w = px(svg.getAttribute("width")), h = px(svg.getAttribute("height")), r = window.devicePixelRatio || 1;
-  if (s.width !== Math.round(w * r) || s.height !== Math.round(h * r)) {
-    s.width = Math.round(w * r);
-    s.height = Math.round(h * r);
-    cv.style.width = `${w}px`;
-    cv.style.height = `${h}px`;
+  const width = px(svg.getAttribute("width")), height = px(svg.getAttribute("height")), r = window.devicePixelRatio || 1;
+  const size = [Math.round(width * r), Math.round(height * r)];
+  if (cv.heldSize?.[0] !== size[0] || cv.heldSize?.[1] !== size[1]) {
+    cv.heldSize = size;
+    w.postMessage({ id: cv.heldId, size });
+    cv.style.width = `${width}px`;
+    cv.style.height = `${height}px`;
   }
-  return s;
+  return { id: cv.heldId, scale: size[0] / (width || 1), size };
 }
 
-function stroke(ctx, style) {
-  ctx.strokeStyle = style.stroke;
-  ctx.lineWidth = px(style.strokeWidth);
-  ctx.globalAlpha = alpha(style.strokeOpacity, style.opacity);
-  ctx.setLineDash(dashes(style.strokeDasharray));
+/** An element's style as the worker draws it. */
+function styleOf(node) {
+  const s = node.style;
+  return { stroke: s.stroke, strokeWidth: s.strokeWidth, strokeOpacity: s.strokeOpacity, opacity: s.opacity,
+           strokeDasharray: s.strokeDasharray, fill: s.fill, fillOpacity: s.fillOpacity };
 }
 
-function drawTrace(ctx, { lines, fill, marks, bars, half, segs, drawn, ticks }) {
-  if (fill) {
-    ctx.fillStyle = fill.style.fill;
-    ctx.globalAlpha = alpha(fill.style.fillOpacity, fill.style.opacity);
-    ctx.beginPath();
-    for (const run of segs) {
-      ctx.moveTo(run[0][0], run[0][1]);
-      for (let i = 1; i < run.length; i++) ctx.lineTo(run[i][0], run[i][1]);
-      ctx.closePath();
-    }
-    ctx.fill();
-  }
-  // error bars and markers each in their own element's style, as the SVG writer leaves
-  // them (Plotly may style them point by point)
-  ticks.forEach(([x, hi, lo], k) => {
-    stroke(ctx, bars[k].style);
-    ctx.beginPath();
-    ctx.moveTo(x - half, hi); ctx.lineTo(x + half, hi);
-    ctx.moveTo(x, hi); ctx.lineTo(x, lo);
-    ctx.moveTo(x - half, lo); ctx.lineTo(x + half, lo);
-    ctx.stroke();
+/** One placed trace as the worker draws it; its point arrays go in `buffers`. */
+function message({ t, at, clip }, buffers) {
+  const runs = t.segs.map((run) => {
+    const pts = new Float32Array(2 * run.length);
+    run.forEach((p, i) => { pts[2 * i] = p[0]; pts[2 * i + 1] = p[1]; });
+    buffers.push(pts.buffer);
+    return pts;
   });
-  segs.forEach((run, k) => {
-    const style = lines[k].style;
-    if (!(px(style.strokeWidth) > 0)) return;
-    stroke(ctx, style);
-    ctx.beginPath();
-    ctx.moveTo(run[0][0], run[0][1]);
-    for (let i = 1; i < run.length; i++) ctx.lineTo(run[i][0], run[i][1]);
-    ctx.stroke();
-  });
-  const shapes = new Map();        // a marker's outline by its path (one symbol and size: one)
-  marks.forEach((m, k) => {
-    const d = m.getAttribute("d") || "", style = m.style, edge = px(style.strokeWidth), [x, y] = drawn[k];
-    if (!shapes.has(d)) shapes.set(d, new Path2D(d));
-    ctx.fillStyle = style.fill;
-    ctx.globalAlpha = alpha(style.fillOpacity, style.opacity);
-    ctx.translate(x, y);
-    ctx.fill(shapes.get(d));
-    if (edge > 0) {
-      stroke(ctx, style);
-      ctx.setLineDash([]);
-      ctx.stroke(shapes.get(d));
-    }
-    ctx.translate(-x, -y);
-  });
+  return {
+    at, clip, runs, half: t.half,
+    fill: t.fill && styleOf(t.fill),
+    lines: t.lines.map(styleOf),
+    bars: t.ticks.map(([x, hi, lo], k) => ({ style: styleOf(t.bars[k]), x, hi, lo })),
+    marks: t.marks.map((m, k) => ({ d: m.getAttribute("d") || "", style: styleOf(m), x: t.drawn[k][0], y: t.drawn[k][1] })),
+  };
 }
 
-/** Draws `data` on the canvas over `gd` as svgpaths.js would write it, and hides the SVG
- * traces; false, and nothing drawn, if it cannot. gd.heldCurves: the line runs drawn
- * (pixel points in each trace's layer), for the tests. */
+/** Draws `data` on the canvas over `gd` as svgpaths.js would write it (posted to the
+ * worker, which draws it for the next frame), and hides the SVG traces; false, and
+ * nothing drawn, if it cannot. gd.heldCurves: the line runs drawn (pixel points in each
+ * trace's layer), for the tests. */
 export function drawHeld(gd, data) {
   const svg = gd.querySelector(".svg-container > svg.main-svg");
   const traces = svg && geometry(gd, data);
   if (!traces) return false;
   const placed = traces.map((t) => ({ t, at: offset(t.group), clip: clipOf(t.group) }));
   if (placed.some((p) => !p.at || p.clip === null)) return false;
-  const surface = canvasOf(gd, svg), ctx = surface.getContext("2d"), r = surface.width / (px(svg.getAttribute("width")) || 1);
-  ctx.setTransform(1, 0, 0, 1, 0, 0);
-  ctx.clearRect(0, 0, surface.width, surface.height);
-  for (const { t, at, clip } of placed) {
-    ctx.save();
-    ctx.setTransform(r, 0, 0, r, 0, 0);
-    if (clip) ctx.clip(clip);
-    ctx.translate(at[0], at[1]);
-    drawTrace(ctx, t);
-    ctx.restore();
-  }
+  const canvas = canvasOf(gd, svg);
+  if (!canvas) return false;
+  const buffers = [];
+  worker.postMessage({ id: canvas.id, scale: canvas.scale, traces: placed.map((p) => message(p, buffers)) }, buffers);
   gd.heldCurves = traces.map((t) => t.segs);
   if (!gd.classList.contains(HELD)) gd.classList.add(HELD);
   return true;
@@ -174,9 +150,11 @@ export function drawHeld(gd, data) {
 export function readyHeld(gd) {
   const svg = gd.querySelector(".svg-container > svg.main-svg");
   if (!svg || gd.classList.contains(HELD)) return;      // drawing on it already
-  const surface = canvasOf(gd, svg), ready = `${surface.width}x${surface.height}`;
+  const canvas = canvasOf(gd, svg);
+  if (!canvas) return;
+  const ready = canvas.size.join("x");
   if (gd.dataset.heldReady === ready) return;
-  surface.getContext("2d").clearRect(0, 0, surface.width, surface.height);
+  worker.postMessage({ id: canvas.id, clear: true });
   gd.dataset.heldReady = ready;
 }
 
@@ -186,6 +164,23 @@ export function endHeld(gd) {
   if (!gd.classList.contains(HELD)) return;
   gd.classList.remove(HELD);
   gd.heldCurves = null;
-  const surface = gd.querySelector(`canvas.${HELD}-layer`)?.surface;
-  surface?.getContext("2d").clearRect(0, 0, surface.width, surface.height);
+  const id = gd.querySelector(`canvas.${HELD}-layer`)?.heldId;
+  if (id) worker.postMessage({ id, clear: true });
+}
+
+/** What a plot's canvas shows (an ImageData, once the worker has drawn what was posted
+ * before), or null without one: for the tests. */
+export function heldPixels(gd) {
+  const id = gd.querySelector(`canvas.${HELD}-layer`)?.heldId;
+  if (!id) return Promise.resolve(null);
+  const read = `${id}:${performance.now()}`;
+  return new Promise((resolve) => {
+    const answer = ({ data }) => {
+      if (data.read !== read) return;
+      worker.removeEventListener("message", answer);
+      resolve(data.pixels);
+    };
+    worker.addEventListener("message", answer);
+    worker.postMessage({ id, read });
+  });
 }

@@ -50,15 +50,16 @@ POINTS_JS = """(name) => {
   });
   return { all, sample };
 }"""
-# On a held plot's canvas (its OffscreenCanvas, where it has one): how many of the sample
-# points have ink within a pixel, of how many; how much of the plot area away from every
-# point (12 px, looked at every 9 px) is blank; and whether the SVG traces are hidden.
-INK_JS = """([name, { all, sample }]) => {
+# On a held plot's canvas (its pixels as the drawing worker holds them: heldPixels): how
+# many of the sample points have ink within a pixel, of how many; how much of the plot
+# area away from every point (12 px, looked at every 9 px) is blank; and whether the SVG
+# traces are hidden.
+INK_JS = """async ([name, { all, sample }]) => {
   const gd = document.getElementById(`plot-${name}`);
-  const cv = gd.querySelector('canvas.held-canvas-layer').surface;
+  const img = await (await import('/static/js/heldcanvas.js')).heldPixels(gd);
+  const cv = { width: img.width, height: img.height };
   const svg = gd.querySelector('.svg-container > svg.main-svg');
   const r = cv.width / Number.parseFloat(svg.getAttribute('width'));
-  const img = cv.getContext('2d').getImageData(0, 0, cv.width, cv.height);
   const alphaAt = (x, y) => {
     let best = 0;
     for (let dx = -1; dx <= 1; dx++) for (let dy = -1; dy <= 1; dy++) {
@@ -91,9 +92,9 @@ INKED_PNG_JS = """async ([png, pts]) => {
     return false; };
   return pts.filter(([x, y]) => ink(x, y)).length;
 }"""
-SHOWN_JS = """(name) => { const gd = document.getElementById(`plot-${name}`);
-  const cv = gd.querySelector('canvas.held-canvas-layer')?.surface;
-  const ink = !!cv && cv.getContext('2d').getImageData(0, 0, cv.width, cv.height).data.some((v, i) => i % 4 === 3 && v > 0);
+SHOWN_JS = """async (name) => { const gd = document.getElementById(`plot-${name}`);
+  const img = await (await import('/static/js/heldcanvas.js')).heldPixels(gd);
+  const ink = !!img && img.data.some((v, i) => i % 4 === 3 && v > 0);
   return { held: gd.classList.contains('held-canvas'), canvas: ink,
            traces: [...gd.querySelectorAll('.scatterlayer g.trace')].every((g) => getComputedStyle(g).visibility === 'visible') }; }"""
 
