@@ -168,12 +168,14 @@ export function endHeld(gd) {
   if (id) worker.postMessage({ id, clear: true });
 }
 
+let reads = 0;
+
 /** What a plot's canvas shows (an ImageData, once the worker has drawn what was posted
  * before), or null without one: for the tests. */
 export function heldPixels(gd) {
   const id = gd.querySelector(`canvas.${HELD}-layer`)?.heldId;
   if (!id) return Promise.resolve(null);
-  const read = `${id}:${performance.now()}`;
+  const read = ++reads;
   return new Promise((resolve) => {
     const answer = ({ data }) => {
       if (data.read !== read) return;
