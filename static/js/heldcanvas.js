@@ -64,22 +64,19 @@ function clipOf(group) {
 
 const px = (v) => Number.parseFloat(v) || 0;
 
-/** The drawing thread (heldworker.js), started with the first canvas; null where a
- * canvas cannot be drawn from a worker (then the held plots keep their SVG). */
-let worker;
-function drawer() {
-  if (worker === undefined) {
-    const able = typeof Worker === "function" && "transferControlToOffscreen" in HTMLCanvasElement.prototype;
-    worker = able ? new Worker(new URL("./heldworker.js", import.meta.url), { type: "module" }) : null;
-  }
-  return worker;
-}
+/** The drawing thread (heldworker.js), null where a canvas cannot be drawn from a
+ * worker (then the held plots keep their SVG). Started with the page: its script (4 kB)
+ * is loaded long before the first draw, where one started at the first canvas (made at
+ * idle after a draw) was still loading when a visitor followed a link, and the browser
+ * reported the cut request as failed. */
+const worker = typeof Worker === "function" && "transferControlToOffscreen" in HTMLCanvasElement.prototype
+  ? new Worker(new URL("./heldworker.js", import.meta.url), { type: "module" }) : null;
 let ids = 0;
 
 /** A plot div's overlay canvas (made once, its surface handed to the worker), sized to
  * its SVG: {id, scale} (scale: device pixels per SVG pixel), null without a worker. */
 function canvasOf(gd, svg) {
-  const w = drawer();
+  const w = worker;
   if (!w) return null;
   let cv = gd.querySelector(`canvas.${HELD}-layer`);
   if (!cv) {
