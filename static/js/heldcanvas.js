@@ -76,8 +76,7 @@ let ids = 0;
 /** A plot div's overlay canvas (made once, its surface handed to the worker), sized to
  * its SVG: {id, scale} (scale: device pixels per SVG pixel), null without a worker. */
 function canvasOf(gd, svg) {
-  const w = worker;
-  if (!w) return null;
+  if (!worker) return null;
   let cv = gd.querySelector(`canvas.${HELD}-layer`);
   if (!cv) {
     cv = document.createElement("canvas");
@@ -85,17 +84,17 @@ function canvasOf(gd, svg) {
     cv.heldId = ++ids;
     svg.after(cv);
     const canvas = cv.transferControlToOffscreen();
-    w.postMessage({ id: cv.heldId, canvas }, [canvas]);
+    worker.postMessage({ id: cv.heldId, canvas }, [canvas]);
   }
   const width = px(svg.getAttribute("width")), height = px(svg.getAttribute("height")), r = window.devicePixelRatio || 1;
   const size = [Math.round(width * r), Math.round(height * r)];
   if (cv.heldSize?.[0] !== size[0] || cv.heldSize?.[1] !== size[1]) {
     cv.heldSize = size;
-    w.postMessage({ id: cv.heldId, size });
+    worker.postMessage({ id: cv.heldId, size });       // sizing clears it
     cv.style.width = `${width}px`;
     cv.style.height = `${height}px`;
   }
-  return { id: cv.heldId, scale: size[0] / (width || 1), size };
+  return { id: cv.heldId, scale: size[0] / (width || 1) };
 }
 
 /** An element's style as the worker draws it. */
@@ -141,18 +140,13 @@ export function drawHeld(gd, data) {
   return true;
 }
 
-/** A plot's canvas made, at its size, and given its (blank) pixels before a drag: the
- * first held frames then only draw (making the canvas, its first pixels and its
- * compositor layer cost the first held frame of each panel up to 6 ms more). */
+/** A plot's canvas made, at its size, before a drag: the first held frames then only
+ * draw (making the canvas, its first pixels and its compositor layer cost the first held
+ * frame of each panel up to 6 ms more). A new or resized canvas is blank, and endHeld
+ * blanks one that was drawn on. */
 export function readyHeld(gd) {
   const svg = gd.querySelector(".svg-container > svg.main-svg");
-  if (!svg || gd.classList.contains(HELD)) return;      // drawing on it already
-  const canvas = canvasOf(gd, svg);
-  if (!canvas) return;
-  const ready = canvas.size.join("x");
-  if (gd.dataset.heldReady === ready) return;
-  worker.postMessage({ id: canvas.id, clear: true });
-  gd.dataset.heldReady = ready;
+  if (svg && !gd.classList.contains(HELD)) canvasOf(gd, svg);      // else drawing on it already
 }
 
 /** The SVG traces shown again (they show the data now: written, or drawn by Plotly)
