@@ -13,7 +13,10 @@ consecutive positions, and a jump of the thumb is what the single moves measure.
 each panel in view during the drag; the settle time (last event → the page quiet, the
 full-resolution redraw after the release included); and how promptly each input event
 was handled: the lateness of its timer (the main thread busy drawing delays it) plus the
-time its handler ran, p95 and max, against one 60 Hz frame (16.7 ms).
+time its handler ran, p95 and max, against one 60 Hz frame (16.7 ms). On Linux also the
+CPU time of Chromium and the server during the drag, and how long the page's main thread
+was runnable but waiting for a CPU (/proc's schedstat): the part of a late event that is
+the machine's, not the page's.
 
 ``python bench/slider.py [--static DIR]``: DIR serves another page (e.g. an older
 checkout's: ``git archive <commit> static | tar -x -C /tmp/before``, then
@@ -22,7 +25,9 @@ checkout's: ``git archive <commit> static | tar -x -C /tmp/before``, then
 from __future__ import annotations
 
 import argparse
+import glob
 import os
+from pathlib import Path
 
 import common  # first: puts the checkout on sys.path
 
@@ -114,6 +119,39 @@ DRAG_JS = """async ([positions, ids, hz]) => {
 }"""
 
 
+def _threads() -> dict:
+    """{(pid, tid): (comm, cmdline, ns on a CPU, ns runnable but waiting for one)} of
+    every Chromium and Python thread (Linux's /proc/*/task/*/schedstat), {} elsewhere."""
+    out = {}
+    for stat in glob.glob("/proc/[0-9]*/task/[0-9]*/schedstat"):
+        pid, tid = stat.split("/")[2], stat.split("/")[4]
+        try:
+            run, wait, _ = (int(x) for x in Path(stat).read_text().split())
+            cmd = Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
+            comm = Path(stat).with_name("comm").read_text().strip()
+        except (OSError, ValueError):
+            continue                  # the thread ended meanwhile
+        if "chromium" in cmd or "uvicorn" in cmd:
+            out[(pid, tid)] = (comm, cmd, run, wait)
+    return out
+
+
+def contention(before: dict, after: dict) -> dict:
+    """What the CPUs did between two _threads() snapshots, ms: all Chromium and server
+    threads' CPU time, and the page's main thread (the busiest renderer's first thread)
+    on a CPU and runnable but waiting for one: a late input event is either the page's
+    own work or this wait, when the machine's 2 cores have more to run than 2 threads."""
+    new = (None, None, 0, 0)          # a thread started during the drag: all of its time
+    delta = {k: (v[0], v[1], (v[2] - before.get(k, new)[2]) / 1e6, (v[3] - before.get(k, new)[3]) / 1e6)
+             for k, v in after.items()}
+    mains = [(d[2], d[3]) for (pid, tid), d in delta.items() if pid == tid and "--type=renderer" in d[1]]
+    if not mains:
+        return {}
+    run, wait = max(mains)
+    return {"cpu_ms": round(sum(d[2] for d in delta.values())), "main_run_ms": round(run),
+            "main_wait_ms": round(wait)}
+
+
 def _pct(xs, q):
     return round(common.percentile(xs, q), 1) if xs else float("nan")
 
@@ -146,9 +184,9 @@ def measure(page, url: str, moves: int, first: int) -> dict:
     lo, hi = 120, 880
     drag_pos = [round(lo + (hi - lo) * (1 - abs(1 - 2 * k / (n - 1)))) + 1 for k in range(n)]
     page.evaluate(MOVES_JS, [drag_pos[:1], ids])          # the hand takes the thumb there
-    cpu0 = thread_ms(cdp)
+    cpu0, threads0 = thread_ms(cdp), _threads()
     drag = page.evaluate(DRAG_JS, [drag_pos, ids, DRAG_HZ])
-    cpu_drag = thread_ms(cdp) - cpu0
+    cpu_drag, machine = thread_ms(cdp) - cpu0, contention(threads0, _threads())
     handled = drag["handled"]
     return {"median_ms": round(common.median(ms), 1) if ms else float("nan"), "p95_ms": _pct(ms, 95),
             "moves": len(ms), "missed": len(res) - len(ms), "in_view": [i.removeprefix("plot-") for i in ids],
@@ -158,7 +196,8 @@ def measure(page, url: str, moves: int, first: int) -> dict:
             "drag_input_p95_ms": _pct(handled, 95), "drag_input_max_ms": round(max(handled), 1),
             "drag_input_over_16ms": sum(h > 16.7 for h in handled), "drag_events": len(handled),
             "drag_seconds": round(drag["seconds"], 2),
-            "cpu_ms_per_move": round(cpu_move, 1), "drag_cpu_ms_per_event": round(cpu_drag / len(handled), 1)}
+            "cpu_ms_per_move": round(cpu_move, 1), "drag_cpu_ms_per_event": round(cpu_drag / len(handled), 1),
+            **{f"drag_{k}": v for k, v in machine.items()}}
 
 
 def run(quick: bool = False, static: str | None = None) -> dict:
@@ -204,6 +243,10 @@ def report(r: dict) -> list[str]:
                      + f"; settle {g('drag_settle_ms')} ms; input handled p95 {g('drag_input_p95_ms')} ms, "
                      f"max {g('drag_input_max_ms')} ms, {g('drag_input_over_16ms')} of {g('drag_events')} over 16.7 ms "
                      f"(the drag took {g('drag_seconds')} s)")
+        if r.get(f"slider{key}_drag_cpu_ms") is not None:
+            lines.append(f"      during the drag: Chromium and the server {g('drag_cpu_ms')} ms of CPU; the page's "
+                         f"main thread {g('drag_main_run_ms')} ms on a CPU, {g('drag_main_wait_ms')} ms "
+                         "runnable but waiting for one")
     return lines
 
 
