@@ -104,11 +104,14 @@ export function paramControl(p, { id, onValue, onHold = () => {}, compact = fals
   const sliderLabel = el("label", { for: `${id}-slider`, class: "sr-only",
                                     text: `${p.label} slider${p.scale === "log" ? " (log scale)" : ""}` });
   const unit = p.unit ? el("span", { class: "unit", text: p.unit }) : null;
+  // the box in a block of its own (style.css .field): its text, rewritten at every move
+  // of the slider, then lays out the box alone, not the page
+  const field = el("span", { class: "field" }, box);
   const row = compact
     ? el("div", { class: "embed-param", "data-param": p.name }, label, sliderLabel, slider,
-         el("span", { class: "box" }, box, unit), msg)
+         el("span", { class: "box" }, field, unit), msg)
     : el("div", { class: "param", "data-param": p.name },
-        el("div", { class: "param-head" }, label, el("span", { class: "box" }, box, unit)),
+        el("div", { class: "param-head" }, label, el("span", { class: "box" }, field, unit)),
         sliderLabel, slider,
         el("div", { class: "range-ends", "aria-hidden": "true" },
           el("span", { text: fmtEnd(p.scale === "log" ? sliderLo(p) : p.lo, p) }),
