@@ -120,19 +120,18 @@ DRAG_JS = """async ([positions, ids, hz]) => {
 
 
 def _threads() -> dict:
-    """{(pid, tid): (comm, cmdline, ns on a CPU, ns runnable but waiting for one)} of
-    every Chromium and Python thread (Linux's /proc/*/task/*/schedstat), {} elsewhere."""
+    """{(pid, tid): (cmdline, ns on a CPU, ns runnable but waiting for one)} of every
+    Chromium and uvicorn thread (Linux's /proc/*/task/*/schedstat), {} elsewhere."""
     out = {}
     for stat in glob.glob("/proc/[0-9]*/task/[0-9]*/schedstat"):
         pid, tid = stat.split("/")[2], stat.split("/")[4]
         try:
             run, wait, _ = (int(x) for x in Path(stat).read_text().split())
             cmd = Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
-            comm = Path(stat).with_name("comm").read_text().strip()
         except (OSError, ValueError):
             continue                  # the thread ended meanwhile
         if "chromium" in cmd or "uvicorn" in cmd:
-            out[(pid, tid)] = (comm, cmd, run, wait)
+            out[(pid, tid)] = (cmd, run, wait)
     return out
 
 
@@ -141,14 +140,14 @@ def contention(before: dict, after: dict) -> dict:
     threads' CPU time, and the page's main thread (the busiest renderer's first thread)
     on a CPU and runnable but waiting for one: a late input event is either the page's
     own work or this wait, when the machine's 2 cores have more to run than 2 threads."""
-    new = (None, None, 0, 0)          # a thread started during the drag: all of its time
-    delta = {k: (v[0], v[1], (v[2] - before.get(k, new)[2]) / 1e6, (v[3] - before.get(k, new)[3]) / 1e6)
-             for k, v in after.items()}
-    mains = [(d[2], d[3]) for (pid, tid), d in delta.items() if pid == tid and "--type=renderer" in d[1]]
+    new = (None, 0, 0)                # a thread started during the drag: all of its time
+    delta = {k: (cmd, (run - before.get(k, new)[1]) / 1e6, (wait - before.get(k, new)[2]) / 1e6)
+             for k, (cmd, run, wait) in after.items()}
+    mains = [(run, wait) for (pid, tid), (cmd, run, wait) in delta.items() if pid == tid and "--type=renderer" in cmd]
     if not mains:
         return {}
     run, wait = max(mains)
-    return {"cpu_ms": round(sum(d[2] for d in delta.values())), "main_run_ms": round(run),
+    return {"cpu_ms": round(sum(cpu for _, cpu, _ in delta.values())), "main_run_ms": round(run),
             "main_wait_ms": round(wait)}
 
 
