@@ -105,11 +105,12 @@ export function paramControl(p, { id, onValue, onHold = () => {}, compact = fals
                                     text: `${p.label} slider${p.scale === "log" ? " (log scale)" : ""}` });
   const unit = p.unit ? el("span", { class: "unit", text: p.unit }) : null;
   // the box in a block of its own (style.css .field): its text, rewritten at every move
-  // of the slider, then lays out the box alone, not the page
+  // of the slider, then lays out the box alone, not the page; so the slider in the
+  // embeds' one-line row (a flex row, whose items lay out with it)
   const field = el("span", { class: "field" }, box);
   const row = compact
-    ? el("div", { class: "embed-param", "data-param": p.name }, label, sliderLabel, slider,
-         el("span", { class: "box" }, field, unit), msg)
+    ? el("div", { class: "embed-param", "data-param": p.name }, label, sliderLabel,
+         el("span", { class: "field" }, slider), el("span", { class: "box" }, field, unit), msg)
     : el("div", { class: "param", "data-param": p.name },
         el("div", { class: "param-head" }, label, el("span", { class: "box" }, field, unit)),
         sliderLabel, slider,

@@ -277,3 +277,41 @@ def test_narrow_window_stacks_panels(page, page_log):
     assert all(b["width"] > 500 and b["height"] > 250 for b in boxes)
     assert page.evaluate("() => document.documentElement.scrollWidth <= window.innerWidth")
     assert page_log.problems() == []
+
+
+# For every visible slider and slider's number box (sliders.js: the sidebar's and the
+# embeds' rows): [type, id, ok as a layout root, its height, the height the same element
+# takes unconstrained (a copy beside it, its fixed height and containment undone
+# inline), its text fits]
+SLIDER_BOXES_JS = """() => [...document.querySelectorAll(
+    'input[type=range], .param-head input[type=number], .embed-param input[type=number]')]
+  .filter((e) => e.offsetParent !== null).map((e) => {
+    const cs = getComputedStyle(e);
+    const root = cs.contain.includes('size') && cs.contain.includes('layout')
+      && getComputedStyle(e.parentElement).display === 'block';
+    const copy = e.cloneNode();
+    copy.removeAttribute('id');
+    copy.style.height = 'auto';
+    copy.style.contain = 'none';
+    e.after(copy);
+    const natural = copy.getBoundingClientRect().height;
+    copy.remove();
+    return [e.type, e.id, root, e.getBoundingClientRect().height, natural, e.scrollHeight <= e.clientHeight];
+  })"""
+
+
+@pytest.mark.parametrize("path", ["/", "/embed/ndf?controls=1"])
+def test_slider_and_number_box_lay_out_alone_at_their_natural_size(page, page_log, path):
+    """Each slider and number box is its own layout root (style.css: a moved thumb or a
+    rewritten number lays out that control alone, not the page: BENCHMARKS.md §5). Size
+    containment needs a fixed height: it must be the one the browser gives the control
+    unconstrained, in the explorer's sidebar and in an embed's smaller type."""
+    page.goto(path)
+    page.wait_for_function("() => window.__brdf ? window.__brdf.pending() === 0 : !!document.querySelector('.field')")
+    boxes = page.evaluate(SLIDER_BOXES_JS)
+    assert {kind for kind, *_ in boxes} == {"range", "number"}, boxes
+    for _, ident, root, height, natural, fits in boxes:
+        assert root, f"{ident} is not a layout root"
+        assert abs(height - natural) <= 1.0, (ident, height, natural)
+        assert fits, f"{ident}: its text overflows its fixed height"
+    assert page_log.problems() == []
