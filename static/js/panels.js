@@ -15,6 +15,7 @@ import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesF
          logAxes, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { writePaths } from "./svgpaths.js";
 import { drawHeld, endHeld, readyHeld } from "./heldcanvas.js";
+import { Readouts } from "./readouts.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
 import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
@@ -49,7 +50,8 @@ export class Panel {
     this.hint = hintOf(view.name);
     Object.assign(this, { inflight: null, dirty: false, drawing: null, drawnKey: null, inView: false,
                           noOverlay: false, noPin: false, drawn: false, error: null, loadingTimer: 0,
-                          relayout: {} });   // axis ranges to relay out in the next write (refit)
+                          relayout: {},      // axis ranges to relay out in the next write (refit)
+                          readouts: new Readouts() });
     const hid = `h-${view.name}`;
     this.heading = el("h2", { id: hid }, richText(viewTitle(view)));
     this.sub = el("span", { class: "sub" });
@@ -268,7 +270,7 @@ export class Panel {
         if (!onCanvas) endHeld(this.div);
         if (this.labels) writeLabels(this.labels, j || {});
         this.decades = j;
-        renameLegend(this.div, d);
+        this.readouts.show("legend", () => renameLegend(this.div, d), ctx.held);
         this.div.data = d;        // what the plot shows, for readers of it; Plotly's own state follows in sync()
         this.stale = d;
         clearTimeout(this.syncTimer);
@@ -277,10 +279,12 @@ export class Panel {
         resolve();
       } else if (!j && !this.decades) {        // axes as Plotly drew them: its own transition
         endHeld(this.div);
+        this.readouts.drop("legend");          // Plotly names the traces
         resolve(animateData(this.div, d).then(() => this.announce()));
       } else {
         this.decades = this.labels = null;
         endHeld(this.div);
+        this.readouts.drop("legend");
         resolve(Plotly.react(this.div, d, this.layout, PLOT_CONFIG).then(() => this.announce()));
       }
     }));
@@ -306,6 +310,7 @@ export class Panel {
       this.decades = this.labels = null;
     }
     endHeld(this.div);
+    this.readouts.drop("legend");
     return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
   }
 
@@ -318,14 +323,18 @@ export class Panel {
   /** The slider let go: axes left loose by the drag are fitted to the data again, to the
    * ranges the server gives, as a fresh page draws them (the panel asks again: refit). */
   release() {
+    this.readouts.flush();
     if (this.loose) Object.assign(this, { drawnKey: null, refitDue: true });
     this.loose = false;
   }
 
+  /** The heading's parameters (a readout: while a slider is held, a few times a second). */
   setSub(sub) {
-    if (this.subText === sub) return;
-    this.subText = sub;
-    replaceText(this.sub, richText(sub));
+    this.readouts.show("sub", () => {
+      if (this.subText === sub) return;
+      this.subText = sub;
+      replaceText(this.sub, richText(sub));
+    }, ctx.held);
   }
 
   draw({ data, layout, uirevision, sub }) {
@@ -340,6 +349,7 @@ export class Panel {
     const drawn = this.rangesToDraw(fit, same ? this.serverRanges : null, ranges, layout);
     Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn, loose: ctx.held && same });
     endHeld(this.div);
+    this.readouts.drop("legend");
     return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
 

@@ -8,6 +8,7 @@ ones it replaces."""
 from __future__ import annotations
 
 import base64
+import re
 
 import pytest
 
@@ -146,3 +147,70 @@ def test_a_heading_whose_numbers_moved_is_rewritten_in_place(page):
     assert got["moved"] == ["GGX α=0.0431, θi=45°", "GGX α=0.0431, θ<sub>i</sub>=45°"]
     assert got["kept"]
     assert got["other"][1] == got["fresh"] and got["replaced"]
+
+
+def test_readouts_follow_a_held_slider_a_few_times_a_second_and_at_once_when_let_go(page):
+    """A panel's heading and legend numbers (static/js/readouts.js): while a slider is
+    held, a write waits until READOUT_MS have passed since the last one and the newest
+    waiting value is the one written; not held, or let go, everything is written at once;
+    a write dropped (Plotly drew the legend meanwhile) is never made."""
+    page.goto("/")
+    got = page.evaluate("""async () => {
+      const { Readouts, READOUT_MS } = await import('/static/js/readouts.js');
+      const r = new Readouts(), log = [];
+      const sleep = (ms) => new Promise((f) => setTimeout(f, ms));
+      const t0 = performance.now(), at = () => performance.now() - t0;
+      for (let k = 0; k < 8; k++) {
+        const shown = at();
+        r.show('sub', () => log.push(['sub', k, at(), shown]), true);
+        await sleep(20);
+      }
+      await sleep(READOUT_MS + 50);
+      const burst = log.slice();
+      r.show('sub', () => log.push(['sub', 'held', at()]), true);
+      r.show('legend', () => log.push(['legend', 'dropped', at()]), true);
+      r.drop('legend');
+      r.flush();                                   // let go
+      r.show('sub', () => log.push(['sub', 'free', at()]), false);
+      return { READOUT_MS, burst, log };
+    }""")
+    ms, burst, log = got["READOUT_MS"], got["burst"], got["log"]
+    assert 100 <= ms <= 500                                      # a few times a second
+    assert burst[0][1] == 0 and burst[0][2] - burst[0][3] < 5   # the first at once
+    assert burst[-1][1] == 7                                     # the newest last
+    assert len(burst) < 8                                        # the rest waited: some never written
+    ks = [e[1] for e in burst]
+    assert ks == sorted(ks)
+    gaps = [b[2] - a[2] for a, b in zip(burst, burst[1:])]
+    assert all(g >= ms - 5 for g in gaps), gaps                 # not before their time (timer slack)
+    assert [e[:2] for e in log[len(burst):]] == [["sub", "held"], ["sub", "free"]]   # flushed; dropped never written
+
+
+def test_a_held_drag_ends_with_the_headings_saying_what_is_drawn(page):
+    """The readouts lag a held drag by at most READOUT_MS and are exact once it is let
+    go: each heading names the α the panel shows, and letting go writes what waits at
+    once (a readout made to wait is written in the same task as the release)."""
+    page.goto("/?alpha=0.3")
+    wait_quiet(page)
+    page.evaluate(GRAB_JS)
+    for v in range(620, 500, -4):                  # 30 moves, 15 ms apart: faster than the readouts
+        page.evaluate(MOVE_JS, v)
+        page.wait_for_timeout(15)
+    probe = page.evaluate("""() => {
+      const r = window.__brdf.panel('ndf').readouts;
+      r.flush();                                   // just written: the next one waits
+      let wrote = false;
+      r.show('probe', () => { wrote = true; }, true);
+      const waited = !wrote;
+      const s = document.getElementById('alpha-slider');
+      s.dispatchEvent(new Event('change', { bubbles: true }));
+      s.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));
+      return { waited, wrote };
+    }""")
+    assert probe == {"waited": True, "wrote": True}
+    wait_quiet(page)
+    alpha = page.evaluate("() => Number(document.getElementById('alpha').value)")
+    for name in PANELS:
+        sub = page.locator(f'[data-panel="{name}"] h2 .sub').inner_text()
+        m = re.search(r"α=([0-9.e-]+)", sub.replace(" ", ""))
+        assert m and abs(float(m.group(1)) / alpha - 1) < 1e-3, (name, sub, alpha)
