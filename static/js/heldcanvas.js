@@ -104,13 +104,22 @@ function styleOf(node) {
            strokeDasharray: s.strokeDasharray, fill: s.fill, fillOpacity: s.fillOpacity };
 }
 
-/** One placed trace as the worker draws it; its point arrays go in `buffers`. */
+/** One placed trace as the worker draws it: its runs are views of one array, whose
+ * buffer goes in `buffers` (one transfer a trace: a buffer a run made the post ~50 %
+ * dearer, BENCHMARKS.md §5). */
 function message({ t, at, clip }, buffers) {
+  let total = 0;
+  for (const run of t.segs) total += 2 * run.length;
+  const points = new Float32Array(total);
+  buffers.push(points.buffer);
+  let o = 0;
   const runs = t.segs.map((run) => {
-    const pts = new Float32Array(2 * run.length);
-    run.forEach((p, i) => { pts[2 * i] = p[0]; pts[2 * i + 1] = p[1]; });
-    buffers.push(pts.buffer);
-    return pts;
+    const start = o;
+    for (const [x, y] of run) {
+      points[o++] = x;
+      points[o++] = y;
+    }
+    return points.subarray(start, o);
   });
   return {
     at, clip, runs, half: t.half,

@@ -61,6 +61,9 @@ export class Scheduler {
       panel.dirty = false;
       return;
     }
+    // waiting for the held interval: it asks then, for the state as it is by then (what
+    // it would ask now is not worked out: half a drag's events come in the interval)
+    if (this.deferred.has(panel)) return;
     const req = panel.request();
     if (flights.length) {
       panel.dirty = false;

@@ -200,10 +200,10 @@ const fmtNum = (x) => (Math.abs(x) >= 1e4 ? x.toExponential(2).replace("e+", "e"
 export function syncDerived() {
   const s = ctx.state;
   let out = $("#derived");
-  if (!out) out = el("p", { class: "derived", id: "derived", "aria-live": "polite" });
   const f = DERIVED[s.ndf];
   const row = controls.get(isPerceptual(s) ? "roughness" : "alpha")?.row;
-  if (!f || !row) { setIf(out, "hidden", true); return; }
+  if (!f || !row) { if (out) setIf(out, "hidden", true); return; }
+  if (!out) out = el("p", { class: "derived", id: "derived", "aria-live": "polite" });
   const text = f(isPerceptual(s) ? s.roughness ** 2 : s.alpha);
   setIf(out, "textContent", text);
   setIf(out, "title", choiceOf("ndf", s.ndf)?.derived_doc?.alpha_p || "");
