@@ -20,9 +20,10 @@ PANELS = ("lobe", "ndf", "g1", "albedo")
 MOVE_JS = """(v) => { const s = document.getElementById('alpha-slider');
     s.value = String(v); s.dispatchEvent(new Event('input', { bubbles: true })); }"""
 GRAB_JS = "() => document.getElementById('alpha-slider').dispatchEvent(new PointerEvent('pointerdown', { bubbles: true }))"
-LET_GO_JS = """() => { const s = document.getElementById('alpha-slider');
+LET_GO = """const s = document.getElementById('alpha-slider');
     s.dispatchEvent(new Event('change', { bubbles: true }));
-    s.dispatchEvent(new PointerEvent('pointerup', { bubbles: true })); }"""
+    s.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));"""
+LET_GO_JS = f"() => {{ {LET_GO} }}"
 
 # A held plot's drawn runs (gd.heldCurves, in each trace layer's pixels) in the SVG's
 # pixels, the layers offset as the SVG's translate() say: every point (`all`), and those
@@ -196,17 +197,15 @@ def test_a_held_drag_ends_with_the_headings_saying_what_is_drawn(page):
     for v in range(620, 500, -4):                  # 30 moves, 15 ms apart: faster than the readouts
         page.evaluate(MOVE_JS, v)
         page.wait_for_timeout(15)
-    probe = page.evaluate("""() => {
+    probe = page.evaluate(f"""() => {{
       const r = window.__brdf.panel('ndf').readouts;
       r.flush();                                   // just written: the next one waits
       let wrote = false;
-      r.show('probe', () => { wrote = true; }, true);
+      r.show('probe', () => {{ wrote = true; }}, true);
       const waited = !wrote;
-      const s = document.getElementById('alpha-slider');
-      s.dispatchEvent(new Event('change', { bubbles: true }));
-      s.dispatchEvent(new PointerEvent('pointerup', { bubbles: true }));
-      return { waited, wrote };
-    }""")
+      {LET_GO}
+      return {{ waited, wrote }};
+    }}""")
     assert probe == {"waited": True, "wrote": True}
     wait_quiet(page)
     alpha = page.evaluate("() => Number(document.getElementById('alpha').value)")
@@ -214,3 +213,10 @@ def test_a_held_drag_ends_with_the_headings_saying_what_is_drawn(page):
         sub = page.locator(f'[data-panel="{name}"] h2 .sub').inner_text()
         m = re.search(r"α=([0-9.e-]+)", sub.replace(" ", ""))
         assert m and abs(float(m.group(1)) / alpha - 1) < 1e-3, (name, sub, alpha)
+    # and the albedo legend names what its traces are now (E_avg moved with α)
+    legend = page.evaluate("""() => { const gd = document.getElementById('plot-albedo');
+        return { drawn: [...gd.querySelectorAll('.legend .legendtext')].map((t) => t.textContent),
+                 names: gd.data.map((t) => t.name) }; }""")
+    plain = lambda t: re.sub(r"<[^>]+>", "", t).replace("\u200b", "")   # Plotly's sub as text  # noqa: E731
+    avg = [plain(t) for t in legend["drawn"] if "avg" in t]
+    assert avg and all(t in map(plain, legend["names"]) for t in avg), legend
