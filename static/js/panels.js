@@ -274,7 +274,7 @@ export class Panel {
         this.div.data = d;        // what the plot shows, for readers of it; Plotly's own state follows in sync()
         this.stale = d;
         clearTimeout(this.syncTimer);
-        this.syncTimer = setTimeout(() => this.sync(), SYNC_IDLE_MS);
+        this.syncTimer = setTimeout(() => this.sync({ idle: true }), SYNC_IDLE_MS);
         this.announce();
         resolve();
       } else if (!j && !this.decades) {        // axes as Plotly drew them: its own transition
@@ -293,12 +293,14 @@ export class Panel {
 
   /** Plotly's state (read by hover, zoom, resize and its image export) brought to the
    * data shown, after paths were written directly; the pixels stay as they are (on
-   * rescaled axes, Plotly draws the axes that they stand for). */
-  sync() {
+   * rescaled axes, Plotly draws the axes that they stand for). `idle`: called because
+   * the page was quiet, which a slider held still is not: the hand may move again at any
+   * moment, and the four redraws (20-50 ms each) would be in its way; it waits. */
+  sync({ idle = false } = {}) {
     clearTimeout(this.syncTimer);
     if (!this.stale) return Promise.resolve();
-    if (this.drawing || this.writing) {            // a draw under way: try again after it
-      this.syncTimer = setTimeout(() => this.sync(), SYNC_IDLE_MS);
+    if (this.drawing || this.writing || (idle && ctx.held)) {   // a draw under way, or held: later
+      this.syncTimer = setTimeout(() => this.sync({ idle }), SYNC_IDLE_MS);
       return Promise.resolve();
     }
     const data = this.stale;

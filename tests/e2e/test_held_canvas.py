@@ -109,6 +109,9 @@ def test_a_held_slider_draws_the_curves_on_a_canvas_and_gives_them_back_on_relea
         page.evaluate(MOVE_JS, v)
         page.wait_for_timeout(40)
     wait_quiet(page)
+    # held still for longer than the page's idle sync (panels.js SYNC_IDLE_MS, 1.5 s): the
+    # canvases stay (Plotly redrawing the SVG now would be in the way of the next move)
+    page.wait_for_timeout(2000)
     for name in PANELS:
         assert page.evaluate("(n) => document.getElementById(`plot-${n}`).classList.contains('held-canvas')", name), name
         ink = page.evaluate(INK_JS, [name, page.evaluate(POINTS_JS, name)])
