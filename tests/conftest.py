@@ -17,9 +17,21 @@ def pytest_unconfigure(config):
     shutil.rmtree(_CACHE, ignore_errors=True)
 
 
+#: xdist workers per core for ``-n auto``: a worker waits much of the time (Chromium's
+#: frames, the servers the tests start, subprocesses), and the suite's CPU time was 55 %
+#: of two workers' wall time on 2 cores. Measured on this 2-core machine, whole suite:
+#: two workers 860 s, three 708 s (BENCHMARKS.md, "The test suite").
+WORKERS_PER_CORE = 1.5
+
+
+def pytest_xdist_auto_num_workers(config):
+    """``-n auto`` (pyproject's addopts): WORKERS_PER_CORE workers a usable core."""
+    cores = len(os.sched_getaffinity(0)) if hasattr(os, "sched_getaffinity") else os.cpu_count() or 1
+    return max(1, round(cores * WORKERS_PER_CORE))
+
 
 #: Test files (or node-id prefixes) that take tens of seconds each: run first, so that the
-#: two xdist workers do not end the run with one of them alone on a long tail (the README's
+#: xdist workers do not end the run with one of them alone on a long tail (the README's
 #: export snippets and the fuzzing came last in collection order).
 SLOW_FIRST = (
     "tests/test_readme.py", "tests/robustness/test_fuzz_api.py", "tests/packaging/",
