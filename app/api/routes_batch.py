@@ -3,7 +3,8 @@ request per slider move instead of one per panel).
 
 Each entry of ``requests`` is the path and query of a ``GET /api/v1/figures/...``, and
 its answer is that GET's: the same status, Cache-Control and JSON body (null for a body
-that is not JSON), in order. A figure's JSON GET (``/api/v1/figures/{view}``, the page's
+that is not JSON), in order; a 503 also gives its Retry-After (``retry_after``, seconds),
+which the page waits before it asks again. A figure's JSON GET (``/api/v1/figures/{view}``, the page's
 every entry) is answered by the steps its route takes, without the HTTP layers around
 it: the request guard's query checks, the route's query model, the view's pipeline, the
 application's error handlers. The entries run one after another in one worker thread
@@ -40,8 +41,8 @@ router = APIRouter(prefix="/api/v1")
 PREFIX = "/api/v1/figures/"
 MAX_REQUESTS = 16
 
-#: an answer: (status, Cache-Control, JSON body or None)
-Answer = tuple[int, str | None, bytes | None]
+#: an answer: (status, Cache-Control, JSON body or None, Retry-After or None)
+Answer = tuple[int, str | None, bytes | None, str | None]
 
 
 class BatchBody(BaseModel):
@@ -78,7 +79,7 @@ async def _through_the_app(request: Request, target: str) -> Answer:
     head = {k.decode("latin-1").lower(): v.decode("latin-1") for k, v in headers}
     body = b"".join(chunks)
     is_json = head.get("content-type", "").startswith("application/json") and body
-    return status, head.get("cache-control"), body if is_json else None
+    return status, head.get("cache-control"), body if is_json else None, head.get("retry-after")
 
 
 async def _handled(request: Request, exc: Exception) -> Answer:
@@ -89,7 +90,8 @@ async def _handled(request: Request, exc: Exception) -> Answer:
     if handler is None:            # the application handles Exception: not reached
         raise exc
     response = await handler(request, exc)
-    return response.status_code, response.headers.get("cache-control", "no-store"), response.body
+    return (response.status_code, response.headers.get("cache-control", "no-store"), response.body,
+            response.headers.get("retry-after"))
 
 
 def _compute(entries: list, settings: Settings) -> list:
@@ -113,7 +115,9 @@ def _compute(entries: list, settings: Settings) -> list:
              responses={200: {"content": {"application/json": {"example": {"responses": [
                  {"status": 200, "cache": "public, max-age=3600", "body": {"data": [], "layout": {}}},
                  {"status": 422, "cache": "no-store", "body": {"detail": [{"loc": ["query", "alpha"],
-                                                                        "msg": "…", "type": "…"}]}}]}}}}})
+                                                                        "msg": "…", "type": "…"}]}},
+                 {"status": 503, "cache": "no-store", "retry_after": 2, "body": {"detail": [
+                     {"loc": ["query", "time budget"], "msg": "…: retry", "type": "busy"}]}}]}}}}})
 async def batch(request: Request, body: BatchBody) -> Response:
     targets = [urlsplit(target) for target in body.requests]
     for k, (target, parts) in enumerate(zip(body.requests, targets)):
@@ -134,7 +138,7 @@ async def batch(request: Request, body: BatchBody) -> Response:
         refusal = query_refusal(app, settings, parts.path, "GET", parts.query.encode("ascii"))
         if refusal is not None:
             answers[k] = (refusal.status, "no-store",
-                          json_error(refusal.status, refusal.loc, refusal.message, refusal.kind)[1])
+                          json_error(refusal.status, refusal.loc, refusal.message, refusal.kind)[1], None)
             continue
         try:
             direct.append((k, view, read_query(build.export_query(view), QueryParams(parts.query))))
@@ -150,11 +154,12 @@ async def batch(request: Request, body: BatchBody) -> Response:
         else:
             figure, cut = result
             # an answer cut short by the time budget is not to be kept (as the guard says)
-            answers[k] = (200, "no-store" if cut else cache_control(PREFIX, settings.cache_max_age), figure)
+            answers[k] = (200, "no-store" if cut else cache_control(PREFIX, settings.cache_max_age), figure, None)
     for k, answer in zip(whole, answered):
         answers[k] = answer
-    out = [b'{"status":%d,"cache":%s,"body":%s}'
-           % (status, json.dumps(cache).encode(), content if content is not None else b"null")
-           for status, cache, content in answers]
+    out = [b'{"status":%d,"cache":%s,"body":%s%s}'
+           % (status, json.dumps(cache).encode(), content if content is not None else b"null",
+              b',"retry_after":%d' % int(retry) if status == 503 and retry and retry.isdigit() else b"")
+           for status, cache, content, retry in answers]
     return Response(b'{"responses":[' + b",".join(out) + b"]}", media_type="application/json",
                     headers={"Cache-Control": "no-store"})

@@ -14,7 +14,10 @@
  * Any other change asks the server. A server without the batch route (404, 405) gets
  * plain GETs.
  *
- * send(req, signal, {batchable, recall}) -> Promise<{res: {status, ok, statusText}, body}>;
+ * A busy answer (503) carries the seconds its Retry-After asks to wait (`retryAfter`;
+ * the batch gives it as the entry's `retry_after`).
+ *
+ * send(req, signal, {batchable, recall}) -> Promise<{res: {status, ok, statusText, retryAfter}, body}>;
  * rejects when the server cannot be reached or the signal aborted the request.
  */
 import { API } from "./dom.js";
@@ -44,11 +47,18 @@ function recall(url) {
   return { res: { status: 200, ok: true, statusText: "OK" }, body: JSON.parse(text) };
 }
 
+/** Seconds to wait before asking again, from a 503's Retry-After (null when none). */
+function retryAfter(status, value) {
+  const s = Number(value);
+  return status === 503 && value !== null && value !== undefined && Number.isFinite(s) && s >= 0 ? s : null;
+}
+
 async function direct(req, signal) {
   const res = await fetch(req.url, { ...req.init, signal });
   const body = await res.json().catch(() => null);
   if (res.ok && !req.init?.method) remember(req.url, res.headers.get("Cache-Control"), body);
-  return { res: { status: res.status, ok: res.ok, statusText: res.statusText }, body };
+  return { res: { status: res.status, ok: res.ok, statusText: res.statusText,
+                  retryAfter: retryAfter(res.status, res.headers.get("Retry-After")) }, body };
 }
 
 async function flush() {
@@ -79,11 +89,11 @@ async function post(items) {
     return;
   }
   items.forEach((x, i) => {
-    const { status, cache, body } = list[i];
+    const { status, cache, body, retry_after: wait } = list[i];
     const ok = status >= 200 && status < 300;
     if (ok) remember(x.req.url, cache, body);
     if (x.signal.aborted) x.reject(aborted());
-    else x.resolve({ res: { status, ok, statusText: "" }, body });
+    else x.resolve({ res: { status, ok, statusText: "", retryAfter: retryAfter(status, wait) }, body });
   });
 }
 

@@ -81,6 +81,7 @@ const figure = {
                         { ...PLOT_CONFIG, modeBarButtonsToRemove: [...PLOT_CONFIG.modeBarButtonsToRemove, "toImage"] });
   },
   fail(message) { setStatus("error", message); },
+  busy(text) { clearTimeout(this.timer); setStatus("loading", text); },
   loading(on) {
     clearTimeout(this.timer);
     if (on) this.timer = setTimeout(() => setStatus("loading", "loading…"), 300);

@@ -384,6 +384,8 @@ export class Panel {
     this.section.classList.toggle("empty", !this.drawn);
   }
 
+  busy(text) { clearTimeout(this.loadingTimer); this.setStatus("loading", text); }   // asks again soon (scheduler.js)
+
   loading(on) {
     clearTimeout(this.loadingTimer);
     if (on) this.loadingTimer = setTimeout(() => this.setStatus("loading", "loading…"), LOADING_DELAY_MS);

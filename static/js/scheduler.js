@@ -13,9 +13,14 @@
  *
  * Requests go through batch.js: the panels touched by one change ask in one request.
  *
+ * A busy answer (503 with Retry-After: a table being built, a time budget spent on a
+ * loaded machine) is not an error to show: the panel says it waits and asks again when
+ * the server said, for the state as it is then; up to MAX_BUSY_TRIES times, after which
+ * the server's message is shown as the error. A change meanwhile asks at once.
+ *
  * The panel supplies: wanted(), request() -> {key, url, init}, batchable(req), receive(req, res, body)
  * -> {retry: true} | drawable (throws an Error to show), draw(drawable) -> Promise,
- * fail(message).
+ * fail(message), busy(message).
  */
 import { send } from "./batch.js";
 
@@ -36,6 +41,10 @@ const HELD_FRAME_MS = 33;
 // Animation frames come every ~16.7 ms with a millisecond or so of jitter: a held redraw
 // due at HELD_FRAME_MS takes the frame that arrives up to this much before it, not the next.
 const FRAME_JITTER_MS = 2;
+// Busy answers in a row before the server's message is shown as the panel's error, and
+// the longest wait taken from a Retry-After (a longer one is asked again sooner).
+const MAX_BUSY_TRIES = 8;
+const MAX_BUSY_WAIT_S = 30;
 
 export class Scheduler {
   constructor() {
@@ -54,6 +63,7 @@ export class Scheduler {
   touch(panel) {
     const flights = (panel.flights ||= []);
     if (!panel.wanted()) {
+      this.unwait(panel);
       for (const f of flights) f.ctrl.abort();
       flights.length = 0;
       panel.inflight = null;
@@ -65,6 +75,11 @@ export class Scheduler {
     // it would ask now is not worked out: half a drag's events come in the interval)
     if (this.deferred.has(panel)) return;
     const req = panel.request();
+    if (panel.waiting) {
+      if (panel.waiting.key === req.key) return;     // the server asked to wait: it asks then
+      this.unwait(panel);                            // a new state: ask now
+      panel.busyTries = 0;
+    }
     if (flights.length) {
       panel.dirty = false;
       if (flights[flights.length - 1].key === req.key) return;     // asked already
@@ -122,6 +137,12 @@ export class Scheduler {
         throw new Error("Cannot reach the server.");
       }
       if (ctrl.signal.aborted || flight.seq < (panel.newestSeq || 0)) return;   // a newer answer is in
+      if (res.retryAfter != null && (panel.busyTries || 0) < MAX_BUSY_TRIES && !panel.flights.some((f) => f.seq > flight.seq)) {
+        panel.busyTries = (panel.busyTries || 0) + 1;
+        this.wait(panel, req.key, res.retryAfter, body?.detail?.[0]?.msg);
+        return;
+      }
+      panel.busyTries = 0;
       const out = panel.receive(req, res, body);
       if (out.retry) panel.dirty = true;
       else result = { key: req.key, seq: flight.seq, born: flight.born, drawable: out };
@@ -143,9 +164,28 @@ export class Scheduler {
         panel.dirty = false;
         this.touch(panel);
       }
-      if (!panel.inflight && !this.ready.has(panel)) panel.loading(false);
+      if (!panel.inflight && !this.ready.has(panel) && !panel.waiting) panel.loading(false);
       this.checkIdle();
     }
+  }
+
+  /** The server was busy: ask again for `key` in `seconds`, saying so meanwhile. */
+  wait(panel, key, seconds, message) {
+    this.unwait(panel);
+    const s = Math.min(seconds, MAX_BUSY_WAIT_S);
+    const timer = setTimeout(() => {
+      panel.waiting = null;
+      this.touch(panel);
+      this.checkIdle();
+    }, s * 1000);
+    panel.waiting = { key, timer };
+    panel.busy?.(`${message ? `${message.replace(/[:;,.]?\s*retry\.?$/i, "")} — ` : "The server is busy — "}asking again in ${Math.max(1, Math.round(s))} s…`);
+  }
+
+  unwait(panel) {
+    if (!panel.waiting) return;
+    clearTimeout(panel.waiting.timer);
+    panel.waiting = null;
   }
 
   /** A data-only redraw at once (Plotly draws it in its next animation frame, a newer
@@ -215,7 +255,7 @@ export class Scheduler {
 
   /** Requests in flight, answers waiting, draws under way (for tests and the bench). */
   pending(panels) {
-    return panels.filter((p) => p.inflight || p.dirty || p.drawing || p.animating || this.ready.has(p)).length;
+    return panels.filter((p) => p.inflight || p.dirty || p.drawing || p.animating || p.waiting || this.ready.has(p)).length;
   }
 
   checkIdle() {

@@ -109,3 +109,20 @@ def test_an_entry_a_url_cannot_carry_is_refused_naming_it(client):
     r = client.post("/api/v1/batch", json={"requests": [f"{F}/ndf?alpha=0.2", f"{F}/ndf?ndf=☃"]})
     assert r.status_code == 422
     assert json.dumps(r.json()["detail"][0]["loc"]) == json.dumps(["body", "requests[1]"])
+
+
+def test_a_busy_entry_says_when_to_ask_again(monkeypatch):
+    """A 503 (busy) entry is its GET's status and body, plus the GET's Retry-After as
+    ``retry_after``: the page waits that long before it asks again. No other entry has it."""
+    from app.errors import Busy
+    from app.export import build
+
+    def busy(view, q, settings):
+        raise Busy(f"the {view.name} table is being built: retry", retry_after=3, what="table")
+    monkeypatch.setattr(build, "produce", busy)
+    client = TestClient(create_app(settings_for_tests()))
+    get = client.get(f"{F}/ndf?alpha=0.2")
+    assert get.status_code == 503 and get.headers["retry-after"] == "3"
+    answers = client.post("/api/v1/batch", json={"requests": [f"{F}/ndf?alpha=0.2", f"{F}/g1?alpha=7"]}).json()["responses"]
+    assert answers[0] == {"status": 503, "cache": "no-store", "retry_after": 3, "body": get.json()}
+    assert answers[1]["status"] == 422 and "retry_after" not in answers[1]
