@@ -17,11 +17,12 @@ def pytest_unconfigure(config):
     shutil.rmtree(_CACHE, ignore_errors=True)
 
 
-#: xdist workers per core for ``-n auto``: a worker waits much of the time (Chromium's
-#: frames, the servers the tests start, subprocesses), and the suite's CPU time was 55 %
-#: of two workers' wall time on 2 cores. Measured on this 2-core machine, whole suite:
-#: two workers 860 s, three 708 s (BENCHMARKS.md, "The test suite").
-WORKERS_PER_CORE = 1.5
+#: xdist workers per core for ``-n auto``. Three on 2 cores ran this machine's warm
+#: suite in 708 s against 860 s for two, but CI (a clean clone: every compiled loop built
+#: from an empty numba cache, in each worker and server at once) took 873 s with three
+#: against 809 s with two, and its trade-off embed hung on a busy server: one a core
+#: (BENCHMARKS.md, "The test suite").
+WORKERS_PER_CORE = 1
 
 
 def pytest_xdist_auto_num_workers(config):
