@@ -4,15 +4,14 @@ request per slider move instead of one per panel).
 Each entry of ``requests`` is the path and query of a ``GET /api/v1/figures/...``, and
 its answer is that GET's: the same status, Cache-Control and JSON body (null for a body
 that is not JSON), in order; a 503 also gives its Retry-After (``retry_after``, seconds),
-which the page waits before it asks again. A figure's JSON GET (``/api/v1/figures/{view}``, the page's
-every entry) is answered by the steps its route takes, without the HTTP layers around
-it: the request guard's query checks, the route's query model, the view's pipeline, the
-application's error handlers. The entries run one after another in one worker thread
-under the request's one time budget, as the parts of one request. Run as four GETs
-through the whole application (the middlewares, FastAPI's route scan, one worker thread
-each, contending for the GIL), the page's four panels took 10–14 ms in process here,
-against 5–8 ms (bench/batch.py, BENCHMARKS.md §5). Any other entry (an export, an
-unknown view) goes through the whole application as its GET would.
+which the page waits before it asks again. A figure's JSON GET (``/api/v1/figures/{view}``,
+the page's every entry) is answered by the steps its route takes, without the HTTP
+layers around it: the request guard's query checks, the route's query model, the view's
+pipeline, the application's error handlers; one after another in one worker thread under
+one time budget, as the parts of one request. As four GETs through the whole application
+the page's four panels took 10–14 ms in process here, against 5–8 ms (BENCHMARKS.md §5).
+Any other entry (an export, an unknown view) goes through the whole application as its
+GET would.
 """
 from __future__ import annotations
 
