@@ -216,7 +216,8 @@ def _build(c: Components, note: str = "") -> Kernel | None:
         try:
             module = compose.load(c)
             kernel = Kernel(c, module)
-            kernel.warm()
+            with compose.compiling(module):
+                kernel.warm()
         except Exception as exc:   # a formula numba cannot compile: numpy serves it
             with _cv:
                 _failed[c] = f"{type(exc).__name__}: {exc}"

@@ -23,12 +23,14 @@ NICE = 10
 
 def compile_module(path: Path) -> None:
     """Import a generated module and compile (or load) its two loops."""
+    from .compose import compiling
     from .kernel import Kernel
     spec = importlib.util.spec_from_file_location(path.stem, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[path.stem] = module
     spec.loader.exec_module(module)
-    Kernel(None, module).warm()
+    with compiling(module):
+        Kernel(None, module).warm()
 
 
 def main() -> int:

@@ -15,6 +15,7 @@ The loops mirror ``BRDF.evaluate`` (physics/brdf.py) and ``albedo._integrate_ord
 model against them to 1e-12."""
 from __future__ import annotations
 
+import contextlib
 import hashlib
 import importlib.util
 import inspect
@@ -275,6 +276,26 @@ def load(c: Components) -> ModuleType:
             del sys.modules[name]
             raise
         return module
+
+
+@contextlib.contextmanager
+def compiling(module: ModuleType):
+    """Held while a generated module's loops compile (or load from numba's cache): one
+    process at a time compiles a module, the others wait and then load what it cached.
+    A clean checkout's test workers and servers each compiled the same loops at once (a
+    few CPU-seconds each, on the same 2 cores). An advisory lock (flock) beside the module;
+    where there is none (not POSIX), each compiles on its own as before."""
+    try:
+        import fcntl
+    except ImportError:
+        yield
+        return
+    with open(f"{module.__file__}.lock", "a") as lock:
+        fcntl.flock(lock, fcntl.LOCK_EX)
+        try:
+            yield
+        finally:
+            fcntl.flock(lock, fcntl.LOCK_UN)
 
 
 #: One generated module imported at a time: the background compiler thread and a caller
