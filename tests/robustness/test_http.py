@@ -137,6 +137,15 @@ def test_large_responses_are_gzipped_small_ones_not(client):
     assert big.json() == plain.json()          # httpx decodes the gzip one
 
 
+@pytest.mark.parametrize("url, fast", [("/api/v1/lobe3d", True), ("/static/vendor/plotly.min.js", False)])
+def test_answers_made_per_request_are_compressed_fast_files_small(client, url, fast):
+    """The gzip header's XFL byte says how zlib compressed (RFC 1952): 4 for its fastest
+    level (1), 0 for the levels between (6, the files'), 2 for its smallest (9)."""
+    with client.stream("GET", url, headers={"accept-encoding": "gzip"}) as r:
+        raw = b"".join(r.iter_raw())
+    assert raw[:2] == b"\x1f\x8b" and raw[8] == (4 if fast else 0)
+
+
 def test_gzip_body_is_a_valid_gzip_stream(client):
     with client.stream("GET", "/api/v1/lobe3d", headers={"accept-encoding": "gzip"}) as r:
         raw = b"".join(r.iter_raw())

@@ -3,7 +3,7 @@
 ``security.SecurityHeaders``  nosniff, CSP, Referrer-Policy; an escaped exception → 500
 ``CORSMiddleware``            cross-origin GET for embedding, nothing else
 ``caching.HttpCache``         ETag, If-None-Match → 304, Cache-Control
-``GZipMiddleware``            bodies of GZIP_MINIMUM_SIZE bytes and more
+``Compress``                  gzip for bodies of GZIP_MINIMUM_SIZE bytes and more
 ``guard.RequestGuard``        limits on the request itself, and its time budget
 
 All are plain ASGI callables: ``BaseHTTPMiddleware`` would copy every body through a
@@ -29,15 +29,32 @@ if TYPE_CHECKING:
 
 #: bodies smaller than this are not worth a gzip header (and often grow)
 GZIP_MINIMUM_SIZE = 1000
-#: zlib level 6: within a few percent of level 9's size at a fraction of the CPU (the
-#: 4.6 MB plotly.min.js: measured in docs/robustness.md)
-GZIP_LEVEL = 6
+#: zlib level of the API's answers, compressed anew for each request: level 1. The 3-D
+#: lobe's 141 KB of JSON took 8.8 ms at level 6 (of a 22 ms answer) and 2.4 ms at level 1,
+#: for 48 KB instead of 43; a slider move's 17 KB batch 0.26 → 0.11 ms (BENCHMARKS.md §4).
+API_GZIP_LEVEL = 1
+#: zlib level of the page's files, sent many times and revalidated by their ETags: level
+#: 6, within a few percent of level 9's size (the 4.8 MB plotly.min.js: 1.47 MB, against
+#: 1.71 MB at level 1; docs/robustness.md)
+FILE_GZIP_LEVEL = 6
+
+
+class Compress:
+    """gzip at API_GZIP_LEVEL for ``/api/`` and FILE_GZIP_LEVEL for the rest."""
+
+    def __init__(self, app, minimum_size: int):
+        self.api = GZipMiddleware(app, minimum_size=minimum_size, compresslevel=API_GZIP_LEVEL)
+        self.files = GZipMiddleware(app, minimum_size=minimum_size, compresslevel=FILE_GZIP_LEVEL)
+
+    async def __call__(self, scope, receive, send):
+        api = scope["type"] == "http" and scope.get("path", "").startswith("/api/")
+        await (self.api if api else self.files)(scope, receive, send)
 
 
 def _outer_layers(settings: Settings, static_dir: Path) -> list:
     """(class, options) of the layers outside the request guard, innermost first."""
     return [
-        (GZipMiddleware, {"minimum_size": GZIP_MINIMUM_SIZE, "compresslevel": GZIP_LEVEL}),
+        (Compress, {"minimum_size": GZIP_MINIMUM_SIZE}),
         (HttpCache, {"max_age": settings.cache_max_age}),
         (CORSMiddleware, {"allow_origins": list(settings.cors_origins),
                           "allow_methods": ["GET"], "allow_headers": []}),
