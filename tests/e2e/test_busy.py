@@ -54,8 +54,8 @@ def test_a_busy_panel_says_so_and_asks_again_when_told(page, page_log):
     wait_quiet(page)
     assert [busy for _, busy in asked] == [True, False]          # asked once more, and only once
     assert asked[1][0] - asked[0][0] >= 0.9                       # when the server said
-    said = page.evaluate("() => window.__statuses")
-    assert said and "being built" in said[0] and "asking again in 1 s" in said[0], said
+    said = page.evaluate("() => window.__statuses")   # "loading…" may come first on a slow machine
+    assert any("being built" in t and "asking again in 1 s" in t for t in said), said
     status = page.locator('[data-panel="g1"] .panel-status')
     assert status.inner_text() == ""                              # drawn: nothing to say
     assert page.evaluate("() => window.__brdf.panels().find((p) => p.name === 'g1').current")
