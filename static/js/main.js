@@ -134,11 +134,18 @@ function onHold(held) {
   if (ctx.held === held) return;
   ctx.held = held;
   if (held) {
-    for (const p of panels) p.grab();
+    // a heading whose readout wraps anew while held would resize its plot (a full Plotly
+    // redraw in the drag, the held canvas dropped): it keeps its height until the release
+    const heights = panels.map((p) => (p.inView ? p.heading.offsetHeight : 0));
+    panels.forEach((p, k) => {
+      if (heights[k]) p.heading.style.height = `${heights[k]}px`;
+      p.grab();
+    });
     return;
   }
   releaseUrlWrite();
   for (const p of panels) {
+    p.heading.style.height = "";
     p.release();
     scheduler.touch(p);
   }

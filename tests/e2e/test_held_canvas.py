@@ -223,3 +223,23 @@ def test_a_held_drag_ends_with_the_headings_saying_what_is_drawn(page):
     plain = lambda t: re.sub(r"<[^>]+>", "", t).replace("\u200b", "")   # Plotly's sub as text  # noqa: E731
     avg = [plain(t) for t in legend["drawn"] if "avg" in t]
     assert avg and all(t in map(plain, legend["names"]) for t in avg), legend
+
+
+def test_a_heading_that_wraps_while_held_leaves_its_plot_as_it_is(page):
+    """A readout whose text wraps to a second line in the drag (the G₁ heading at some α,
+    the panel 473 px wide) resized the plot below it: a full Plotly redraw in the middle
+    of the drag, and the held canvas dropped. While held, a heading keeps its height."""
+    page.goto("/?alpha=0.3")
+    wait_quiet(page)
+    plot_height = "() => document.getElementById('plot-g1').getBoundingClientRect().height"
+    page.evaluate(GRAB_JS)
+    page.evaluate(MOVE_JS, 600)
+    page.wait_for_function("() => document.getElementById('plot-g1').classList.contains('held-canvas')", timeout=20_000)
+    before = page.evaluate(plot_height)
+    page.evaluate("() => { document.querySelector('#h-g1 .sub').textContent = ' a readout long enough to wrap'.repeat(6); }")
+    page.wait_for_timeout(500)                     # a ResizeObserver's callback comes in the next frame
+    assert page.evaluate(plot_height) == before
+    assert page.evaluate("() => document.getElementById('plot-g1').classList.contains('held-canvas')")
+    page.evaluate(LET_GO_JS)
+    wait_quiet(page)
+    assert page.evaluate("() => document.getElementById('h-g1').style.height") == ""   # free again
