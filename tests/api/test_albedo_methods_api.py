@@ -12,6 +12,7 @@ from app.config import Settings
 from app.main import create_app
 
 from .conftest import TestClient
+from tests.finite import finite_json
 
 MU = "0.02,0.3,0.7,1"
 
@@ -19,8 +20,7 @@ MU = "0.02,0.3,0.7,1"
 def get(client, url, status=200):
     r = client.get(url)
     assert r.status_code == status, (url, r.status_code, r.text)
-    assert "NaN" not in r.text and "Infinity" not in r.text
-    return r.json()
+    return finite_json(r.text)
 
 
 @pytest.fixture(scope="module")
