@@ -9,6 +9,6 @@ def _no_constant(token: str):
     raise AssertionError(f"JSON body contains {token}")
 
 
-def finite_json(text: str):
+def finite_json(text: str | bytes):
     """The parsed body; fails on a NaN, Infinity or -Infinity token."""
     return json.loads(text, parse_constant=_no_constant)

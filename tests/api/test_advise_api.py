@@ -2,21 +2,14 @@
 other endpoints, the 422s, finite JSON, the table figure."""
 from __future__ import annotations
 
-import json
-
 import pytest
 
 from app.figures.advise import RECOMMENDED_FILL
 from app.model import make_spec
+from tests.finite import finite_json
 
 #: a narrow scene keeps each request to a few tenths of a second
 SCENE = {"alpha_min": 0.1, "alpha_max": 0.4, "theta_max_deg": 70}
-
-
-def finite_json(text: str):
-    def refuse(token):
-        raise AssertionError(f"JSON contains {token}")
-    return json.loads(text, parse_constant=refuse)
 
 
 def test_response_names_recommendation_error_cost_alternatives(client):

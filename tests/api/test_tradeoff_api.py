@@ -2,7 +2,6 @@
 parameter and the setting), methods that do not apply, the time budget, finite JSON."""
 from __future__ import annotations
 
-import json
 import time
 import warnings
 
@@ -15,6 +14,7 @@ with warnings.catch_warnings():
 
 from app.config import Settings
 from app.main import create_app
+from tests.finite import finite_json
 
 ALL = ["quadrature", "mc_uniform", "mc_cosine", "mc_ndf", "mc_vndf", "table"]
 PER_POINT = ["method", "method_index", "budget", "evaluations", "seconds", "error",
@@ -22,9 +22,7 @@ PER_POINT = ["method", "method_index", "budget", "evaluations", "seconds", "erro
 
 
 def _strict_json(response):
-    def refuse(token):
-        raise AssertionError(f"JSON contains {token}")
-    return json.loads(response.content, parse_constant=refuse)
+    return finite_json(response.content)
 
 
 def _detail(response) -> tuple[list, str]:
