@@ -137,7 +137,8 @@ export class Scheduler {
         throw new Error("Cannot reach the server.");
       }
       if (ctrl.signal.aborted || flight.seq < (panel.newestSeq || 0)) return;   // a newer answer is in
-      if (res.retryAfter != null && (panel.busyTries || 0) < MAX_BUSY_TRIES && !panel.flights.some((f) => f.seq > flight.seq)) {
+      if (res.retryAfter != null && panel.flights.some((f) => f.seq > flight.seq)) return;   // a newer request's answer will do
+      if (res.retryAfter != null && (panel.busyTries || 0) < MAX_BUSY_TRIES) {
         panel.busyTries = (panel.busyTries || 0) + 1;
         this.wait(panel, req.key, res.retryAfter, body?.detail?.[0]?.msg);
         return;
