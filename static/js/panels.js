@@ -14,7 +14,7 @@ import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from ".
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
          logAxes, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
 import { writePaths } from "./svgpaths.js";
-import { drawHeld, endHeld, readyHeld } from "./heldcanvas.js";
+import { drawHeld, endHeld, readyHeld, ownTask } from "./heldcanvas.js";
 import { Readouts } from "./readouts.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
@@ -250,12 +250,12 @@ export class Panel {
   }
 
   /** Writes the newest data's paths in the animation frame `frame()` resolves in (one
-   * write a frame however many answers land before it); Plotly draws it if the paths
-   * cannot take it (Plotly's transition on its own axes). `shown`: the data as drawn on
-   * axes rescaled by `decades`. */
+   * write a frame however many answers land before it; a held slider's, in a task of
+   * its own just after it: ownTask); Plotly draws it if the paths cannot take it
+   * (Plotly's transition on its own axes). `shown`: the data as drawn on axes rescaled by `decades`. */
   writeInFrame(data, frame, shown = data, decades = null) {
     this.toWrite = { data, shown, decades };
-    this.writing ||= new Promise((resolve) => frame().then(() => {
+    this.writing ||= new Promise((resolve) => frame().then(() => ctx.held && ownTask()).then(() => {
       const { data: d, shown: s, decades: j } = this.toWrite;
       this.toWrite = null;
       this.writing = null;

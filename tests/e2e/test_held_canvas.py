@@ -243,3 +243,48 @@ def test_a_heading_that_wraps_while_held_leaves_its_plot_as_it_is(page):
     page.evaluate(LET_GO_JS)
     wait_quiet(page)
     assert page.evaluate("() => document.getElementById('h-g1').style.height") == ""   # free again
+
+
+# Marks the task of each animation frame: from its first callback until a message posted
+# then is delivered (messages are delivered in the order posted, so a write the page put
+# in a task of its own after the frame runs after this mark is cleared). Each held
+# redraw (the page's draw event) records whether it ran inside the frame's task.
+FRAME_TASK_JS = """() => {
+  const raf = window.requestAnimationFrame.bind(window);
+  window.__inFrame = false;
+  window.__heldDraws = [];
+  window.requestAnimationFrame = (cb) => raf((ts) => {
+    if (!window.__inFrame) {
+      window.__inFrame = true;
+      const ch = new MessageChannel();
+      ch.port1.onmessage = () => { window.__inFrame = false; };
+      ch.port2.postMessage(0);
+    }
+    cb(ts);
+  });
+  for (const d of document.querySelectorAll('.js-plotly-plot')) {
+    d.addEventListener(window.__brdf.drawEvent, () => {
+      if (d.classList.contains('held-canvas')) window.__heldDraws.push([d.id, window.__inFrame]);
+    });
+  }
+}"""
+
+
+def test_a_held_frame_writes_each_panel_in_a_task_of_its_own_after_the_frame(page):
+    """A held redraw's writes (four panels' points computed and posted, 2-5 ms) run after
+    the animation frame, one task a panel, not inside the frame's task with its paint and
+    commit: an input event due meanwhile runs between them, not after all of it
+    (BENCHMARKS.md §5, thirteenth session)."""
+    page.goto("/?alpha=0.3")
+    wait_quiet(page)
+    page.evaluate(FRAME_TASK_JS)
+    page.evaluate(GRAB_JS)
+    for v in range(620, 500, -6):
+        page.evaluate(MOVE_JS, v)
+        page.wait_for_timeout(40)
+    wait_quiet(page)
+    draws = page.evaluate("() => window.__heldDraws")
+    page.evaluate(LET_GO_JS)
+    wait_quiet(page)
+    assert {d for d, _ in draws} == {f"plot-{n}" for n in PANELS}, draws
+    assert len(draws) >= 20 and not any(inside for _, inside in draws), draws
