@@ -13,7 +13,8 @@ consecutive positions, and a jump of the thumb is what the single moves measure.
 each panel in view during the drag; the settle time (last event → the page quiet, the
 full-resolution redraw after the release included); and how promptly each input event
 was handled: the lateness of its timer (the main thread busy drawing delays it) plus the
-time its handler ran, p95 and max, against one 60 Hz frame (16.7 ms). On Linux also the
+time its handler ran, p95 and max, against one 60 Hz frame (16.7 ms), and for each event
+past it the two parts apart. On Linux also the
 CPU time of Chromium and the server during the drag, and how long the page's main thread
 was runnable but waiting for a CPU (/proc's schedstat): the part of a late event that is
 the machine's, not the page's.
@@ -95,18 +96,19 @@ DRAG_JS = """async ([positions, ids, hz]) => {
   // the first move is due one period after the grab: what the grab costs counts
   const start = performance.now() + period;
   slider.dispatchEvent(new PointerEvent('pointerdown', { bubbles: true }));
-  const handled = [];
+  const handled = [], split = [];      // split: [waited for its turn, its handler ran]
   let prevEnd = start;
   for (let k = 0; k < positions.length; k++) {
     const due = start + k * period;
     await sleep(Math.max(0, due - performance.now()));
     // from when this event could run (its time, or the previous one's end if that was
     // later) to the end of its handler: the main thread's other work plus its own
-    const ready = Math.max(due, prevEnd);
+    const ready = Math.max(due, prevEnd), began = performance.now();
     slider.value = String(positions[k]);
     slider.dispatchEvent(new Event('input', { bubbles: true }));
     prevEnd = performance.now();
     handled.push(prevEnd - ready);
+    split.push([began - ready, prevEnd - began]);
   }
   const last = performance.now();
   slider.dispatchEvent(new Event('change', { bubbles: true }));
@@ -115,7 +117,7 @@ DRAG_JS = """async ([positions, ids, hz]) => {
   const during = (id) => window.__bench.events.filter((e) => e[0] === id && e[1] >= start && e[1] <= last).length;
   const rates = {};
   for (const id of ids) rates[id] = during(id) / ((last - start) / 1000);
-  return { rates, settle_ms: settled - last, handled, seconds: (last - start) / 1000 };
+  return { rates, settle_ms: settled - last, handled, split, seconds: (last - start) / 1000 };
 }"""
 
 
@@ -187,6 +189,9 @@ def measure(page, url: str, moves: int, first: int) -> dict:
     drag = page.evaluate(DRAG_JS, [drag_pos, ids, DRAG_HZ])
     cpu_drag, machine = thread_ms(cdp) - cpu0, contention(threads0, _threads())
     handled = drag["handled"]
+    # each late event: how long it waited for its turn (the main thread busy, or waiting for
+    # a CPU) and how long its own handler ran
+    late = [[round(w, 1), round(h, 1)] for (w, h), t in zip(drag["split"], handled) if t > 16.7]
     return {"median_ms": round(common.median(ms), 1) if ms else float("nan"), "p95_ms": _pct(ms, 95),
             "moves": len(ms), "missed": len(res) - len(ms), "in_view": [i.removeprefix("plot-") for i in ids],
             "per_panel_median_ms": per_panel,
@@ -194,6 +199,7 @@ def measure(page, url: str, moves: int, first: int) -> dict:
             "drag_settle_ms": round(drag["settle_ms"], 1),
             "drag_input_p95_ms": _pct(handled, 95), "drag_input_max_ms": round(max(handled), 1),
             "drag_input_over_16ms": sum(h > 16.7 for h in handled), "drag_events": len(handled),
+            "drag_late_waited_ran_ms": late,
             "drag_seconds": round(drag["seconds"], 2),
             "cpu_ms_per_move": round(cpu_move, 1), "drag_cpu_ms_per_event": round(cpu_drag / len(handled), 1),
             **{f"drag_{k}": v for k, v in machine.items()}}
@@ -242,6 +248,9 @@ def report(r: dict) -> list[str]:
                      + f"; settle {g('drag_settle_ms')} ms; input handled p95 {g('drag_input_p95_ms')} ms, "
                      f"max {g('drag_input_max_ms')} ms, {g('drag_input_over_16ms')} of {g('drag_events')} over 16.7 ms "
                      f"(the drag took {g('drag_seconds')} s)")
+        if g("drag_late_waited_ran_ms"):
+            lines.append("      late events, ms waited for their turn / their handler ran: "
+                         + ", ".join(f"{w} / {h}" for w, h in g("drag_late_waited_ran_ms")))
         if r.get(f"slider{key}_drag_cpu_ms") is not None:
             lines.append(f"      during the drag: Chromium and the server {g('drag_cpu_ms')} ms of CPU; the page's "
                          f"main thread {g('drag_main_run_ms')} ms on a CPU, {g('drag_main_wait_ms')} ms "
