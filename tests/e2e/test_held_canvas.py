@@ -245,22 +245,21 @@ def test_a_heading_that_wraps_while_held_leaves_its_plot_as_it_is(page):
     assert page.evaluate("() => document.getElementById('h-g1').style.height") == ""   # free again
 
 
-# Marks the task of each animation frame: from its first callback until a message posted
-# then is delivered (messages are delivered in the order posted, so a write the page put
-# in a task of its own after the frame runs after this mark is cleared). Each held
-# redraw (the page's draw event) records whether it ran inside the frame's task.
+# Marks each animation frame's callbacks and what they run before their task ends: the
+# flag is set for each callback and cleared only after ten rounds of microtasks, so a write
+# chained to the frame's promise (the microtasks run after each callback) sees it set,
+# and one in a task of its own sees it clear. Each held redraw (the page's draw event)
+# records whether it ran inside the frame's task.
 FRAME_TASK_JS = """() => {
   const raf = window.requestAnimationFrame.bind(window);
   window.__inFrame = false;
   window.__heldDraws = [];
   window.requestAnimationFrame = (cb) => raf((ts) => {
-    if (!window.__inFrame) {
-      window.__inFrame = true;
-      const ch = new MessageChannel();
-      ch.port1.onmessage = () => { window.__inFrame = false; };
-      ch.port2.postMessage(0);
-    }
+    window.__inFrame = true;
     cb(ts);
+    let rounds = 10;
+    const hop = () => { if (--rounds) queueMicrotask(hop); else window.__inFrame = false; };
+    queueMicrotask(hop);
   });
   for (const d of document.querySelectorAll('.js-plotly-plot')) {
     d.addEventListener(window.__brdf.drawEvent, () => {
