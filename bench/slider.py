@@ -163,14 +163,29 @@ def thread_ms(cdp) -> float:
     return 1000 * {m["name"]: m["value"] for m in cdp.send("Performance.getMetrics")["metrics"]}["ThreadTime"]
 
 
-def measure(page, url: str, moves: int, first: int) -> dict:
-    cdp = page.context.new_cdp_session(page)
-    cdp.send("Performance.enable")
+def open_page(page, url: str) -> list[str]:
+    """Loads `url`, waits until every panel in view has drawn and nothing is pending,
+    hooks the draws (HOOK_JS); returns the ids of the plots in view."""
     page.goto(url)
     page.wait_for_function("() => window.__brdf && window.__brdf.pending() === 0", timeout=60_000)
     ids = [i for i in page.evaluate(IN_VIEW_JS) if i.startswith("plot-")]
     page.wait_for_function(QUIET_JS, arg=ids, timeout=60_000)
     page.evaluate(HOOK_JS)
+    return ids
+
+
+def drag_positions() -> list[int]:
+    """The drag's slider positions: over 2/3 of the slider and back, DRAG_HZ a second for
+    DRAG_SECONDS (positions the single moves do not use)."""
+    n = int(DRAG_HZ * DRAG_SECONDS)
+    lo, hi = 120, 880
+    return [round(lo + (hi - lo) * (1 - abs(1 - 2 * k / (n - 1)))) + 1 for k in range(n)]
+
+
+def measure(page, url: str, moves: int, first: int) -> dict:
+    cdp = page.context.new_cdp_session(page)
+    cdp.send("Performance.enable")
+    ids = open_page(page, url)
     # α slider positions, each used once in the run: no answer comes from a cache
     positions = [first + 3 * i for i in range(moves + 3)]
     page.evaluate(MOVES_JS, [positions[:3], ids])          # warm
@@ -180,10 +195,7 @@ def measure(page, url: str, moves: int, first: int) -> dict:
     ms = [r["ms"] for r in res if r["ms"] == r["ms"]]
     per_panel = {i.removeprefix("plot-"): round(common.median([r["drawn"][i] for r in res if i in r["drawn"]]), 1)
                  for i in ids if any(i in r["drawn"] for r in res)}
-    n = int(DRAG_HZ * DRAG_SECONDS)
-    # a drag over 2/3 of the slider and back, positions not used above
-    lo, hi = 120, 880
-    drag_pos = [round(lo + (hi - lo) * (1 - abs(1 - 2 * k / (n - 1)))) + 1 for k in range(n)]
+    drag_pos = drag_positions()
     page.evaluate(MOVES_JS, [drag_pos[:1], ids])          # the hand takes the thumb there
     cpu0, threads0 = thread_ms(cdp), _threads()
     drag = page.evaluate(DRAG_JS, [drag_pos, ids, DRAG_HZ])
