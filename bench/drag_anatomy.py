@@ -30,7 +30,6 @@ CATEGORIES = ["devtools.timeline", "disabled-by-default-devtools.timeline", "top
 RENDERING = ("ProxyMain::BeginMainFrame", "UpdateLayoutTree", "Layout", "PrePaint", "Paint", "Layerize", "Commit")
 #: damaged area of a compositor frame, Mpx: the bounds of the buckets reported
 DAMAGE_BUCKETS = (0.02, 0.3, 0.8)
-LATE_MS = 16.7
 #: the threads whose nice is reported (as /proc names them: 15 characters): each process's
 #: main thread, the compositors, IO, the held canvas's worker and the raster workers
 NICE_OF = ("chromium", "VizCompositorTh", "Compositor", "Chrome_IOThread", "Chrome_ChildIOT",
@@ -47,10 +46,10 @@ def thread_nices() -> dict:
             cmd = Path(f"/proc/{pid}/cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
         except OSError:
             continue                       # the thread ended meanwhile
-        if "chromium" not in cmd or text[text.index("(") + 1:text.rindex(")")] not in NICE_OF:
+        name = text[text.index("(") + 1:text.rindex(")")]
+        if "chromium" not in cmd or name not in NICE_OF:
             continue
         kind = re.search(r"--type=(\S+)", cmd)
-        name = text[text.index("(") + 1:text.rindex(")")]
         nice = int(text[text.rindex(")") + 2:].split()[16])
         out[(kind[1] if kind else "browser", name)].add(nice)
     return {k: sorted(v) for k, v in sorted(out.items())}
@@ -61,8 +60,7 @@ def analyse(events: list) -> dict:
     compositor's frames bucketed by damaged area, from a trace's events."""
     names = {(e["pid"], e["tid"]): e["args"]["name"] for e in events
              if e.get("ph") == "M" and e.get("name") == "thread_name"}
-    cpu, rendering, frames = collections.Counter(), collections.Counter(), 0
-    damage = collections.Counter()
+    cpu, rendering, damage, frames = collections.Counter(), collections.Counter(), collections.Counter(), 0
     for e in events:
         if e.get("ph") != "X":
             continue
@@ -101,7 +99,7 @@ def run(rounds: int, every: bool, static: str | None) -> tuple[dict, list[dict]]
                 drag = page.evaluate(slider.DRAG_JS, [positions, ids, slider.DRAG_HZ])
                 raw = json.loads(browser.stop_tracing())
                 found = analyse(raw["traceEvents"] if isinstance(raw, dict) else raw)
-                found["late_ms"] = [round(h, 1) for h in drag["handled"] if h > LATE_MS]
+                found["late_ms"] = [round(h, 1) for h in drag["handled"] if h > slider.LATE_MS]
                 results.append(found)
             nices = thread_nices()
         finally:
