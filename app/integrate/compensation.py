@@ -5,7 +5,7 @@ f_ms(μ_l, μ_v) = (1 − E(μ_l))(1 − E(μ_v)) / (π (1 − Ē)) has albedo 1
 F = 1 every μ reflects everything; with a Fresnel term it is scaled by
 F_ms = F̄² Ē / (1 − F̄ (1 − Ē)). Derivation: docs/kulla_conty.md §1, §2.
 
-E and Ē come from the E(μ, α) table (tables.py); Ē is the average of the interpolant
+E and Ē come from the E(μ, α) table (tables/); Ē is the average of the interpolant
 itself, so the albedo of the f_ms actually used is exactly F_ms (1 − Ê(μ_v)), and the
 furnace holds to within the table's error |Ê − E| (§3). A two-lobe model gets one f_ms
 per lobe, weighted like the lobes. Anisotropic roughness is refused (app/model.py).

@@ -4,7 +4,7 @@
   order (one comparison N vs 2N), otherwise it refines to ``tol``. E_error is a bound.
 * ``mc_uniform``, ``mc_cosine``, ``mc_ndf``, ``mc_vndf`` — Monte Carlo (montecarlo.py)
   with ``samples`` directions per μ; E_error is one standard error.
-* ``table`` — the interpolated E(μ, α) tables (tables.py): F = 1 or generalised Schlick,
+* ``table`` — the interpolated E(μ, α) tables (tables/): F = 1 or generalised Schlick,
   isotropic; E_error is the table's measured error bound; no integrand evaluations at
   lookup (the build's are reported under ``table``).
 * ``auto`` — the cheapest whose error bound meets ``tol``: the table if it applies and its

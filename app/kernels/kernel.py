@@ -11,6 +11,7 @@ from concurrent.futures import ThreadPoolExecutor
 
 import numpy as np
 
+from ..physics import smith_integral as si
 from .compose import Components
 
 #: Below this many items (pairs, or quadrature nodes) one thread does the work: a block
@@ -102,7 +103,6 @@ class Kernel:
     def smith_h(self, ndf, a) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """h(a), dh/da and d²h/da² at a ≥ 0 of the Smith table
         (physics/smith_integral.h_derivatives: the same rule, nodes and substitution)."""
-        from ..physics import smith_integral as si
         one_minus_t, dt = si.t_rule()
         k = si.tail_power(ndf)
         a, power, weight, p = inputs(a, one_minus_t ** k, k * one_minus_t ** (k - 1.0) * dt,

@@ -10,7 +10,9 @@ i.e. Λ(a) = (1/a)∫_a^∞ (x − a) g(x) dx (docs/conventions.md §5). It is i
 tail mass v = 1 − u ∈ (0, 1 − C(a)] (``radial_ccdf``, exact where it is 1e-300), with a
 substitution graded by ``tail_beta`` so that the integrand vanishes at the end for every
 tail; μΛ = 0 where that mass underflows. It is the reference the Λ table (smith_table.py)
-is built from; tests/physics/test_smith_integral.py checks it against every closed form.
+is built from (which imports this module, never the reverse: the tabulated μΛ,
+``smith_table.mu_Lambda_smith_numeric``, is the table's); tests/physics/test_smith_integral.py
+checks it against every closed form.
 (derivation: docs/smith.md §1, §2)
 """
 from __future__ import annotations
@@ -28,14 +30,6 @@ ORDER = 192
 # 384) stays far above underflow for k ≤ 12. Only Student-t with γ < 1.545 asks for
 # more; there Λ is heading to infinity and the reference loses accuracy (see the test).
 K_MAX = 12.0
-
-
-def mu_Lambda_numeric(ndf, w) -> np.ndarray:
-    """μΛ(ω) of the general Smith integral, interpolated from its table (smith_table.py);
-    ``ndf`` is a SlopeSpaceNDF. The cost of a closed form whatever the number of
-    directions, where the direct integral was ORDER evaluations each."""
-    from .smith_table import mu_Lambda_smith_numeric   # the table is built by this module
-    return mu_Lambda_smith_numeric(ndf, w)
 
 
 def mu_Lambda_quadrature(ndf, w, order: int = ORDER) -> np.ndarray:

@@ -9,6 +9,7 @@ import pytest
 from scipy.integrate import quad
 
 from app.integrate import tables
+from app.integrate.tables import table as etable
 from app.integrate.albedo import albedo
 from app.integrate.compensation import fresnel_factor
 from app.errors import ParameterError
@@ -21,9 +22,9 @@ from app.physics.ndf import NDFS
 def small_tables(monkeypatch):
     """16×16 tables: the furnace must hold within the reported error at any size; the
     smaller size keeps six NDFs' builds to seconds."""
-    monkeypatch.setattr(tables, "TABLE_N_Y", 16)
-    monkeypatch.setattr(tables, "TABLE_N_R", 16)
-    monkeypatch.setattr(tables, "SLOW_TABLE_N", 16)
+    monkeypatch.setattr(etable, "TABLE_N_Y", 16)
+    monkeypatch.setattr(etable, "TABLE_N_R", 16)
+    monkeypatch.setattr(etable, "SLOW_TABLE_N", 16)
     tables.table_for_key.cache_clear()
     yield
     tables.table_for_key.cache_clear()

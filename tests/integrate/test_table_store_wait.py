@@ -8,7 +8,8 @@ import time
 import pytest
 
 from app.errors import Busy
-from app.integrate import budget, table_store, tables
+from app.integrate import budget
+from app.integrate.tables import defaults, store as table_store, table as tables
 from app.model import make_spec
 from app.physics import lambda_table, smith_table
 from app.physics.ndf import NDFS
@@ -100,7 +101,7 @@ def test_a_start_up_table_a_request_needs_moves_ahead_of_the_others(monkeypatch)
 def test_start_up_holds_every_ndf_s_kulla_conty_table():
     """The server's start-up tables: its default models', then each NDF's F = 1 table with
     the key its default Kulla-Conty request asks (Blinn-Phong's with the Smith integral)."""
-    keys = table_store.default_keys([make_spec(**v).brdf() for v in ({}, {"ndf": "beckmann"})])
+    keys = defaults.default_keys([make_spec(**v).brdf() for v in ({}, {"ndf": "beckmann"})])
     assert len(keys) == len(set(keys))
     for name in NDFS:
         masking = "smith_numeric" if name == "blinn_phong" else "smith"

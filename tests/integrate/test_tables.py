@@ -5,6 +5,7 @@ import pytest
 
 from app import kernels
 from app.integrate import tables
+from app.integrate.tables import table as etable
 from app.integrate.albedo import albedo, albedo_average
 from app.model import make_spec
 
@@ -89,21 +90,21 @@ def test_slow_lobe_falls_back_to_a_coarse_table_with_an_honest_bound(monkeypatch
     outright here, so that the test does not depend on the machine's speed); the coarse
     table's reported bound holds against the quadrature off its nodes. GTR at a γ no
     other test uses: not cached."""
-    real = tables.build
+    real = etable.build
     sizes = []
 
-    def refuse_the_fine_grid(key, n_y=tables.TABLE_N_Y, n_r=tables.TABLE_N_R, **kw):
+    def refuse_the_fine_grid(key, n_y=etable.TABLE_N_Y, n_r=etable.TABLE_N_R, **kw):
         sizes.append(n_y)
-        if n_y == tables.SLOW_TABLE_N:
-            raise tables.TableTooSlow("refused by the test")
+        if n_y == etable.SLOW_TABLE_N:
+            raise etable.TableTooSlow("refused by the test")
         return real(key, n_y, n_r, **kw)
 
-    monkeypatch.setattr(tables, "build", refuse_the_fine_grid)
+    monkeypatch.setattr(etable, "build", refuse_the_fine_grid)
     model = dict(ndf="gtr", gamma=1.6789, fresnel="none")
     with kernels.disabled():
         table = tables.table_for(make_spec(alpha=0.3, **model).brdf())
-    assert sizes == [tables.SLOW_TABLE_N, tables.COARSE_TABLE_N]
-    assert table.r.size == tables.COARSE_TABLE_N and table.error > 0
+    assert sizes == [etable.SLOW_TABLE_N, etable.COARSE_TABLE_N]
+    assert table.r.size == etable.COARSE_TABLE_N and table.error > 0
     rng = np.random.default_rng(4321)
     for alpha in rng.uniform(0.05, 1.0, 3) ** 2:
         mu = np.sort(rng.uniform(0.0, 1.0, 8))

@@ -1,11 +1,11 @@
 """The E(μ, α) tables a server queues at start-up for its background builder
-(table_store.start)."""
+(store.start)."""
 from __future__ import annotations
 
-from ..physics.brdf import BRDF
-from ..physics.fresnel import FRESNELS
-from ..physics.ndf import NDFS
-from . import tables
+from ...physics.brdf import BRDF
+from ...physics.fresnel import FRESNELS
+from ...physics.ndf import NDFS
+from . import table as tables
 
 
 def default_keys(brdfs) -> list[tuple]:

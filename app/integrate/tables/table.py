@@ -8,7 +8,7 @@ basis (``Fresnel.schlick_basis``) is E = Σ c E_p. The S table holds the scaled
 deviation from the mirror, (E_S − Ê₁(1 − μ)^p)/w(α). A bicubic spline interpolates;
 its error is measured at off-grid check points when the table is built and reported
 (``error``). Whole tables are kept, persisted and built outside requests by
-table_store.py; anisotropic roughness is not tabulated.
+store.py (which imports this module, never the reverse); anisotropic roughness is not tabulated.
 (derivation and measurements: docs/tables.md §1–§3)
 
 References: Kulla & Conty 2017, "Revisiting Physically Based Shading at Imageworks" (32×32
@@ -22,14 +22,13 @@ from dataclasses import dataclass, replace
 import numpy as np
 from scipy.interpolate import RectBivariateSpline
 
-from ..physics.brdf import BRDF
-from ..physics.fresnel import FRESNELS
-from ..physics.gauss import gauss_legendre_01
-from ..physics.numeric import where_valid
-from .. import kernels
-from ..errors import Busy
-from . import budget
-from .albedo import albedo
+from ...physics.brdf import BRDF
+from ...physics.fresnel import FRESNELS
+from ...physics.gauss import gauss_legendre_01
+from ...physics.numeric import where_valid
+from ... import kernels
+from .. import budget
+from ..albedo import albedo
 
 #: Smallest tabulated perceptual roughness: √(1e-4), the smallest α the API takes.
 ROUGHNESS_MIN = 1e-2
@@ -347,54 +346,3 @@ def build_for_key(key: tuple, base: ETable | None = None) -> ETable:
         if base is not None:      # the Schlick basis takes its base's grid: no coarser one
             raise
         return build(key, COARSE_TABLE_N, COARSE_TABLE_N, base=base)
-
-
-def table_for_key(key: tuple) -> ETable:
-    """The table for ``key`` from the store (table_store.py: memory, disk, built in the
-    background or here; one the request's time budget cut short is answered, not kept)."""
-    return _store().table(key)
-
-
-def _store():
-    from . import table_store   # imported late: the store builds with this module
-    return table_store
-
-
-table_for_key.cache_info = lambda: _store().cache_info()
-table_for_key.cache_clear = lambda: _store().cache_clear()
-
-
-def table_for(lobe: BRDF, basis_p: float | None = None, ready_only: bool = False) -> ETable:
-    """The (cached) default-size table for a single isotropic lobe (``BRDF.lobes()``);
-    ``ready_only``: one already built, else Busy (nothing is built or queued)."""
-    if not lobe.ndf.isotropic:
-        raise ValueError("E(μ, α) tables are for isotropic roughness only (alpha_y = alpha)")
-    if not ready_only:
-        return table_for_key(table_key(lobe, basis_p))
-    key = table_key(lobe, basis_p)
-    if (t := _store().table_if_ready(key)) is None:
-        name = _store().table_name(key)
-        raise Busy(f"the {name} is not built yet", what=name)
-    return t
-
-
-def tabulated_albedo(brdf: BRDF, mu, ready_only: bool = False) -> tuple[np.ndarray, float, list[ETable]]:
-    """E(μ) of a BRDF from tables: Σ_lobes w (F₀ E₁ + (F₉₀ − F₀) E_S) + E_d (the diffuse
-    term's albedo, kd for Lambert), for F = 1 or generalised Schlick (E is linear in f and in F). Returns (E, error bound, tables).
-    Raises ValueError for other Fresnel forms and anisotropic roughness; ``ready_only``: table_for."""
-    parts = brdf.fresnel.schlick_basis()
-    if parts is None:
-        raise ValueError(f"method=table needs a Fresnel on the Schlick basis (none or schlick: E "
-                         f"is tabulated per basis function); got fresnel={brdf.fresnel.name}")
-    mu = np.atleast_1d(np.asarray(mu, dtype=float))
-    E, error = brdf.diffuse_albedo(mu)
-    tables = []
-    for w, lobe in brdf.lobes():
-        for c, basis in parts:
-            if c == 0:
-                continue
-            table = table_for(lobe, basis, ready_only)
-            E = E + w * c * table.E(mu, lobe.ndf.alpha_x)
-            error += abs(w * c) * table.error
-            tables.append(table)
-    return E, error, tables

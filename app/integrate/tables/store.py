@@ -1,13 +1,13 @@
 """E(μ, α) tables out of the request path: built in the background, persisted, reused.
 
-A build (tables.py) takes about 1 s for the compiled lobes and 10–30 s for the others: too
+A build (table.py) takes about 1 s for the compiled lobes and 10–30 s for the others: too
 long inside a request on a loaded machine. Whole tables are kept in memory (least recently
 used first out, MEMORY_BYTES) and, given a directory by :func:`start` (``BRDF_CACHE_DIR``;
 unwritable: memory only, logged), on disk as ``.npz`` named by a digest of key, grid and
 code (:func:`code_version`): a restart or another worker reads what one built, changed code
 never reads a stale table; a lock file per table lets one worker build while others wait.
 
-:func:`start` queues the start-up tables (integrate/startup.py) for one background thread,
+:func:`start` queues the start-up tables (defaults.py) for one background thread,
 then any table a request needs, ahead of those still queued. A request builds a missing
 table in place (waits for one queued or building) only if predicted to end within
 IN_REQUEST_SHARE (WAIT_SHARE) of its time left; otherwise it is queued, a 503
@@ -31,9 +31,9 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RectBivariateSpline
 
-from ..errors import Busy
-from . import budget, tables
-from .startup import default_keys  # noqa: F401  (the server's start-up tables, for start)
+from ...errors import Busy
+from .. import budget
+from . import table as tables
 
 log = logging.getLogger("app")
 
