@@ -22,7 +22,8 @@ from .config import Settings
 from .model import make_spec
 from .physics.ndf import NDFS
 from .resources import static_dir
-from .integrate import cost, table_store
+from .integrate import cost
+from .integrate.tables import defaults as table_defaults, store as table_store
 
 STATIC_DIR = static_dir()
 PLOTLY_JS = server.plotly_js()
@@ -45,9 +46,9 @@ async def lifespan(app: FastAPI):
         "compiled loops: %s", "loading in the background; numpy answers until each is ready"
         if kernels.ENABLED else "off (numba absent or BRDF_FAST=0): numpy answers")
     # The default models' E(μ, α) tables: read from the cache directory, or built there
-    # by a background thread while the server answers (app/integrate/table_store.py).
+    # by a background thread while the server answers (app/integrate/tables/store.py).
     settings = app.state.settings
-    defaults = table_store.default_keys([make_spec(**v).brdf() for v in ({}, {"ndf": "beckmann"})])
+    defaults = table_defaults.default_keys([make_spec(**v).brdf() for v in ({}, {"ndf": "beckmann"})])
     cache = await run_in_threadpool(
         table_store.start, settings.cache_dir or table_store.default_directory(), defaults)
     logging.getLogger("uvicorn.error").info(

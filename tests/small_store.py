@@ -5,7 +5,7 @@ from __future__ import annotations
 
 import contextlib
 
-from app.integrate import table_store, tables
+from app.integrate.tables import store as table_store, table as tables
 
 
 @contextlib.contextmanager

@@ -17,6 +17,7 @@ import numpy as np
 
 from ..physics.brdf import BRDF, CompensatedBRDF
 from ..integrate import budget, tables
+from ..integrate.tables.table import TABLE_N_R, TABLE_N_Y
 from ..integrate.cache import Keyed, complete_only, freeze
 from ..errors import ParameterError
 from ..integrate.methods import MC_METHODS, albedo_by
@@ -106,7 +107,7 @@ def budgets(method: str, max_budget: int) -> list[int]:
             out.append(n)
             n *= MC_SAMPLES_GROWTH
         return out
-    return [tables.TABLE_N_Y * tables.TABLE_N_R]
+    return [TABLE_N_Y * TABLE_N_R]
 
 
 def _cost_growth(method: str, previous: int, following: int) -> float:

@@ -22,7 +22,7 @@ from .numeric import where_valid
 from .registry import Registry
 from .scalar import scalar
 from .lambda_table import table_params, tabulated_mu_Lambda_scalar
-from .smith_integral import mu_Lambda_numeric
+from .smith_table import mu_Lambda_smith_numeric
 
 #: The masking every other one is checked against: the general Smith integral.
 REFERENCE = "smith_numeric"
@@ -149,7 +149,7 @@ for _m in [
             "G1 = μ / ∫ D(m)(ω·m)⁺ dm by Gauss quadrature (Heitz 2014, eq. 43), tabulated "
             "in a = 1/(α tanθ): the reference every closed form and approximation is "
             "checked against.",
-            lambda ndf, w: mu_Lambda_numeric(ndf, w),
+            lambda ndf, w: mu_Lambda_smith_numeric(ndf, w),
             scalar_mu_Lambda=tabulated_mu_Lambda_masking_scalar, kernel_params=table_params),
     Masking("walter", "Walter rational fit",
             "Walter 2007's rational approximation of Beckmann's Λ (eq. 27), cheap, no erf.",

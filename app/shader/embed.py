@@ -14,7 +14,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.interpolate import BSpline, PPoly
 
-from ..integrate import tables as etables
+from ..integrate.tables import table as etables
 from ..physics import smith_table
 from .dsl import Const, Fn, Table
 

@@ -158,7 +158,8 @@ def test_a_table_too_slow_for_the_request_is_built_outside_it(monkeypatch):
     answered at once with 503 + Retry-After naming the table — not a worker busy for
     minutes (GGX with smith_numeric took 108 s before), nor a 422 for valid input. A shape
     no other test uses, so no cached table."""
-    from app.integrate import table_store, tables
+    from app.integrate import tables
+    from app.integrate.tables import store as table_store
     # 2 s: the build (GTR, direction-correlated: minutes on numpy) is far beyond it, and
     # the request's wait for loops and its one-row probe fit (at 0.3 s the probe, at
     # load, spent the budget first: a 503 that did not name the table)

@@ -16,7 +16,8 @@ from fastapi.testclient import TestClient
 
 from app.config import Settings
 from app.errors import Busy
-from app.integrate import budget, methods, table_store, tables
+from app.integrate import budget, methods, tables
+from app.integrate.tables import store as table_store
 from app.main import create_app
 from app.model import make_spec
 from tests.small_store import small_fresh_store
@@ -61,7 +62,8 @@ def test_a_second_worker_reads_the_first_ones_file(tmp_path):
     assert table_store.wait(300)
     child = textwrap.dedent(f"""
         import sys
-        from app.integrate import table_store, tables
+        from app.integrate import tables
+        from app.integrate.tables import store as table_store
         from app.model import make_spec
         for name, value in {SMALL!r}.items():
             setattr(tables, name, value)
