@@ -15,7 +15,7 @@ from app.physics.fresnel import FRESNELS
 from app.physics.g2 import G2_FORMS
 from app.physics.masking import G1, MASKINGS
 from app.physics.ndf import NDFS
-from app.physics.smith_integral import mu_Lambda_numeric
+from app.physics.smith_table import mu_Lambda_smith_numeric as mu_Lambda_numeric
 from app.physics.vectors import direction_deg
 
 from .conftest import l_sphere_rule, m_hemisphere_rule, make_ndf

@@ -9,7 +9,8 @@ import pytest
 from app.physics.masking import G1
 from app.physics.ndf import NDFS
 from tests.shape_extremes import shape_extremes
-from app.physics.smith_integral import mu_Lambda_numeric, mu_Lambda_quadrature
+from app.physics.smith_integral import mu_Lambda_quadrature
+from app.physics.smith_table import mu_Lambda_smith_numeric as mu_Lambda_numeric
 from app.physics.smith_table import TABLE_G1_ERROR, lambda_table
 
 
