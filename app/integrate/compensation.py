@@ -21,7 +21,7 @@ import numpy as np
 
 from ..physics.brdf import BRDF, CompensatedBRDF
 from ..physics.numeric import where_valid
-from .tables import ETable, table_for
+from .tables import ETable, compensation_table
 
 #: 1 − Ē below which a lobe loses no energy worth compensating: Ē is then 1 to within
 #: a few ulps of double rounding and (1 − E)(1 − E)/(1 − Ē) is rounding noise over
@@ -109,7 +109,7 @@ def kulla_conty(brdf: BRDF) -> KullaConty:
     F_avg = float(brdf.fresnel.F_avg())
     terms, first_factor = [], None
     for weight, lobe in brdf.lobes():
-        table = table_for(lobe)
+        table = compensation_table(lobe)
         alpha = lobe.ndf.alpha_x
         E_avg = table.E_avg(alpha)
         loss = 1.0 - E_avg

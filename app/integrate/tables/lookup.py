@@ -1,5 +1,7 @@
 """Which E(μ, α) table answers a lobe: the store's whole tables (store.py) for
-``method=table`` and the Schlick basis, looked up by :func:`table_key`.
+``method=table`` and the Schlick basis, looked up by :func:`table_key`; for Kulla-Conty's
+compensation the whole table if ready and within alpha_slice.GOAL, else the slice at the
+lobe's α (alpha_slice.py).
 
 This module sits above the store (it imports store and table; neither imports it).
 """
@@ -9,8 +11,9 @@ import numpy as np
 
 from ...errors import Busy
 from ...physics.brdf import BRDF
-from . import store
-from .table import ETable, table_key
+from . import alpha_slice, store
+from .alpha_slice import ESlice
+from .table import ETable, _lobe_at, compiled, table_key
 
 
 def table_for_key(key: tuple) -> ETable:
@@ -57,3 +60,19 @@ def tabulated_albedo(brdf: BRDF, mu, ready_only: bool = False) -> tuple[np.ndarr
             error += abs(w * c) * table.error
             tables.append(table)
     return E, error, tables
+
+
+def compensation_table(lobe: BRDF) -> ETable | ESlice:
+    """E(μ) at F = 1 for Kulla-Conty's lobe at ``lobe``'s α: the whole table when the
+    store has it ready and its bound meets alpha_slice.GOAL (GGX and Beckmann: ~1e-5),
+    else the slice at that α (alpha_slice.py: built in the request, a few tenths of a
+    second to ~2 s, refined to GOAL for every shape). Either way its ``error`` bounds
+    |Ê − E| at that α."""
+    if not lobe.ndf.isotropic:
+        raise ValueError("E(μ, α) tables are for isotropic roughness only (alpha_y = alpha)")
+    key = table_key(lobe)
+    whole = store.table_if_ready(key)
+    if whole is not None and whole.error <= alpha_slice.GOAL:
+        return whole
+    compiled(_lobe_at(key, lobe.ndf.alpha_x))      # waits a moment for the compiled loops
+    return alpha_slice.slice_for_key(key, float(lobe.ndf.alpha_x))

@@ -1,0 +1,141 @@
+"""E(μ) of one lobe at one roughness α, interpolated on nodes placed where E changes fast.
+
+Kulla-Conty's compensation needs E(μ) at the lobe's own α only (and its Ē); a whole
+E(μ, α) table (table.py) answers every α but its error is one number for all of them and
+its build is ~56 rows of this. Here, for one α: E at the nodes of y = √a/(1 + √a)
+(Smith's a = 1/(α tanθ), table.py's axis: 1 − E ~ y² ln y at grazing) by the reference
+quadrature (albedo.py), a not-a-knot cubic spline through them, and every cell checked at
+its midpoint against the quadrature there; a cell whose miss (× SAFETY, + the nodes' own
+quadrature error) is above GOAL is halved — its midpoint, already computed, becomes a
+node — and the new spline is checked again at every cell's midpoint, until every cell
+passes. Heavy tails and grazing μ get more nodes, light ones stay at the first grid.
+
+``error`` = SAFETY × the largest midpoint miss of the final spline + the largest node
+error: a bound on |Ê − E| at every μ (a cubic spline's error in a cell peaks near its
+middle; tests/integrate/test_alpha_slice.py checks it at points between the midpoints and
+the nodes, against an independent quadrature). Ē is the spline's own average, so the
+Kulla-Conty lobe built on it has albedo exactly 1 − Ê(μ) (docs/kulla_conty.md §3).
+(derivation and measurements: docs/tables.md §5)
+
+References: Kulla & Conty 2017 (E(μ) per α); de Boor 1978, A Practical Guide to Splines,
+ch. IV (not-a-knot cubic interpolation, its O(h⁴) error)."""
+from __future__ import annotations
+
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.interpolate import CubicSpline
+
+from ...physics.gauss import gauss_legendre_01
+from ..albedo import albedo
+from ..cache import complete_only
+from .table import E_AVG_NODES_PER_CELL, Y_GRADING, _lobe_at, mu_from_y, y_from_mu
+
+#: Largest reported error a slice is refined to: below the 1e-4 the API promises for
+#: compensation (issue 37).
+GOAL = 8e-5
+#: Reported error = SAFETY × the largest midpoint miss + the node error (module docstring).
+#: Measured against an independent dense check (quarter and tenth points of every cell,
+#: quadrature at tol 1e-7; GGX, Beckmann, Blinn-Phong, GTR γ 0.5-1.5, α 0.05-1): the true
+#: error was up to 5.3× the midpoint miss (GGX α = 0.05: 2.4e-5 against 4.5e-6), so 2
+#: was not a bound; 8 is.
+SAFETY = 8.0
+#: Quadrature tolerance of each node: an eighth of GOAL (it adds to the bound directly).
+NODE_TOL = 3e-6
+#: First grid: FIRST_CELLS cells of y = (k/FIRST_CELLS)^Y_GRADING (table.py's grading).
+FIRST_CELLS = 16
+#: Halvings at most, and nodes at most: a slice that has not met GOAL by then reports
+#: what it has (its error says so). Student-t near γ = 1.5 stalls at ~5e-2 (the nodes'
+#: quadrature is not smooth in μ there: docs/tables.md §5); 10 rounds without a cap took
+#: 145 s and 32 769 nodes for nothing.
+MAX_ROUNDS = 6
+MAX_NODES = 257
+#: Slices kept per process (each a few kB).
+CACHE_SIZE = 512
+
+
+@dataclass(frozen=True, eq=False)   # hashed by identity
+class ESlice:
+    key: tuple               # table.table_key of the lobe (F = 1)
+    alpha: float             # the roughness this slice is for
+    y: np.ndarray            # nodes
+    values: np.ndarray       # E at the nodes
+    spline: CubicSpline      # in y (a piecewise cubic: spline.x, spline.c)
+    error: float             # bound on |Ê − E| at every μ (module docstring)
+    measured: float          # largest midpoint miss of the final spline
+    node_error: float
+    E_avg_value: float       # 2 ∫ Ê μ dμ of the spline itself
+    build_seconds: float
+    build_evaluations: int
+    base = None              # not a Schlick-basis table (compensation reads E directly)
+
+    @property
+    def size(self) -> str:
+        return f"{self.y.size} μ at α = {self.alpha:g}"
+
+    def E(self, mu, alpha: float | None = None) -> np.ndarray:
+        """Ê(μ) at this slice's α (another α is refused: it is not in the slice),
+        clipped to [0, 1] (docs/identities.md §7)."""
+        if alpha is not None and float(alpha) != self.alpha:
+            raise ValueError(f"this E(μ) slice is for α = {self.alpha:g}, not {float(alpha):g}")
+        y = y_from_mu(np.clip(np.asarray(mu, dtype=float), 0.0, 1.0), self.alpha)
+        return np.clip(self.spline(y), 0.0, 1.0)
+
+    def E_avg(self, alpha: float | None = None) -> float:
+        if alpha is not None and float(alpha) != self.alpha:
+            raise ValueError(f"this E(μ) slice is for α = {self.alpha:g}, not {float(alpha):g}")
+        return self.E_avg_value
+
+
+def _E_avg(y_nodes: np.ndarray, alpha: float, E) -> float:
+    """2 ∫₀¹ E(μ) μ dμ by Gauss-Legendre in y on every cell of the nodes (E is a cubic
+    there), μ = μ(y), dμ/dy as table._E_avg."""
+    t, w = gauss_legendre_01(E_AVG_NODES_PER_CELL)
+    lo, hi = y_nodes[:-1, None], y_nodes[1:, None]
+    y = (lo + (hi - lo) * t).ravel()
+    wy = ((hi - lo) * w).ravel()
+    mu = mu_from_y(y, alpha)
+    a = (y / (1.0 - y)) ** 2
+    dmu = alpha / (1.0 + (a * alpha) ** 2) ** 1.5 * 2.0 * y / (1.0 - y) ** 3
+    return float(2.0 * np.sum(E(mu) * mu * dmu * wy))
+
+
+def build(key: tuple, alpha: float) -> ESlice:
+    """Refine until every cell's bound meets GOAL (module docstring)."""
+    t0 = time.perf_counter()
+    lobe = _lobe_at(key, alpha)
+    known: dict[float, tuple[float, float]] = {}     # y → (E, its quadrature error)
+    evaluations = 0
+
+    def compute(ys):
+        nonlocal evaluations
+        new = np.array(sorted({float(v) for v in ys} - known.keys()))
+        if new.size:
+            res = albedo(lobe, mu_from_y(new, alpha), tol=NODE_TOL)
+            evaluations += res.evaluations
+            known.update(zip(new.tolist(), zip(res.E.tolist(), res.E_error.tolist())))
+
+    y = np.linspace(0.0, 1.0, FIRST_CELLS + 1) ** Y_GRADING
+    for _ in range(MAX_ROUNDS + 1):
+        mid = 0.5 * (y[:-1] + y[1:])
+        compute(np.concatenate([y, mid]))    # one quadrature call per round
+        values = np.array([known[v][0] for v in y.tolist()])
+        spline = CubicSpline(y, values, bc_type="not-a-knot")
+        miss = np.abs(spline(mid) - np.array([known[v][0] for v in mid.tolist()]))
+        node_error = max(e for _, e in known.values())
+        bad = SAFETY * miss + node_error > GOAL
+        if not bad.any() or y.size + bad.sum() > MAX_NODES:
+            break
+        y = np.sort(np.concatenate([y, mid[bad]]))
+    measured = float(np.max(miss))
+    E_avg = _E_avg(y, alpha, lambda m: np.clip(spline(y_from_mu(m, alpha)), 0.0, 1.0))
+    return ESlice(key, alpha, y, values, spline, SAFETY * measured + node_error, measured,
+                  node_error, E_avg, time.perf_counter() - t0, evaluations)
+
+
+@complete_only(CACHE_SIZE, complete=lambda s: s.error <= GOAL)
+def slice_for_key(key: tuple, alpha: float) -> ESlice:
+    """The (cached) slice of ``key`` at ``alpha``. A slice the request's time budget cut
+    short, or that did not meet GOAL, is answered, not kept."""
+    return build(key, float(alpha))
