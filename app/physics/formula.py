@@ -8,7 +8,8 @@ acos erfcx``, ``INF()`` = +∞). Named parameters ``p`` are read from the entry'
 
 * ``scalar``: plain Python over ``math`` for one point, the ``*_scalar`` functions that
   app/kernels compiles with numba (``@scalar``; conditional expressions evaluate one side);
-* ``python``: numpy over arrays (``np.where`` evaluates both sides, warnings silenced);
+* ``python``: numpy over arrays (``np.where`` evaluates both sides, warnings silenced),
+  the Python that /api/v1/code writes, the same algorithm as its shaders;
 * ``glsl`` / ``hlsl``: the shader functions app/shader writes (erfcx as a fitted helper).
 
 An entry declares a formula as a class attribute (``D_formula``, ``F_formula``, …);
@@ -63,9 +64,9 @@ MACROS = {
     # expm1, and exp(x) − 1 loses only absolute 1 ulp of 1 there (enough for float32 code)
     "expm1": ("(exp({0}) - 1.0)", "(exp({0}) - 1.0)", "np.expm1({0})", "math.expm1({0})"),
     "acos": ("acos({0})", "acos({0})", "np.arccos({0})", "math.acos({0})"),
-    # erfcx(x) = e^{x²} erfc(x): scipy's in numpy and the kernels (app/kernels/special.py
-    # links the same routine), a fitted helper in the shaders (app/shader/library.py)
-    "erfcx": ("erfcx({0})", "erfcx({0})", "_erfcx({0})", "erfcx({0})"),
+    # erfcx(x) = e^{x²} erfc(x): scipy's in the kernels (app/kernels/special.py links the
+    # same routine as numpy's); in generated code a fitted helper (app/shader/library.py)
+    "erfcx": ("erfcx({0})", "erfcx({0})", "erfcx({0})", "erfcx({0})"),
     "toint": ("int({0})", "int({0})", "np.asarray({0}).astype(np.int64)", None),
     "tofloat": ("float({0})", "float({0})", "np.asarray({0}, dtype=float)", None),
     "INF": ("uintBitsToFloat(0x7F800000u)", "asfloat(0x7F800000u)", "np.inf", "math.inf"),

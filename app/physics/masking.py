@@ -106,7 +106,7 @@ WALTER = Formula(
     "sel(and_(s > 0.0, a < WALTER_A_MAX), s * max(1.0 - 1.259 * a + 0.396 * a * a, 0.0) / (3.535 + 2.181 * a), 0.0)",
     body=(("a", "mu / max(s, S_FLOOR)"),),
     consts=(("WALTER_A_MAX", WALTER_A_MAX, "Λ = 0 from here on (exact Λ < 3.4e-3 there)"),
-            ("S_FLOOR", 1e-300, "keeps a finite on the side not selected (s = 0)")),
+            ("S_FLOOR", 1e-30, "keeps a finite on the side not selected (s = 0); float32 has it")),
     doc="Walter 2007's rational fit of Beckmann's Λ (eq. 27), times μ: s (1 − 1.259a + 0.396a²)/(3.535 + 2.181a)\n"
         "for a = μ/s < 1.6, else 0; the numerator, negative just below 1.6, is taken as 0 there.")
 walter_mu_Lambda_scalar = scalar_function(WALTER, __name__, "walter_mu_Lambda_scalar", _NDF_HOOKS)

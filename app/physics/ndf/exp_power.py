@@ -107,7 +107,7 @@ class ExpPower(SlopeSpaceNDF):
         body=(("lmz", "log(max(mz, MZ_FLOOR))"),
               ("tail", "sel(q2 > 0.0, exp(p_exp * (log(max(q2, MZ_FLOOR)) - 2.0 * lmz)), 0.0)")),
         p=("p_exp", "inv_p", "norm"),
-        consts=(("MZ_FLOOR", 1e-300, "keeps the side not selected finite (mz = 0 or q² = 0)"),),
+        consts=(("MZ_FLOOR", 1e-30, "keeps the side not selected finite (mz = 0 or q² = 0); float32 has it"),),
         doc="Exponential power: α_x α_y D = p/(π Γ(1/p)) exp(−(q²/mz²)^p) / mz⁴ (p = 1 is Beckmann), in logs.")
 
     @staticmethod

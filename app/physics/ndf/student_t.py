@@ -108,7 +108,7 @@ class StudentT(SlopeSpaceNDF):
         body=(("log_d", "e * log(max(mz, MZ_FLOOR)) - gamma * log(mz * mz + q2 / (gamma - 1.0))"),),
         p=("gamma", "log_c", "e"),
         consts=(("PI", math.pi, "π"), ("LOG_MAX", LOG_MAX, "exp overflows float64 beyond: +∞"),
-                ("MZ_FLOOR", 1e-300, "keeps the side not selected at mz = 0 finite")),
+                ("MZ_FLOOR", 1e-30, "keeps the side not selected at mz = 0 finite (float32 has it)")),
         doc="Student-t: α_x α_y D = mz^(2γ−4) / (π (mz² + q²/(γ − 1))^γ), in logs (Ribardière et al. 2017);\n"
             "at mz = 0 its limit: 0 for γ > 2, 1/(π q⁴) for γ = 2, +∞ for γ < 2.")
 
