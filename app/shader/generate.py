@@ -48,7 +48,7 @@ def model_query(spec: ModelSpec) -> str:
 #: The forms of /code: a snapshot (every parameter a constant) or parameterised
 #: (the material's parameters as uniforms, each with its default value).
 FORMS = ("const", "uniform")
-BAKED_TABLE = "a table embedded for this value (the Smith integral's table depends on it)"
+BAKED_TABLE = "the embedded fit of the Smith integral is for this value"
 BAKED_KC = "Kulla-Conty's E table and scale are embedded for this value"
 
 
@@ -104,7 +104,8 @@ def _assemble(spec: ModelSpec, form: str):
             t.consts.extend(c)
             t.tables.extend(tab)
             t.fns.append(f)
-            t.tabulated.append((f"E_{k}", "Kulla-Conty's E(μ) at the lobe's α"))
+            t.tabulated.append((f"E_{k}", "Kulla-Conty's E(μ) at the lobe's α, the cubic pieces of the "
+                                          "project's E(μ, α) spline", term.table.error))
             scale = _channel_scales(single, ms, k - 1)
             t.consts += [Const(f"MS{k}_{ch}", s, f"Kulla-Conty scale of lobe {k}, channel {ch}: "
                                "w F_ms/(π(1 − E_avg))") for ch, s in zip("RGB", scale)]
@@ -277,10 +278,9 @@ def describe(spec: ModelSpec, lang: str, form: str = "const") -> dict:
 
 def approximations(brdf, tabulated, prog: Program) -> list[dict]:
     """Each place the generated code is not the float64 formula: tables and fits."""
-    out = [{"what": what, "how": how, "max_error": embed.TABLE_ERROR, "error_of": "G1 (absolute)"}
-           for what, how in tabulated if what.startswith("muLambda")]
-    out += [{"what": what, "how": how, "max_error": None, "error_of": "E (the table's own error is in /albedo)"}
-            for what, how in tabulated if what.startswith("E_")]
+    out = [{"what": what, "how": how, "max_error": error,
+            "error_of": "G1, absolute, against the float64 Smith integral" if what.startswith("muLambda")
+            else "E, absolute (the table's reported error)"} for what, how, error in tabulated]
     if any(fn.name in LIBRARY for fn in prog.functions):
         out.append({"what": "erfcx", "how": "Numerical Recipes' fit (in Beckmann's Smith Λ)",
                     "max_error": ERFCX_MAX_RELATIVE_ERROR, "error_of": "erfcx (relative)"})

@@ -15,7 +15,7 @@ from dataclasses import dataclass, field
 
 from ..errors import ParameterError
 from ..physics.formula import Formula
-from . import embed
+from .lambda_fit import DEGREE, PIECES, lambda_fit
 from .dsl import Const, Fn
 
 
@@ -97,8 +97,8 @@ def mu_Lambda(k: int, ndf, masking) -> Terms:
     """muLambda_k(w) = μΛ(ω), finite everywhere (Heitz 2014, eq. 43); s = α(φ) sinθ.
 
     The masking's own formula if it has one (an approximation); else the exact Smith μΛ:
-    the NDF's formula where that is the exact one, else the project's table of the Smith
-    integral (embed.py)."""
+    the NDF's formula where that is the exact one, else a compact fit of the Smith
+    integral (lambda_fit.py)."""
     body = [("float", "mu", "max(Z(w), 0.0)"),
             ("float", "s", f"sqrt(ALPHA_X{k} * ALPHA_X{k} * X(w) * X(w) + ALPHA_Y{k} * ALPHA_Y{k} * Y(w) * Y(w))"),
             ("float", "sin_t", "sqrt(X(w) * X(w) + Y(w) * Y(w))")]
@@ -112,12 +112,13 @@ def mu_Lambda(k: int, ndf, masking) -> Terms:
         t.add(with_params(ndf_formula, f"NDF{k}", ndf.kernel_params(), f"the NDF of lobe {k}"))
         result, doc = call(ndf_formula, ["mu", "s"], f"NDF{k}"), f"μΛ of lobe {k}: the NDF's Smith Λ times μ."
     elif masking.uses_ndf_Lambda or exact:
-        consts, tables, doc, table_body, result = embed.lambda_table(k, ndf)
+        consts, tables, doc, fit_body, result, error = lambda_fit(k, ndf)
         t.consts += consts
         t.tables += tables
-        body += table_body
+        body += fit_body
         t.tabulated.append((f"muLambda_{k}", f"{ndf.name}'s Smith Λ has no closed form in a shading language: "
-                                             "the project's table of the Smith integral"))
+                                             f"{PIECES} Chebyshev pieces of degree {DEGREE} in ln a fitted to the "
+                                             "project's table of the Smith integral", error))
     else:
         raise _refuse("masking", masking.name, "formula")
     t.fns.append(Fn(f"muLambda_{k}", "float", [("vec3", "w")], body, result, doc))
