@@ -94,6 +94,12 @@ def _models() -> list[dict]:
     return out
 
 
+#: Where float32 itself cannot reach 1e-5: Student-t's D in logs at γ = 50 multiplies the
+#: float32 rounding of ln mz and ln(mz² + q²/(γ − 1)) by 2γ − 4 = 96 and γ = 50 (measured
+#: 1.4e-5 relative); its bound here is that measurement's, with a margin of 2.
+FLOAT32_LIMITED = {("student_t", 50.0): 3e-5}
+
+
 def test_whole_registry_in_webgl2_agrees_with_eval(client, page, pairs):
     """Every combination of the registry, batched: one page, each shader compiled once."""
     models = _models()
@@ -106,7 +112,7 @@ def test_whole_registry_in_webgl2_agrees_with_eval(client, page, pairs):
             bad.append((m, r["error"][:200]))
             continue
         err = _error(r[0], _eval(client, m, angles))
-        if not err <= REL:
+        if not err <= FLOAT32_LIMITED.get((m["ndf"], m.get("gamma")), REL):
             bad.append((m, f"relative error {err:.2e}"))
     assert not bad, bad[:5]
 

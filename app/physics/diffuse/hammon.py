@@ -61,8 +61,8 @@ class Hammon(Diffuse):
               ("rough", "sel(n_dot_h > 0.0, facing * (ROUGH_A - ROUGH_B * facing) * (0.5 + n_dot_h) / n_dot_h, "
                         "sel(facing > 0.0, INF(), 0.0))"),
               *schlick_weight_body("mu_l", "wl"), *schlick_weight_body("mu_v", "wv"),
-              ("smooth", "SMOOTH_SCALE * (1.0 - wl) * (1.0 - wv)"),
-              ("single", "((1.0 - alpha) * smooth + sel(alpha > 0.0, alpha * rough, 0.0)) / PI")),
+              ("f_smooth", "SMOOTH_SCALE * (1.0 - wl) * (1.0 - wv)"),
+              ("single", "((1.0 - alpha) * f_smooth + sel(alpha > 0.0, alpha * rough, 0.0)) / PI")),
         p=("alpha",),
         consts=(("PI", math.pi, "π"), ("SMOOTH_SCALE", SMOOTH_SCALE, "Hammon's fitted constant"),
                 ("ROUGH_A", ROUGH_A, "Hammon's fitted constant"), ("ROUGH_B", ROUGH_B, "Hammon's fitted constant"),
