@@ -87,11 +87,11 @@ class Conductor(Fresnel):
     F_formula = Formula(
         "F_conductor", ("c",), "0.5 * (Rs + Rs * (u - q) / (u + q))",
         body=(("x", "clamp(c, 0.0, 1.0)"), ("c2", "x * x"), ("s2", "max(1.0 - c2, 0.0)"),
-              ("t0", "ior * ior - k * k - s2"), ("ek", "ior * k"), ("A", "sqrt(t0 * t0 + 4.0 * ek * ek)"),
+              ("t0", "eta * eta - kappa * kappa - s2"), ("ek", "eta * kappa"), ("A", "sqrt(t0 * t0 + 4.0 * ek * ek)"),
               ("a2", "sel(t0 >= 0.0, 0.5 * (A + abs(t0)), sel(A - t0 > 0.0, 2.0 * ek * ek / (A - t0), 0.0))"),
               ("b2", "sel(t0 >= 0.0, sel(A + t0 > 0.0, 2.0 * ek * ek / (A + t0), 0.0), 0.5 * (A - t0))"),
               ("a", "sqrt(a2)"), ("Rs", "((a - x) * (a - x) + b2) / ((a + x) * (a + x) + b2)"),
               ("u", "A * c2 + s2 * s2"), ("q", "2.0 * a * x * s2")),
-        p=("ior", "k"),
+        p=("eta", "kappa"),
         doc="Born & Wolf sec. 14.2 in real arithmetic (pbrt-v4's FrComplex): a + ib = √((η + iκ)² − sin²θ),\n"
             "A = a² + b²; a² (or b²) as 2η²κ²/(A ∓ t₀) where A ± t₀ would cancel. κ ≫ η and η = 0 work.")

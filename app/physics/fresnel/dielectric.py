@@ -86,11 +86,11 @@ class Dielectric(Fresnel):
 
     F_formula = Formula(
         "F_dielectric", ("c",),
-        "sel(ior < INF(), sel(and_(den_s > 0.0, den_p > 0.0), 0.5 * ((d / den_s) * (d / den_s) + "
+        "sel(eta < INF(), sel(and_(den_s > 0.0, den_p > 0.0), 0.5 * ((d / den_s) * (d / den_s) + "
         "(d * ((e2 + 1.0) * x * x - 1.0) / den_p) * (d * ((e2 + 1.0) * x * x - 1.0) / den_p)), 0.0), 1.0)",
-        body=(("x", "clamp(c, 0.0, 1.0)"), ("e2", "ior * ior"), ("d", "(ior - 1.0) * (ior + 1.0)"),
+        body=(("x", "clamp(c, 0.0, 1.0)"), ("e2", "eta * eta"), ("d", "(eta - 1.0) * (eta + 1.0)"),
               ("g", "sqrt(d + x * x)"), ("den_s", "d + 2.0 * x * (x + g)"),
               ("den_p", "d + x * x + e2 * x * (e2 * x + 2.0 * g)")),
-        p=("ior",),
+        p=("eta",),
         doc="(r_s² + r_p²)/2, r_s = −d/(d + 2c(c + g)), r_p = d((η² + 1)c² − 1)/(d + c² + η²c(η²c + 2g)),\n"
             "d = η² − 1, g = √(d + c²) (Born & Wolf sec. 1.5.2, expanded so nothing cancels as η → 1).")
