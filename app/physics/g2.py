@@ -21,6 +21,7 @@ from typing import Callable
 
 import numpy as np
 
+from .formula import Formula, scalar_function
 from .numeric import where_valid
 from .registry import Registry
 from .scalar import scalar
@@ -49,6 +50,7 @@ class LambdaPhi:
     fn: Callable  # φ (radians) -> λ(φ)
     reference: str = ""
     scalar_fn: Callable | None = None   # the same for one φ
+    formula: Formula | None = None      # the one spelling of scalar_fn and the shaders' λ(φ)
 
 
 def ashikhmin(phi):
@@ -57,9 +59,9 @@ def ashikhmin(phi):
     return -np.expm1(-7.3 * phi * phi)
 
 
-@scalar
-def ashikhmin_scalar(phi):
-    return -math.expm1(-7.3 * phi * phi)
+ASHIKHMIN = Formula("lambda_phi_ashikhmin", ("phi",), "-expm1(-7.3 * phi * phi)",
+                    doc="λ(φ) = 1 − exp(−7.3 φ²) (Ashikhmin, Premože, Shirley 2000).")
+ashikhmin_scalar = scalar_function(ASHIKHMIN, __name__, "ashikhmin_scalar", extra_args=())
 
 
 def van_ginneken(phi):
@@ -68,20 +70,20 @@ def van_ginneken(phi):
     return x / (x + 1.0)
 
 
-@scalar
-def van_ginneken_scalar(phi):
-    x = 4.41 * phi
-    return x / (x + 1.0)
+VAN_GINNEKEN = Formula("lambda_phi_van_ginneken", ("phi",), "x / (x + 1.0)", body=(("x", "4.41 * phi"),),
+                       doc="λ(φ) = 4.41φ/(4.41φ + 1) (van Ginneken, Stavridi, Koenderink 1998).")
+van_ginneken_scalar = scalar_function(VAN_GINNEKEN, __name__, "van_ginneken_scalar", extra_args=())
 
 
 LAMBDA_PHIS: Registry[LambdaPhi] = Registry("lambda_phi")
 for _lp in [
     LambdaPhi("ashikhmin", "Ashikhmin",
               "λ(φ) = 1 − exp(−7.3 φ²): reaches 0.9 at φ ≈ 32°.",
-              ashikhmin, "Ashikhmin, Premože, Shirley 2000", ashikhmin_scalar),
+              ashikhmin, "Ashikhmin, Premože, Shirley 2000", ashikhmin_scalar, ASHIKHMIN),
     LambdaPhi("van_ginneken", "van Ginneken",
               "λ(φ) = 4.41φ/(4.41φ + 1): rises more slowly, 0.93 at φ = 180°.",
-              van_ginneken, "van Ginneken, Stavridi, Koenderink 1998", van_ginneken_scalar),
+              van_ginneken, "van Ginneken, Stavridi, Koenderink 1998", van_ginneken_scalar,
+              VAN_GINNEKEN),
 ]:
     LAMBDA_PHIS.register(_lp)
 
@@ -172,37 +174,39 @@ def hammon(mu_l, mu_v, ml_l, ml_v, *, ndf=None, **_):
     return _ratio(2.0 * mu_l * mu_v, den), _visibility(2.0 * den)
 
 
-@scalar
-def separable_V(mu_l, mu_v, ml_l, ml_v, lam, p):
-    den4 = 4.0 * (mu_l + ml_l) * (mu_v + ml_v)
-    return 1.0 / den4 if den4 > 0.0 else math.inf
-
-
-@scalar
-def height_correlated_V(mu_l, mu_v, ml_l, ml_v, lam, p):
-    den4 = 4.0 * (mu_l * mu_v + mu_v * ml_l + mu_l * ml_v)
-    return 1.0 / den4 if den4 > 0.0 else math.inf
-
-
-@scalar
-def direction_correlated_V(mu_l, mu_v, ml_l, ml_v, lam, p):
-    a_l, a_v = mu_l + ml_l, mu_v + ml_v
-    big = max(mu_v * a_l, mu_l * a_v)
-    return 0.25 * (lam / (a_l * a_v) + (1.0 - lam) / big) if big > 0.0 else math.inf
-
-
-@scalar
-def height_direction_correlated_V(mu_l, mu_v, ml_l, ml_v, lam, p):
-    A, B = mu_v * ml_l, mu_l * ml_v
-    den4 = 4.0 * (mu_l * mu_v + max(A, B) + lam * min(A, B))
-    return 1.0 / den4 if den4 > 0.0 else math.inf
-
-
-@scalar
-def hammon_V(mu_l, mu_v, ml_l, ml_v, lam, p):
-    alpha = p[0]
-    den2 = 2.0 * ((1.0 - alpha) * 2.0 * mu_l * mu_v + alpha * (mu_l + mu_v))
-    return 1.0 / den2 if den2 > 0.0 else math.inf
+# ---- the one spelling of V for the kernels (scalar_V) and the shaders; +∞ where the
+# denominator is 0 (both directions on the horizon), the limit the numpy forms return.
+_V_ARGS = ("mu_l", "mu_v", "ml_l", "ml_v", "lam")
+V_FORMULAS = {
+    "separable": Formula(
+        "V_separable", _V_ARGS, "sel(den > 0.0, 0.25 / den, INF())",
+        body=(("den", "(mu_l + ml_l) * (mu_v + ml_v)"),),
+        doc="Separable G2 = G1(l) G1(v) (Heitz 2014, eq. 98): V = 1/(4 a_l a_v), a = μ + μΛ."),
+    "height_correlated": Formula(
+        "V_height_correlated", _V_ARGS, "sel(den > 0.0, 0.25 / den, INF())",
+        body=(("den", "mu_l * mu_v + mu_v * ml_l + mu_l * ml_v"),),
+        doc="Height-correlated G2 = 1/(1 + Λ_l + Λ_v) (Heitz 2014, eq. 99): V = 1/(4(μ_l μ_v + μ_v μΛ_l + μ_l μΛ_v))."),
+    "direction_correlated": Formula(
+        "V_direction_correlated", _V_ARGS,
+        "sel(big > 0.0, 0.25 * (lam / (a_l * a_v) + (1.0 - lam) / big), INF())",
+        body=(("a_l", "mu_l + ml_l"), ("a_v", "mu_v + ml_v"), ("big", "max(mu_v * a_l, mu_l * a_v)")),
+        doc="Direction-correlated G2 = λ G1(l)G1(v) + (1 − λ) min(G1(l), G1(v)) (Ashikhmin et al. 2000;\n"
+            "Heitz 2014, sec. 6): V = λ/(4 a_l a_v) + (1 − λ)/(4 max(μ_v a_l, μ_l a_v))."),
+    "height_direction_correlated": Formula(
+        "V_height_direction_correlated", _V_ARGS, "sel(den > 0.0, 0.25 / den, INF())",
+        body=(("A", "mu_v * ml_l"), ("B", "mu_l * ml_v"), ("den", "mu_l * mu_v + max(A, B) + lam * min(A, B)")),
+        doc="Height-direction-correlated G2 = 1/(1 + max(Λ_l, Λ_v) + λ min(Λ_l, Λ_v)) (Heitz 2014, sec. 6)."),
+    "hammon": Formula(
+        "V_hammon", _V_ARGS, "sel(den > 0.0, 0.5 / den, INF())",
+        body=(("den", "(1.0 - alpha) * 2.0 * mu_l * mu_v + alpha * (mu_l + mu_v)"),), p=("alpha",),
+        doc="Hammon 2017 (GDC): V ≈ 0.5 / lerp(2 μ_l μ_v, μ_l + μ_v, α), isotropic GGX; an approximation."),
+}
+separable_V = scalar_function(V_FORMULAS["separable"], __name__, "separable_V")
+height_correlated_V = scalar_function(V_FORMULAS["height_correlated"], __name__, "height_correlated_V")
+direction_correlated_V = scalar_function(V_FORMULAS["direction_correlated"], __name__, "direction_correlated_V")
+height_direction_correlated_V = scalar_function(V_FORMULAS["height_direction_correlated"], __name__,
+                                                "height_direction_correlated_V")
+hammon_V = scalar_function(V_FORMULAS["hammon"], __name__, "hammon_V")
 
 
 def _no_params(ndf) -> tuple:
@@ -224,6 +228,7 @@ class G2Form:
     approximates: str | None = None
     scalar_V: Callable | None = None
     kernel_params: Callable = field(default=_no_params)   # (ndf) -> floats
+    formula: Formula | None = None    # the one spelling of scalar_V and the shaders' V
 
     @property
     def approximation(self) -> bool:
@@ -239,25 +244,25 @@ G2_FORMS: Registry[G2Form] = Registry("G2 form")
 for _g in [
     G2Form("separable", "Separable",
            "G1(l)·G1(v): ignores the correlation of masking and shadowing.",
-           separable, reference="Heitz 2014, eq. 98", scalar_V=separable_V),
+           separable, reference="Heitz 2014, eq. 98", scalar_V=separable_V, formula=V_FORMULAS['separable']),
     G2Form("height_correlated", "Height-correlated",
            "1/(1+Λ(l)+Λ(v)): the recommended form (Heitz 2014, eq. 99).",
-           height_correlated, reference="Heitz 2014, eq. 99", scalar_V=height_correlated_V),
+           height_correlated, reference="Heitz 2014, eq. 99", scalar_V=height_correlated_V, formula=V_FORMULAS['height_correlated']),
     G2Form("direction_correlated", "Direction-correlated",
            "λ(φ)·G1(l)G1(v) + (1−λ(φ))·min(G1(l), G1(v)): min(G1) when l and v share "
            "an azimuth, separable as they turn apart.",
            direction_correlated, needs_phi=True,
-           reference="Ashikhmin et al. 2000; Heitz 2014, sec. 6", scalar_V=direction_correlated_V),
+           reference="Ashikhmin et al. 2000; Heitz 2014, sec. 6", scalar_V=direction_correlated_V, formula=V_FORMULAS['direction_correlated']),
     G2Form("height_direction_correlated", "Height-direction-correlated",
            "1/(1 + max(Λl, Λv) + λ(φ)·min(Λl, Λv)): height-correlated, and min(G1) "
            "when l and v share an azimuth.",
            height_direction_correlated, needs_phi=True,
-           reference="Heitz 2014, sec. 6", scalar_V=height_direction_correlated_V),
+           reference="Heitz 2014, sec. 6", scalar_V=height_direction_correlated_V, formula=V_FORMULAS['height_direction_correlated']),
     G2Form("hammon", "Hammon (approx.)",
            "Height-correlated GGX visibility approximated by 0.5/lerp(2μlμv, μl+μv, α); "
            "isotropic GGX only.",
            hammon, applies_to=("ggx",), isotropic_only=True, approximates="height_correlated",
-           reference="Hammon 2017, GDC", scalar_V=hammon_V,
+           reference="Hammon 2017, GDC", scalar_V=hammon_V, formula=V_FORMULAS['hammon'],
            kernel_params=lambda ndf: (ndf.alpha_x,)),
 ]:
     G2_FORMS.register(_g)

@@ -18,6 +18,7 @@ from typing import Callable
 
 import numpy as np
 
+from .formula import Formula, scalar_function
 from .numeric import where_valid
 from .registry import Registry
 from .scalar import scalar
@@ -51,6 +52,9 @@ class Masking:
     simplifies_to: tuple[tuple[dict, str], ...] = ()
     scalar_mu_Lambda: Callable | None = None
     kernel_params: Callable = field(default=_no_params)   # (ndf) -> floats
+    #: μΛ(mu, s, sin_t) written once (the source of scalar_mu_Lambda and of the shaders'
+    #: μΛ); None for the exact maskings, whose μΛ is the NDF's own or the Smith integral.
+    formula: Formula | None = None
 
     def exact(self, ndf) -> "Masking":
         """The exact masking this one stands for with ``ndf`` (itself when exact)."""
@@ -92,14 +96,20 @@ def walter_mu_Lambda(ndf, w):
     return where_valid(s > 0, [mu, s], formula, 0.0)
 
 
-@scalar
-def walter_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
-    if not s > 0.0:
-        return 0.0
-    a = mu / s
-    if not a < WALTER_A_MAX:
-        return 0.0
-    return s * max(1.0 - 1.259 * a + 0.396 * a * a, 0.0) / (3.535 + 2.181 * a)
+#: The kernels' scalar masking signature after (μ, s, sinθ): the masking's own p, the
+#: NDF's p and its scalar hooks (used by the maskings that defer to the NDF).
+_NDF_HOOKS = ("p", "ndf_p", "ndf_mu_Lambda", "ndf_ccdf", "ndf_ccdf_inv")
+_ML_ARGS = ("mu", "s", "sin_t")
+
+WALTER = Formula(
+    "muLambda_walter", _ML_ARGS,
+    "sel(and_(s > 0.0, a < WALTER_A_MAX), s * max(1.0 - 1.259 * a + 0.396 * a * a, 0.0) / (3.535 + 2.181 * a), 0.0)",
+    body=(("a", "mu / max(s, S_FLOOR)"),),
+    consts=(("WALTER_A_MAX", WALTER_A_MAX, "Λ = 0 from here on (exact Λ < 3.4e-3 there)"),
+            ("S_FLOOR", 1e-30, "keeps a finite on the side not selected (s = 0); float32 has it")),
+    doc="Walter 2007's rational fit of Beckmann's Λ (eq. 27), times μ: s (1 − 1.259a + 0.396a²)/(3.535 + 2.181a)\n"
+        "for a = μ/s < 1.6, else 0; the numerator, negative just below 1.6, is taken as 0 there.")
+walter_mu_Lambda_scalar = scalar_function(WALTER, __name__, "walter_mu_Lambda_scalar", _NDF_HOOKS)
 
 
 def schlick_mu_Lambda(k_of_alpha):
@@ -111,18 +121,17 @@ def schlick_mu_Lambda(k_of_alpha):
     return mu_Lambda
 
 
-@scalar
-def half_alpha_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
-    """μΛ = k (1 − μ), k = α(φ)/2 (Karis; Schlick-GGX for image-based light)."""
-    alpha = s / sin_t if sin_t > 0.0 else 0.0
-    return 0.5 * alpha * (1.0 - mu)
-
-
-@scalar
-def schlick_direct_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
-    """μΛ = k (1 − μ), k = (√α(φ) + 1)²/8 (Schlick-GGX for direct light)."""
-    alpha = s / sin_t if sin_t > 0.0 else 0.0
-    return (math.sqrt(alpha) + 1.0) ** 2 / 8.0 * (1.0 - mu)
+_ALPHA_PHI = ("alpha_phi", "sel(sin_t > 0.0, s / sin_t, 0.0)")   # at the pole: × (1 − μ) = 0
+HALF_ALPHA = Formula(
+    "muLambda_half_alpha", _ML_ARGS, "0.5 * alpha_phi * (1.0 - mu)", body=(_ALPHA_PHI,),
+    doc="Schlick-GGX G1 = μ/(μ(1 − k) + k) is μΛ = k(1 − μ), k = α(φ)/2 = s/(2 sinθ) (Karis 2013; image-based light).")
+SCHLICK_DIRECT = Formula(
+    "muLambda_schlick_direct", _ML_ARGS, "(r + 1.0) * (r + 1.0) / 8.0 * (1.0 - mu)",
+    body=(_ALPHA_PHI, ("r", "sqrt(alpha_phi)")),
+    doc="Schlick-GGX G1 = μ/(μ(1 − k) + k) is μΛ = k(1 − μ), k = (√α(φ) + 1)²/8 (Karis 2013; direct light).")
+half_alpha_mu_Lambda_scalar = scalar_function(HALF_ALPHA, __name__, "half_alpha_mu_Lambda_scalar", _NDF_HOOKS)
+schlick_direct_mu_Lambda_scalar = scalar_function(SCHLICK_DIRECT, __name__, "schlick_direct_mu_Lambda_scalar",
+                                                  _NDF_HOOKS)
 
 
 @scalar
@@ -154,19 +163,21 @@ for _m in [
     Masking("walter", "Walter rational fit",
             "Walter 2007's rational approximation of Beckmann's Λ (eq. 27), cheap, no erf.",
             walter_mu_Lambda, applies_to=("beckmann", "blinn_phong"), approximates="smith",
-            scalar_mu_Lambda=walter_mu_Lambda_scalar),
+            scalar_mu_Lambda=walter_mu_Lambda_scalar, formula=WALTER),
     Masking("karis", "Karis",
             "G1 ≈ 2μ/(μ(2 − α) + α) (Karis 2013); identical to Schlick-GGX with k = α/2.",
             schlick_mu_Lambda(lambda a: 0.5 * a), applies_to=("ggx",), approximates="smith",
-            simplifies_to=(({}, "schlick_ibl"),), scalar_mu_Lambda=half_alpha_mu_Lambda_scalar),
+            simplifies_to=(({}, "schlick_ibl"),), scalar_mu_Lambda=half_alpha_mu_Lambda_scalar,
+            formula=HALF_ALPHA),
     Masking("schlick_direct", "Schlick-GGX, direct light",
             "G1 = μ/(μ(1−k)+k), k = (r+1)²/8 with r = √α (Karis 2013, as in LearnOpenGL).",
             schlick_mu_Lambda(lambda a: (np.sqrt(a) + 1.0) ** 2 / 8.0), applies_to=("ggx",),
-            approximates="smith", scalar_mu_Lambda=schlick_direct_mu_Lambda_scalar),
+            approximates="smith", scalar_mu_Lambda=schlick_direct_mu_Lambda_scalar,
+            formula=SCHLICK_DIRECT),
     Masking("schlick_ibl", "Schlick-GGX, image-based light",
             "G1 = μ/(μ(1−k)+k), k = r²/2 = α/2 (Karis 2013).",
             schlick_mu_Lambda(lambda a: 0.5 * a), applies_to=("ggx",), approximates="smith",
-            scalar_mu_Lambda=half_alpha_mu_Lambda_scalar),
+            scalar_mu_Lambda=half_alpha_mu_Lambda_scalar, formula=HALF_ALPHA),
 ]:
     MASKINGS.register(_m)
 

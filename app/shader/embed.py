@@ -18,36 +18,17 @@ from ..integrate.tables import table as etables
 from ..physics import smith_table
 from .dsl import Const, Fn, Table
 
-CLOSED_FORMS = {"ggx": "ggx", "beckmann": "beckmann"}
-APPROXIMATIONS = ("walter", "karis", "schlick_ibl", "schlick_direct")
+#: |ΔG1| of the embedded Smith table against the integral (app/physics/smith_table.py).
+TABLE_ERROR = smith_table.TABLE_G1_ERROR
 
-
-def lambda_form(ndf, masking: str) -> str:
-    """How μΛ is written: a closed form, an approximation, or which table."""
-    if masking in APPROXIMATIONS:
-        return masking
-    if ndf.name in CLOSED_FORMS:
-        return CLOSED_FORMS[ndf.name]
-    if masking == "smith":
-        if ndf.name == "blinn_phong":
-            return "beckmann"          # Walter 2007's substitution: Beckmann's Λ at α_b
-        return "table_closed" if ndf.name == "student_t" else "table_project"
-    if masking == "smith_numeric":
-        return "table_numeric"
-    raise ValueError(f"no code for masking={masking}")
-
-
-def lambda_table(k: int, ndf, form: str):
+def lambda_table(k: int, ndf):
     """(constants, tables, doc, body, result) of μΛ = s h(μ/s) from the project's table
     of h in ln a (app/physics/smith_table.py): one cubic per interval, coefficients as
     the table holds them."""
     table = smith_table.lambda_table(ndf)
     c = table.coefficients
     n = c.shape[1]
-    source = {"table_closed": f"the general Smith integral (Heitz 2014, eq. 43; {ndf.name}'s closed form "
-                              "needs the incomplete beta function)",
-              "table_project": "the general Smith integral (Heitz 2014, eq. 43)",
-              "table_numeric": "the general Smith integral (Heitz 2014, eq. 43)"}[form]
+    source = "the general Smith integral (Heitz 2014, eq. 43)"
     scale = "" if ndf.shape_invariant else f" at α = {ndf.alpha_x:g} (not shape-invariant)"
     consts = [Const(f"LAM_X0_{k}", table.x0, f"ln a of the first node (a = {table.a_min:g})"),
               Const(f"LAM_DX_{k}", table.dx, f"interval in ln a ({n} intervals)"),

@@ -77,7 +77,10 @@ def write(program: Program, lang: str) -> str:
         out.append("")
     for k in program.consts:
         value = _number(k.value, lang)
-        if lang == "python":
+        if k.uniform:
+            out.append(f"{k.name} = {value}  # uniform: {k.comment}" if lang == "python" else
+                       f"uniform float {k.name};  {c} {k.comment} (e.g. {value})")
+        elif lang == "python":
             out.append(f"{k.name} = {value}  # {k.comment}")
         else:
             prefix = "const float" if lang == "glsl" else "static const float"

@@ -10,13 +10,19 @@ from __future__ import annotations
 import math
 from dataclasses import replace
 
+import numpy as np
+
 from .. import __version__
 from ..errors import ParameterError
 from ..integrate.compensation import KullaConty, kulla_conty
 from ..model import ModelSpec
+from ..physics.diffuse.lambert import Lambert
+from ..physics.formula import tokens
+from ..physics.g2 import lambda_phi_entry
 from . import embed, terms
 from .dsl import Const, Fn, Program
 from .emit import write
+from .library import ERFCX_MAX_RELATIVE_ERROR, LIBRARY
 
 #: |l + v| below which h is undefined and the specular term is 0: l and v opposite to
 #: within 1e-6 rad, the resolution of a float32 unit vector after a few roundings.
@@ -24,6 +30,10 @@ HALF_VECTOR_MIN_NORM = 1e-6
 #: |x − n(n·x)| below which the tangent frame projects y instead of x: n within 0.06°
 #: of ±x (no fixed axis gives a continuous frame over the whole sphere).
 FRAME_MIN = 1e-3
+#: f returned where it truly diverges (both directions on the horizon, where /eval says
+#: +∞): a finite stand-in, so that f·cos θ = 0 there and no ∞ reaches a frame buffer;
+#: 1e30 leaves float32 headroom (3.4e38) for the sum of the lobes and the diffuse term.
+F_MAX = 1e30
 
 
 def model_query(spec: ModelSpec) -> str:
@@ -35,68 +45,97 @@ def model_query(spec: ModelSpec) -> str:
                     for k, v in spec.values.items() if v is not None and k not in derived)
 
 
-def fresnel_channels(fresnel) -> tuple[str, list[dict]]:
-    """The registry name of each channel's Fresnel and each channel's parameters (equal
-    channels for a scalar Fresnel; a material's three exact ones otherwise)."""
-    per = getattr(fresnel, "channels", None) or [fresnel] * 3
-    return per[0].name, [{p.name: getattr(ch, p.name) for p in ch.params} for ch in per]
+#: The forms of /code: a snapshot (every parameter a constant) or parameterised
+#: (the material's parameters as uniforms, each with its default value).
+FORMS = ("const", "uniform")
+BAKED_TABLE = "the embedded fit of the Smith integral is for this value"
+BAKED_KC = "Kulla-Conty's E table and scale are embedded for this value"
 
 
-def program(spec: ModelSpec) -> Program:
+def fresnel_channels(fresnel) -> list:
+    """Each RGB channel's Fresnel model (three equal ones for a scalar Fresnel)."""
+    return list(getattr(fresnel, "channels", None) or [fresnel] * 3)
+
+
+def program(spec: ModelSpec, form: str = "const") -> Program:
+    """The model as a Program; ``form="uniform"``: the material's parameters (α, the
+    NDF's shape, F₀/F₉₀ or η/κ per channel, k_d, the lobe weights) as uniforms."""
+    return _assemble(spec, form)[0]
+
+
+def _assemble(spec: ModelSpec, form: str):
+    if form not in FORMS:
+        raise ParameterError("form", f"form must be one of {', '.join(FORMS)}; got {form!r}")
     if spec.values.get("model", "microfacet") != "microfacet":
         raise ParameterError("model", f"code generation writes model=microfacet only; got "
                                       f"model={spec.values['model']}")
-    diffuse = spec.values.get("diffuse", "lambert")
-    if diffuse != "lambert":
-        raise ParameterError("diffuse", f"code generation writes the diffuse term as Lambert's kd/π only; "
-                                        f"got diffuse={diffuse}")
     brdf = spec.brdf()
     ms: KullaConty | None = getattr(brdf, "multiscatter", None)
     single = brdf.single() if ms is not None else brdf
     lobes = single.lobes()
     g2 = single.g2
-    consts = [Const("PI", math.pi, "π"),
-              Const("KD", brdf.kd, "weight of the Lambertian term kd/π"),
-              Const("HALF_VECTOR_MIN_NORM", HALF_VECTOR_MIN_NORM,
-                    "|l + v| below which h is undefined (l = −v to float32 resolution): no specular"),
-              Const("FRAME_MIN", FRAME_MIN, "n this close to ±x: the frame projects y instead of x")]
-    tables, fns = [], []
-
-    def add(parts):
-        c, t, f = parts
-        consts.extend(c)
-        tables.extend(t)
-        fns.extend(f)
-
-    name, channels = fresnel_channels(brdf.fresnel)
-    add(terms.fresnel(channels, name))
+    t = terms.Terms(consts=[
+        Const("PI", math.pi, "π"),
+        Const("KD", brdf.kd, "ρ, the weight of the diffuse term"),
+        Const("HALF_VECTOR_MIN_NORM", HALF_VECTOR_MIN_NORM,
+              "|l + v| below which h is undefined (l = −v to float32 resolution): no specular"),
+        Const("FRAME_MIN", FRAME_MIN, "n this close to ±x: the frame projects y instead of x"),
+        Const("F_MAX", F_MAX, "f where it diverges (both directions on the horizon): finite, so f·cos θ = 0 there")])
+    t.material.add("KD")
+    baked: dict[str, str] = {}
+    t.add(terms.fresnel(fresnel_channels(brdf.fresnel)))
+    t.add(terms.diffuse(getattr(brdf, "diffuse", None) or Lambert()))
     if g2.needs_phi:
-        fns.append(terms.lambda_phi(_lambda_phi_name(single)))
+        t.add(terms.lambda_phi(lambda_phi_entry(single.lambda_phi)))
     for k, (weight, lobe) in enumerate(lobes, start=1):
-        consts.append(Const(f"W{k}", weight, f"weight of specular lobe {k}"))
-        add(terms.ndf_D(k, lobe.ndf))
-        add(terms.mu_Lambda(k, lobe.ndf, lobe.masking.name))
-        add(terms.visibility(k, g2, lobe.ndf))
+        t.consts.append(Const(f"W{k}", weight, f"weight of specular lobe {k}"))
+        t.material.add(f"W{k}")
+        t.add(terms.ndf_D(k, lobe.ndf))
+        ml = terms.mu_Lambda(k, lobe.ndf, lobe.masking)
+        if ml.tabulated:
+            baked.update({name: BAKED_TABLE for name in t.material if name.startswith(f"NDF{k}_")})
+            if not getattr(lobe.ndf, "shape_invariant", True):
+                baked.update({f"ALPHA_X{k}": BAKED_TABLE, f"ALPHA_Y{k}": BAKED_TABLE})
+        t.add(ml)
+        t.add(terms.visibility(k, g2, lobe.ndf, g2.needs_phi))
     if ms is not None:
         for k, term in enumerate(ms.lobes, start=1):
-            c, t, f = embed.kulla_conty_E(k, term)
-            consts.extend(c)
-            tables.extend(t)
-            fns.append(f)
+            c, tab, f = embed.kulla_conty_E(k, term)
+            t.consts.extend(c)
+            t.tables.extend(tab)
+            t.fns.append(f)
+            t.tabulated.append((f"E_{k}", "Kulla-Conty's E(μ) at the lobe's α, the cubic pieces of the "
+                                          "project's E(μ, α) spline", term.table.error))
             scale = _channel_scales(single, ms, k - 1)
-            consts += [Const(f"MS{k}_{ch}", s, f"Kulla-Conty scale of lobe {k}, channel {ch}: "
-                             "w F_ms/(π(1 − E_avg))") for ch, s in zip("RGB", scale)]
-            consts.append(Const(f"E_AVG_{k}", term.E_avg, f"E_avg of lobe {k} (F = 1), of the table itself"))
-    fns += _public(len(lobes), g2.needs_phi, ms)
-    return Program(_header(spec, brdf, ms), _unique(consts), tables, fns)
+            t.consts += [Const(f"MS{k}_{ch}", s, f"Kulla-Conty scale of lobe {k}, channel {ch}: "
+                               "w F_ms/(π(1 − E_avg))") for ch, s in zip("RGB", scale)]
+            t.consts.append(Const(f"E_AVG_{k}", term.E_avg, f"E_avg of lobe {k} (F = 1), of the table itself"))
+        baked.update({name: BAKED_KC for name in t.material if name != "KD"})
+    fns = _library(t.fns) + t.fns + _public(len(lobes), g2.needs_phi, ms)
+    uniforms = (t.material - set(baked)) if form == "uniform" else set()
+    consts = [replace(c, uniform=c.name in uniforms) for c in _unique(t.consts)]
+    info = {"uniforms": {c.name: c.value for c in consts if c.uniform},
+            "baked": {k: v for k, v in sorted(baked.items())} if form == "uniform" else {},
+            "tabulated": t.tabulated}
+    return Program(_header(spec, brdf, ms), consts, t.tables, _unique_fns(fns)), info
 
 
-def _lambda_phi_name(brdf) -> str:
-    from ..physics.g2 import DEFAULT_LAMBDA_PHI, LAMBDA_PHIS
-    for name, entry in LAMBDA_PHIS.items():
-        if entry.fn is brdf.lambda_phi:
-            return name
-    return DEFAULT_LAMBDA_PHI
+def _library(fns: list[Fn]) -> list[Fn]:
+    """The helper functions (library.py) the program's formulas call."""
+    used = set()
+    for fn in fns:
+        for expr in [fn.result, *(e for _, _, e in fn.body)]:
+            used |= set(tokens(expr)) & set(LIBRARY)
+    return [LIBRARY[name] for name in sorted(used)]
+
+
+def _unique_fns(fns: list[Fn]) -> list[Fn]:
+    seen, out = set(), []
+    for fn in fns:
+        if fn.name not in seen:
+            seen.add(fn.name)
+            out.append(fn)
+    return out
 
 
 def _channel_scales(single, ms: KullaConty, i: int) -> list[float]:
@@ -108,11 +147,14 @@ def _channel_scales(single, ms: KullaConty, i: int) -> list[float]:
 
 
 def _unique(consts: list[Const]) -> list[Const]:
-    seen, out = set(), []
+    seen, out = {}, []
     for c in consts:
-        if c.name not in seen:
-            seen.add(c.name)
-            out.append(c)
+        if c.name in seen:
+            if seen[c.name] != c.value:
+                raise ValueError(f"constant {c.name} given two values: {seen[c.name]!r}, {c.value!r}")
+            continue
+        seen[c.name] = c.value
+        out.append(c)
     return out
 
 
@@ -144,7 +186,7 @@ def _public(n_lobes: int, needs_phi: bool, ms) -> list[Fn]:
             ("vec3", "Fr", "F(dot(v, h))")]
     if needs_phi:
         body.append(("float", "phi", "azimuth_difference(l, v)"))
-    total = ["splat(KD / PI)"]
+    total = ["splat(fd(ml, mv, dot(l, v)))"]
     for k in range(1, n_lobes + 1):
         body += [(f"float", f"D{k}", f"D_{k}(h)"),
                  ("float", f"V{k}", f"V_{k}(ml, mv, muLambda_{k}(l), muLambda_{k}(v), {_phi_expr(needs_phi)})"),
@@ -157,10 +199,11 @@ def _public(n_lobes: int, needs_phi: bool, ms) -> list[Fn]:
             total.append(f"vec3(MS{k}_R * ms{k}, MS{k}_G * ms{k}, MS{k}_B * ms{k})")
     body.append(("vec3", "f", " + ".join(total)))
     fns.append(Fn("brdf_local", "vec3", [("vec3", "l"), ("vec3", "v")], body,
-                  "sel3(and_(mu_l >= 0.0, mu_v >= 0.0), f, splat(0.0))",
-                  "f(l, v) = kd/π + D(h) F(v·h) G2 / (4 μ_l μ_v) [+ Kulla-Conty f_ms], RGB, no cosine;\n"
+                  "sel3(and_(mu_l >= 0.0, mu_v >= 0.0), min(f, splat(F_MAX)), splat(0.0))",
+                  "f(l, v) = f_d + D(h) F(v·h) G2 / (4 μ_l μ_v) [+ Kulla-Conty f_ms], RGB, no cosine;\n"
                   "l, v unit vectors in the local frame (n = +z, t = +x), pointing away from the surface;\n"
-                  "0 unless both are in the closed upper hemisphere (Cook & Torrance 1982; Walter et al. 2007)."))
+                  "0 unless both are in the closed upper hemisphere (Cook & Torrance 1982; Walter et al. 2007);\n"
+                  "F_MAX where f diverges (both directions on the horizon), so f·cos θ is 0 there."))
     frame = [("vec3", "nn", "normalize(n)"),
              ("vec3", "tx", "vec3(1.0 - X(nn) * X(nn), -Y(nn) * X(nn), -Z(nn) * X(nn))"),
              ("vec3", "ty", "vec3(-X(nn) * Y(nn), 1.0 - Y(nn) * Y(nn), -Z(nn) * Y(nn))"),
@@ -180,14 +223,65 @@ def _phi_expr(needs_phi: bool) -> str:
 def _header(spec: ModelSpec, brdf, ms) -> list[str]:
     return [f"BRDF Lobe Explorer {__version__}: generated code for one microfacet model.",
             f"Model: {model_query(spec)}",
-            "f(l, v) = kd/π + D(h) F(v·h) G2(l, v) / (4 |n·l| |n·v|), h = (l + v)/|l + v|, no cosine",
+            "f(l, v) = f_d(l, v) + D(h) F(v·h) G2(l, v) / (4 |n·l| |n·v|), h = (l + v)/|l + v|, no cosine",
             "(Cook & Torrance 1982; Walter et al. 2007, eq. 20; Heitz 2014)" +
             (", plus Kulla & Conty 2017's multiple-scattering lobe." if ms is not None else "."),
             "brdf(n, l, v): world space, any unit n; D, G1, G2, brdf_local: local frame n = +z, t = +x.",
             "RGB: the three channels are equal unless the Fresnel term is coloured.",
+            "Each term is generated from the one formula its registry entry writes (app/physics/formula.py),",
+            "the formula the server's compiled kernels run too.",
+            *(f"Precision: {line}" for line in precision_notes(brdf)),
             "Regenerate it with GET /api/v1/code?lang=...&" + model_query(spec)]
 
 
-def generate(spec: ModelSpec, lang: str) -> str:
-    """Source text of the model in ``lang`` (glsl, hlsl or python)."""
-    return write(program(spec), lang)
+#: float16 (half; GLSL mediump may be it): largest finite value and relative precision.
+HALF_MAX, HALF_EPS = 65504.0, 2.0 ** -11
+
+
+def precision_notes(brdf) -> list[str]:
+    """Where float32 suffices and where half precision breaks, from the model's values:
+    D's peak at the normal and q² = m_x²/α² at grazing against half's range."""
+    single = brdf.single() if getattr(brdf, "multiscatter", None) is not None else brdf
+    notes = ["float32 (highp) suffices: every term is checked against the float64 reference to 1e-5 relative",
+             "in WebGL2 (tests/e2e/test_shader_webgl.py) on directions up to 88° from the normal."]
+    for k, (_, lobe) in enumerate(single.lobes(), start=1):
+        ndf = lobe.ndf
+        peak = float(ndf.D(np.array([0.0, 0.0, 1.0])))
+        a_min = min(ndf.alpha_x, ndf.alpha_y)
+        half = []
+        if peak > HALF_MAX:
+            half.append(f"D's peak {peak:.3g} overflows half (max {HALF_MAX:g})")
+        if 1.0 / a_min ** 2 > HALF_MAX:
+            half.append(f"q² = m_x²/α² reaches {1.0 / a_min ** 2:.3g} at grazing and overflows half")
+        half.append(f"half's relative precision {HALF_EPS:.1e} bounds f's to about 1e-3 at best")
+        notes.append(f"lobe {k} in half/mediump: " + "; ".join(half) + ".")
+    return notes
+
+
+def generate(spec: ModelSpec, lang: str, form: str = "const") -> str:
+    """Source text of the model in ``lang`` (glsl, hlsl or python), ``form`` const or uniform."""
+    return write(program(spec, form), lang)
+
+
+def describe(spec: ModelSpec, lang: str, form: str = "const") -> dict:
+    """The code with what a caller needs beside it (for /code's JSON): its uniforms and
+    their values for this material, what stays baked and why, every embedded table or
+    approximation with its stated error, the precision notes and the line count."""
+    prog, info = _assemble(spec, form)
+    code = write(prog, lang)
+    brdf = spec.brdf()
+    return {"lang": lang, "form": form, "code": code, "lines": len(code.splitlines()),
+            "uniforms": info["uniforms"], "baked": info["baked"],
+            "approximations": approximations(brdf, info["tabulated"], prog),
+            "precision": precision_notes(brdf)}
+
+
+def approximations(brdf, tabulated, prog: Program) -> list[dict]:
+    """Each place the generated code is not the float64 formula: tables and fits."""
+    out = [{"what": what, "how": how, "max_error": error,
+            "error_of": "G1, absolute, against the float64 Smith integral" if what.startswith("muLambda")
+            else "E, absolute (the table's reported error)"} for what, how, error in tabulated]
+    if any(fn.name in LIBRARY for fn in prog.functions):
+        out.append({"what": "erfcx", "how": "Numerical Recipes' fit (in Beckmann's Smith Λ)",
+                    "max_error": ERFCX_MAX_RELATIVE_ERROR, "error_of": "erfcx (relative)"})
+    return out

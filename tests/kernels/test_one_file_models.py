@@ -1,10 +1,12 @@
-"""Adding an NDF, or a Fresnel model, is one file.
+"""Adding an NDF, a Fresnel model or a diffuse model is one file.
 
 A throwaway module written here (never part of the app) registers itself on import, and
 is then found everywhere: the compiled loops (agreeing with numpy to 1e-12), the albedo
 quadrature, a Kulla-Conty table, and in a new process (where it is imported before the
 app, as a file in the package would be) ``/api/v1/models``, ``/eval``, ``/albedo`` with
-compensation and, for the Fresnel model, ``/advise`` and ``method=table``.
+compensation, ``/code`` and, for the Fresnel model, ``/advise`` and ``method=table``.
+Each file writes its formulas once (physics/formula.py); the kernels' scalar functions
+and the shaders come from them (WebGL2: tests/shader/test_webgl_one_source.py).
 
 The NDF is Student-t at γ = 3 written from scratch as an isotropic shape — its D, its
 Smith Λ (I_x(2, ½) = 1 − √(1 − x)(1 + x/2) in closed form) and the tail mass of its
@@ -27,6 +29,7 @@ from app import kernels
 from app.integrate import tables
 from app.integrate.albedo import albedo
 from app.physics.brdf import BRDF
+from app.physics.diffuse import DIFFUSES
 from app.physics.fresnel import FRESNELS
 from app.physics.g2 import G2_FORMS
 from app.physics.masking import MASKINGS
@@ -42,6 +45,7 @@ import math
 
 import numpy as np
 
+from app.physics.formula import Formula
 from app.physics.ndf.base import NDFS, ShapeInvariantNDF
 from app.physics.numeric import where_valid
 from app.physics.scalar import scalar
@@ -81,20 +85,15 @@ class T3(ShapeInvariantNDF):
     def radial_cdf_inv(self, u):
         return 2.0 * np.expm1(-0.5 * np.log1p(-u))
 
-    @staticmethod
-    @scalar
-    def D_scalar(mz, q2, p):
-        return mz * mz / (math.pi * (mz * mz + 0.5 * q2) ** 3)
-
-    @staticmethod
-    @scalar
-    def mu_Lambda_scalar(mu, s, p):
-        if not s > 0.0:
-            return 0.0
-        a = mu / s
-        x = 2.0 / (2.0 + a * a)
-        t2 = 0.5 * (1.0 - math.sqrt(1.0 - x) * (1.0 + 0.5 * x))
-        return s * (C * (1.0 + 0.5 * a * a) ** -1.5 - a * t2)
+    # the one spelling of D and μΛ: the kernels' D_scalar, mu_Lambda_scalar and the
+    # shaders' D and μΛ are generated from it
+    D_formula = Formula("D_t3", ("mz", "q2"), "mz * mz / (PI * t * t * t)", body=(("t", "mz * mz + 0.5 * q2"),),
+                        consts=(("PI", math.pi, "pi"),))
+    mu_Lambda_formula = Formula(
+        "muLambda_t3", ("mu", "s"), "sel(s > 0.0, s * (C * pow(1.0 + 0.5 * a * a, -1.5) - a * t2), 0.0)",
+        body=(("a", "mu / max(s, 1e-30)"), ("x", "2.0 / (2.0 + a * a)"),
+              ("t2", "0.5 * (1.0 - sqrt(1.0 - x) * (1.0 + 0.5 * x))")),
+        consts=(("C", C, "Gamma(5/2)/(Gamma(2) sqrt(2 pi)) 2/3"),))
 
     @staticmethod
     @scalar
@@ -116,9 +115,9 @@ FRESNEL_FILE = '''
 """A constant reflectance F = F_c: a throwaway Fresnel model for the one-file test."""
 import numpy as np
 
+from app.physics.formula import Formula
 from app.physics.fresnel.base import FRESNELS, Fresnel
 from app.physics.params import Param
-from app.physics.scalar import scalar
 
 FC = Param("f_const", "F_c", 0.0, 1.0, 0.5, "The constant reflectance.")
 
@@ -140,11 +139,40 @@ class Constant(Fresnel):
     def schlick_basis(self):
         return ((self.f_const, None),)
 
-    @staticmethod
-    @scalar
-    def F_scalar(c, p):
-        return p[0]
+    F_formula = Formula("F_constant", ("c",), "f_const", p=("f_const",))
 '''
+
+DIFFUSE_FILE = '''
+"""A Minnaert-like reciprocal diffuse f_d = ρ/π (μ_l μ_v)^(k−1) with k = 1.3 at most:
+a throwaway diffuse model for the one-file test."""
+import numpy as np
+
+from app.physics.diffuse.base import DIFFUSES, F_D_ARGS, Diffuse
+from app.physics.formula import Formula
+from app.physics.params import Param
+
+K = Param("minnaert_k", "k", 1.0, 1.3, 1.2, "Minnaert's exponent.")
+
+
+@DIFFUSES.register
+class Minnaert(Diffuse):
+    name = "minnaert_throwaway"
+    label = "Minnaert (test)"
+    description = "f_d = rho/pi (mu_l mu_v)^(k - 1), for a test."
+    params = (K,)
+    menu_order = 99
+
+    def f(self, rho, mu_l, mu_v, l_dot_v):
+        return (np.asarray(rho, dtype=float) / np.pi
+                * (np.asarray(mu_l, dtype=float) * np.asarray(mu_v, dtype=float)) ** (self.minnaert_k - 1.0)
+                + 0.0 * np.asarray(l_dot_v))
+
+    f_formula = Formula("fd_minnaert", F_D_ARGS, "rho / 3.141592653589793 * pow(max(mu_l * mu_v, 0.0), k - 1.0)",
+                        p=("k",))
+'''
+
+
+MODULES = ("ndf_t3_throwaway", "fresnel_constant_throwaway", "diffuse_minnaert_throwaway")
 
 
 @pytest.fixture
@@ -152,13 +180,15 @@ def throwaway(tmp_path, monkeypatch):
     """Write the two files, import them (they register), unregister afterwards."""
     (tmp_path / "ndf_t3_throwaway.py").write_text(textwrap.dedent(NDF_FILE))
     (tmp_path / "fresnel_constant_throwaway.py").write_text(textwrap.dedent(FRESNEL_FILE))
+    (tmp_path / "diffuse_minnaert_throwaway.py").write_text(textwrap.dedent(DIFFUSE_FILE))
     monkeypatch.syspath_prepend(str(tmp_path))
-    importlib.import_module("ndf_t3_throwaway")
-    importlib.import_module("fresnel_constant_throwaway")
+    for m in MODULES:
+        importlib.import_module(m)
     yield tmp_path
     NDFS.unregister("t3_throwaway")
     FRESNELS.unregister("constant_throwaway")
-    for m in ("ndf_t3_throwaway", "fresnel_constant_throwaway"):
+    DIFFUSES.unregister("minnaert_throwaway")
+    for m in MODULES:
         sys.modules.pop(m, None)
 
 
@@ -176,6 +206,29 @@ def test_new_ndf_and_fresnel_in_the_compiled_loops(throwaway):
         kernel = kernels.compile_now(brdf)
         assert kernel is not None
         _assert_close(kernel.f(brdf, l, v), brdf.evaluate(l, v, ("f",))["f"])
+
+
+@pytest.mark.skipif(not kernels.ENABLED, reason="numba absent or BRDF_FAST=0")
+def test_new_diffuse_model_compiles_from_its_formula(throwaway):
+    """The diffuse file's one formula, compiled as the kernels compile a scalar formula,
+    agrees with its numpy f to 1e-12 (the kernels' loops do not take a diffuse model yet)."""
+    from app.kernels.special import device, register_scalars
+    import numba
+    register_scalars()
+    model = DIFFUSES["minnaert_throwaway"](minnaert_k=1.25)
+    f_scalar = device(type(model).f_scalar)
+    p = np.asarray(model.kernel_params(), dtype=float)
+
+    @numba.njit
+    def loop(mu_l, mu_v, l_dot_v, p, out):
+        for i in range(mu_l.size):
+            out[i] = f_scalar(0.6, mu_l[i], mu_v[i], l_dot_v[i], p)
+
+    rng = np.random.default_rng(2)
+    mu_l, mu_v, ldv = rng.uniform(0, 1, 500), rng.uniform(0, 1, 500), rng.uniform(-1, 1, 500)
+    out = np.empty(500)
+    loop(mu_l, mu_v, ldv, p, out)
+    np.testing.assert_allclose(out, model.f(0.6, mu_l, mu_v, ldv), rtol=1e-12, atol=0)
 
 
 def test_new_ndf_in_the_albedo_quadrature_and_a_table(throwaway):
@@ -214,7 +267,11 @@ def test_new_models_through_the_api(throwaway):
                     "method": "table", "n": 5})
         adv = c.get("/api/v1/advise", params={"fresnel": "constant_throwaway", "tol": 0.05,
                     "alpha_min": 0.2, "alpha_max": 0.4, "theta_max_deg": 60})
+        code = [c.get("/api/v1/code", params={"ndf": "t3_throwaway", "alpha": 0.3, "lang": "glsl"}).status_code,
+                c.get("/api/v1/code", params={"fresnel": "constant_throwaway", "f_const": 0.7,
+                                              "lang": "hlsl"}).status_code]
         print(json.dumps({"listed": ["t3_throwaway" in text, "constant_throwaway" in text],
+                          "code": code,
                           "eval": [ev.status_code, ev.json()],
                           "kc": [kc.status_code, kc.json().get("compensation_error"), kc.json().get("E"),
                                  kc.json().get("detail")],
@@ -230,6 +287,7 @@ def test_new_models_through_the_api(throwaway):
     assert out.returncode == 0, out.stderr[-3000:]
     r = json.loads(out.stdout.strip().splitlines()[-1])
     assert r["listed"] == [True, True]
+    assert r["code"] == [200, 200], r["code"]      # the shader test: tests/shader/test_webgl_one_source.py
     assert r["eval"][0] == 200, r["eval"]
     assert r["kc"][0] == 200 and r["kc"][1] <= 1e-3, r["kc"]
     assert np.all(np.abs(np.asarray(r["kc"][2]) - 1.0) <= 2e-3)     # F = 1: the white furnace

@@ -75,3 +75,65 @@ RUN_JS = """async ([vs, fs, w, h, L, V, n]) => {
   gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, out);
   return {f: Array.from(out), ms: performance.now() - t0};
 }"""
+
+#: Many programs in one page load, each compiled once and drawn once per uniform set:
+#: ([vs, [{fs, uniforms: [{name: value}, ...]}, ...], w, h, L, V, n]) →
+#: {results: [[flat RGBA per uniform set] or {error}], ms}
+RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
+  const canvas = document.createElement('canvas');
+  canvas.width = w; canvas.height = h;
+  const gl = canvas.getContext('webgl2');
+  if (!gl) return {error: 'no WebGL2'};
+  if (!gl.getExtension('EXT_color_buffer_float')) return {error: 'no EXT_color_buffer_float'};
+  const t0 = performance.now();
+  const texture = (unit, data) => {
+    const t = gl.createTexture();
+    gl.activeTexture(gl.TEXTURE0 + unit); gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, data ? new Float32Array(data) : null);
+    return t;
+  };
+  texture(0, L); texture(1, V);
+  const target = texture(2, null);
+  const fb = gl.createFramebuffer();
+  gl.bindFramebuffer(gl.FRAMEBUFFER, fb);
+  gl.framebufferTexture2D(gl.FRAMEBUFFER, gl.COLOR_ATTACHMENT0, gl.TEXTURE_2D, target, 0);
+  if (gl.checkFramebufferStatus(gl.FRAMEBUFFER) !== gl.FRAMEBUFFER_COMPLETE) return {error: 'framebuffer incomplete'};
+  gl.viewport(0, 0, w, h);
+  const compile = (type, src) => {
+    const s = gl.createShader(type); gl.shaderSource(s, src); gl.compileShader(s);
+    if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
+    return s;
+  };
+  const vsh = compile(gl.VERTEX_SHADER, vs);
+  const results = [];
+  for (const p of programs) {
+    let prog;
+    try {
+      prog = gl.createProgram();
+      gl.attachShader(prog, vsh);
+      gl.attachShader(prog, compile(gl.FRAGMENT_SHADER, p.fs));
+      gl.linkProgram(prog);
+      if (!gl.getProgramParameter(prog, gl.LINK_STATUS)) { results.push({error: gl.getProgramInfoLog(prog)}); continue; }
+    } catch (e) { results.push({error: String(e)}); continue; }
+    gl.useProgram(prog);
+    gl.uniform1i(gl.getUniformLocation(prog, 'u_l'), 0);
+    gl.uniform1i(gl.getUniformLocation(prog, 'u_v'), 1);
+    gl.uniform3f(gl.getUniformLocation(prog, 'u_n'), n[0], n[1], n[2]);
+    const outs = [];
+    for (const set of p.uniforms) {
+      for (const [name, value] of Object.entries(set)) {
+        const loc = gl.getUniformLocation(prog, name);
+        if (loc !== null) gl.uniform1f(loc, value);   // null: optimised away (unused)
+      }
+      gl.drawArrays(gl.TRIANGLES, 0, 3);
+      const out = new Float32Array(w * h * 4);
+      gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, out);
+      outs.push(Array.from(out));
+    }
+    results.push(outs);
+    gl.deleteProgram(prog);
+  }
+  return {results, ms: performance.now() - t0};
+}"""

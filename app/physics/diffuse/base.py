@@ -16,6 +16,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from ..formula import Formula, scalar_function
 from ..numeric import where_valid
 from ..params import Param
 from ..registry import Registry
@@ -34,6 +35,15 @@ class Diffuse:
     conserves_energy: ClassVar[bool] = False
     #: f_d(ρ, μ_l, μ_v, l·v, p) for one point; None: numpy only.
     f_scalar = None
+    #: f_d(rho, mu_l, mu_v, l_dot_v) written once (physics/formula.py), p = the names of
+    #: ``kernel_params()``: the source of ``f_scalar`` and of the shaders' diffuse term.
+    f_formula: ClassVar[Formula | None] = None
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        formula = cls.__dict__.get("f_formula")
+        if formula is not None and "f_scalar" not in cls.__dict__:
+            cls.f_scalar = staticmethod(scalar_function(formula, cls.__module__, f"{cls.__qualname__}.f_scalar"))
 
     def __init__(self, alpha: float = 0.25, **values: float):
         self.alpha = float(alpha)
@@ -116,6 +126,14 @@ def s_over_t(mu_l, mu_v, l_dot_v) -> np.ndarray:
 def schlick_weight(mu) -> np.ndarray:
     """(1 − μ)⁵, the Schlick 1994 weight both Burley and Hammon use; μ clipped to [0, 1]."""
     return (1.0 - np.clip(mu, 0.0, 1.0)) ** 5
+
+
+#: The arguments of every diffuse formula.
+F_D_ARGS = ("rho", "mu_l", "mu_v", "l_dot_v")
+#: (1 − μ)⁵ of a clipped μ, the Schlick weight of Burley and Hammon, as formula assignments.
+def schlick_weight_body(mu: str, name: str) -> tuple[tuple[str, str], ...]:
+    return ((f"{name}_x", f"1.0 - clamp({mu}, 0.0, 1.0)"),
+            (name, f"{name}_x * {name}_x * {name}_x * {name}_x * {name}_x"))
 
 
 #: Every diffuse model by name, in menu order.

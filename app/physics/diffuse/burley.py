@@ -12,8 +12,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scalar import scalar
-from .base import DIFFUSES, Diffuse, schlick_weight
+import math
+
+from ..formula import Formula
+from .base import DIFFUSES, F_D_ARGS, Diffuse, schlick_weight, schlick_weight_body
 
 
 @DIFFUSES.register
@@ -39,10 +41,10 @@ class Burley(Diffuse):
     def kernel_params(self):
         return (self.roughness,)
 
-    @staticmethod
-    @scalar
-    def f_scalar(rho, mu_l, mu_v, l_dot_v, p):
-        f_d90 = 0.5 + p[0] * (1.0 + l_dot_v)
-        wl = (1.0 - min(max(mu_l, 0.0), 1.0)) ** 5
-        wv = (1.0 - min(max(mu_v, 0.0), 1.0)) ** 5
-        return rho / 3.141592653589793 * (1.0 + (f_d90 - 1.0) * wl) * (1.0 + (f_d90 - 1.0) * wv)
+    f_formula = Formula(
+        "fd_burley", F_D_ARGS, "rho / PI * (1.0 + (f_d90 - 1.0) * wl) * (1.0 + (f_d90 - 1.0) * wv)",
+        body=(("f_d90", "0.5 + roughness * (1.0 + l_dot_v)"),
+              *schlick_weight_body("mu_l", "wl"), *schlick_weight_body("mu_v", "wv")),
+        p=("roughness",), consts=(("PI", math.pi, "π"),),
+        doc="Burley 2012 (sec. 5.3): f_d = ρ/π (1 + (F_D90 − 1)(1 − μ_l)⁵)(1 + (F_D90 − 1)(1 − μ_v)⁵),\n"
+            "F_D90 = 0.5 + 2 r cos²θ_d = 0.5 + r (1 + l·v), r the perceptual roughness √α.")

@@ -18,8 +18,8 @@ import numpy as np
 
 from ..numeric import where_valid
 from ..params import Param
-from ..scalar import scalar
-from .base import DIFFUSES, Diffuse, times_rho
+from ..formula import Formula
+from .base import DIFFUSES, F_D_ARGS, Diffuse, times_rho
 
 ROUGHNESS_ON = Param("diffuse_roughness", "r (diffuse roughness)", 0.0, 1.0, 0.5,
                      "Roughness of the EON diffuse in [0, 1] (OpenPBR's base_diffuse_roughness).")
@@ -34,6 +34,13 @@ def G(mu) -> np.ndarray:
     si = np.sqrt(1.0 - mu * mu)
     tan_term = si * mu * (1.0 + si + si * si) / (1.0 + si)
     return si * (np.arccos(mu) - si * mu) + (2.0 / 3.0) * (tan_term - si)
+
+
+def _G_body(mu: str, name: str) -> tuple[tuple[str, str], ...]:
+    """:func:`G` of ``mu`` as formula assignments."""
+    return ((f"{name}_m", f"clamp({mu}, 0.0, 1.0)"), (f"{name}_s", f"sqrt(1.0 - {name}_m * {name}_m)"),
+            (name, f"{name}_s * (acos({name}_m) - {name}_s * {name}_m) + (2.0 / 3.0) * ({name}_s * {name}_m * "
+                   f"(1.0 + {name}_s + {name}_s * {name}_s) / (1.0 + {name}_s) - {name}_s)"))
 
 
 @DIFFUSES.register
@@ -75,29 +82,17 @@ class EON(Diffuse):
         r, a_f, _ = self._terms(0.0)
         return (r, a_f)
 
-    @staticmethod
-    @scalar
-    def f_scalar(rho, mu_l, mu_v, l_dot_v, p):
-        r, a_f = p[0], p[1]
-        s = l_dot_v - mu_l * mu_v
-        t = max(mu_l, mu_v)
-        if rho == 0.0:
-            return 0.0
-        if s > 0.0 and t <= 0.0:
-            return math.inf
-        ratio = s / t if s > 0.0 else s
-        avg = a_f * (1.0 + C2_SCALAR * r)
-        rho_ms = rho * rho * avg / (1.0 - rho * (1.0 - avg))
-        multi = a_f * r * (C1_SCALAR - G_scalar(mu_l) / math.pi) * (C1_SCALAR - G_scalar(mu_v) / math.pi)
-        return (rho * a_f * (1.0 + r * ratio) + rho_ms * multi / (C1_SCALAR - C2_SCALAR)) / math.pi
-
-
-C1_SCALAR, C2_SCALAR = C1, C2
-
-
-@scalar
-def G_scalar(mu):
-    """:func:`G` for one value."""
-    mu = min(max(mu, 0.0), 1.0)
-    si = math.sqrt(1.0 - mu * mu)
-    return si * (math.acos(mu) - si * mu) + (2.0 / 3.0) * (si * mu * (1.0 + si + si * si) / (1.0 + si) - si)
+    f_formula = Formula(
+        "fd_eon", F_D_ARGS,
+        "sel(rho == 0.0, 0.0, sel(and_(s > 0.0, t <= 0.0), INF(), "
+        "(rho * a_f * (1.0 + r * ratio) + rho_ms * multi / (C1 - C2)) / PI))",
+        body=(("s", "l_dot_v - mu_l * mu_v"), ("t", "max(mu_l, mu_v)"),
+              ("ratio", "sel(and_(s > 0.0, t > 0.0), s / t, s)"),
+              ("avg", "a_f * (1.0 + C2 * r)"),
+              ("rho_ms", "rho * rho * avg / (1.0 - rho * (1.0 - avg))"),
+              *_G_body("mu_l", "G_l"), *_G_body("mu_v", "G_v"),
+              ("multi", "a_f * r * (C1 - G_l / PI) * (C1 - G_v / PI)")),
+        p=("r", "a_f"),
+        consts=(("PI", math.pi, "π"), ("C1", C1, "1/2 − 2/(3π)"), ("C2", C2, "2/3 − 28/(15π)")),
+        doc="EON (Portsmouth, Kutz & Hill 2025): Fujii's Oren–Nayar ρ/π A_F (1 + r s/t) plus the multiple-\n"
+            "scattering lobe ρ_ms/π (1 − E_F(μ_l))(1 − E_F(μ_v))/(1 − E_F,avg); +∞ where both graze with s > 0.")

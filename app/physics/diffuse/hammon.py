@@ -18,8 +18,8 @@ import math
 import numpy as np
 
 from ..numeric import where_valid
-from ..scalar import scalar
-from .base import DIFFUSES, Diffuse, schlick_weight, times_rho
+from ..formula import Formula
+from .base import DIFFUSES, F_D_ARGS, Diffuse, schlick_weight_body, schlick_weight, times_rho
 
 #: Hammon's fitted constants (slides, "final formula").
 SMOOTH_SCALE, ROUGH_A, ROUGH_B, MULTI = 1.05, 0.9, 0.4, 0.1159
@@ -53,20 +53,19 @@ class Hammon(Diffuse):
     def kernel_params(self):
         return (self.alpha,)
 
-    @staticmethod
-    @scalar
-    def f_scalar(rho, mu_l, mu_v, l_dot_v, p):
-        a = p[0]
-        if rho == 0.0:
-            return 0.0
-        facing = 0.5 + 0.5 * l_dot_v
-        n_dot_h = (mu_l + mu_v) / (2.0 * math.sqrt(facing)) if facing > 0.0 else 0.0
-        if n_dot_h > 0.0:
-            rough = facing * (0.9 - 0.4 * facing) * (0.5 + n_dot_h) / n_dot_h
-        else:
-            rough = math.inf if facing > 0.0 else 0.0
-        wl = (1.0 - min(max(mu_l, 0.0), 1.0)) ** 5
-        wv = (1.0 - min(max(mu_v, 0.0), 1.0)) ** 5
-        smooth = 1.05 * (1.0 - wl) * (1.0 - wv)
-        single = ((1.0 - a) * smooth + (a * rough if a > 0.0 else 0.0)) / math.pi
-        return rho * single + rho * rho * 0.1159 * a
+    f_formula = Formula(
+        "fd_hammon", F_D_ARGS,
+        "sel(rho == 0.0, 0.0, rho * single + rho * rho * MULTI * alpha)",
+        body=(("facing", "0.5 + 0.5 * l_dot_v"),
+              ("n_dot_h", "sel(facing > 0.0, (mu_l + mu_v) / (2.0 * sqrt(facing)), 0.0)"),
+              ("rough", "sel(n_dot_h > 0.0, facing * (ROUGH_A - ROUGH_B * facing) * (0.5 + n_dot_h) / n_dot_h, "
+                        "sel(facing > 0.0, INF(), 0.0))"),
+              *schlick_weight_body("mu_l", "wl"), *schlick_weight_body("mu_v", "wv"),
+              ("f_smooth", "SMOOTH_SCALE * (1.0 - wl) * (1.0 - wv)"),
+              ("single", "((1.0 - alpha) * f_smooth + sel(alpha > 0.0, alpha * rough, 0.0)) / PI")),
+        p=("alpha",),
+        consts=(("PI", math.pi, "π"), ("SMOOTH_SCALE", SMOOTH_SCALE, "Hammon's fitted constant"),
+                ("ROUGH_A", ROUGH_A, "Hammon's fitted constant"), ("ROUGH_B", ROUGH_B, "Hammon's fitted constant"),
+                ("MULTI", MULTI, "Hammon's multiple-scattering constant")),
+        doc="Hammon 2017 (GDC): f_d = ρ (((1 − α) f_smooth + α f_rough)/π + ρ 0.1159 α), f_smooth = 1.05 (1 − (1 − μ_l)⁵)\n"
+            "(1 − (1 − μ_v)⁵), f_rough = F (0.9 − 0.4 F)(0.5 + n·h)/(n·h), F = ½ + ½ l·v.")

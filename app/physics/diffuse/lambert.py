@@ -3,8 +3,10 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scalar import scalar
-from .base import DIFFUSES, Diffuse
+import math
+
+from ..formula import Formula
+from .base import DIFFUSES, F_D_ARGS, Diffuse
 
 
 @DIFFUSES.register
@@ -26,7 +28,5 @@ class Lambert(Diffuse):
     def albedo_avg(self, rho):
         return float(rho), 0.0
 
-    @staticmethod
-    @scalar
-    def f_scalar(rho, mu_l, mu_v, l_dot_v, p):
-        return rho / 3.141592653589793
+    f_formula = Formula("fd_lambert", F_D_ARGS, "rho / PI", consts=(("PI", math.pi, "π"),),
+                        doc="Lambert: f_d = ρ/π.")

@@ -13,8 +13,8 @@ import math
 import numpy as np
 
 from ..params import Param
-from ..scalar import scalar
-from .base import DIFFUSES, Diffuse, s_over_t, times_rho
+from ..formula import Formula
+from .base import DIFFUSES, F_D_ARGS, Diffuse, s_over_t, times_rho
 
 SIGMA = Param("sigma", "σ (facet slope deviation)", 0.0, 0.5 * math.pi, 0.3,
               "Standard deviation of the facet slope angle of Oren–Nayar's V-groove surface.",
@@ -46,13 +46,10 @@ class OrenNayar(Diffuse):
     def kernel_params(self):
         return coefficients(self.sigma)
 
-    @staticmethod
-    @scalar
-    def f_scalar(rho, mu_l, mu_v, l_dot_v, p):
-        s = max(l_dot_v - mu_l * mu_v, 0.0)
-        t = max(mu_l, mu_v)
-        if rho == 0.0:
-            return 0.0
-        if t <= 0.0:
-            return math.inf if s > 0.0 else rho * p[0] / math.pi
-        return rho * (p[0] + p[1] * s / t) / math.pi
+    f_formula = Formula(
+        "fd_oren_nayar", F_D_ARGS,
+        "sel(rho == 0.0, 0.0, sel(t > 0.0, rho * (A + B * s / t) / PI, sel(and_(s > 0.0, B > 0.0), INF(), rho * A / PI)))",
+        body=(("s", "max(l_dot_v - mu_l * mu_v, 0.0)"), ("t", "max(mu_l, mu_v)")),
+        p=("A", "B"), consts=(("PI", math.pi, "π"),),
+        doc="Oren & Nayar 1994, eq. 30: f_d = ρ/π (A + B max(0, s)/max(μ_l, μ_v)), s = l·v − μ_l μ_v;\n"
+            "+∞ where both directions graze with s > 0 (its limit).")

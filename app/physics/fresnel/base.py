@@ -17,6 +17,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from ..formula import Formula, scalar_function
 from ..numeric import where_valid
 from ..params import Param
 from ..registry import Registry
@@ -46,6 +47,15 @@ class Fresnel:
     simplifies_to: ClassVar[tuple[tuple[dict, str], ...]] = ()
     #: F for one point: F_scalar(cos θ_d, p), p = kernel_params(); None: numpy only.
     F_scalar = None
+    #: F(c) written once (physics/formula.py), p = the parameters' names in order: the
+    #: source of ``F_scalar`` and of the shaders' F; None: no kernel, no shader form.
+    F_formula: ClassVar[Formula | None] = None
+
+    def __init_subclass__(cls, **kwargs):
+        super().__init_subclass__(**kwargs)
+        formula = cls.__dict__.get("F_formula")
+        if formula is not None and "F_scalar" not in cls.__dict__:
+            cls.F_scalar = staticmethod(scalar_function(formula, cls.__module__, f"{cls.__qualname__}.F_scalar"))
 
     def __init__(self, **values: float):
         for p in self.params:

@@ -13,6 +13,7 @@ import numpy as np
 
 from ..numeric import where_valid
 from ..params import Param
+from ..formula import Formula
 from ..scalar import scalar
 from .base import FRESNELS, Fresnel, _cos, clip_cos_scalar
 
@@ -83,20 +84,14 @@ class Conductor(Fresnel):
     def F(self, cos_theta_d):
         return conductor_reflectance(cos_theta_d, self.ior, self.k)
 
-    @staticmethod
-    @scalar
-    def F_scalar(c, p):
-        eta, k = p[0], p[1]
-        c = clip_cos_scalar(c)
-        c2 = c * c
-        s2 = max(1.0 - c2, 0.0)
-        t0 = eta * eta - k * k - s2
-        A = math.sqrt(t0 * t0 + 4.0 * (eta * k) ** 2)
-        ek = eta * k
-        if t0 >= 0.0:
-            a2 = 0.5 * (A + abs(t0))
-            b2 = 2.0 * ek * ek / (A + t0) if A + t0 > 0.0 else 0.0
-        else:
-            a2 = 2.0 * ek * ek / (A - t0) if A - t0 > 0.0 else 0.0
-            b2 = 0.5 * (A - t0)
-        return _unpolarised(math.sqrt(a2), b2, c, c2, s2, A)
+    F_formula = Formula(
+        "F_conductor", ("c",), "0.5 * (Rs + Rs * (u - q) / (u + q))",
+        body=(("x", "clamp(c, 0.0, 1.0)"), ("c2", "x * x"), ("s2", "max(1.0 - c2, 0.0)"),
+              ("t0", "eta * eta - kappa * kappa - s2"), ("ek", "eta * kappa"), ("A", "sqrt(t0 * t0 + 4.0 * ek * ek)"),
+              ("a2", "sel(t0 >= 0.0, 0.5 * (A + abs(t0)), sel(A - t0 > 0.0, 2.0 * ek * ek / (A - t0), 0.0))"),
+              ("b2", "sel(t0 >= 0.0, sel(A + t0 > 0.0, 2.0 * ek * ek / (A + t0), 0.0), 0.5 * (A - t0))"),
+              ("a", "sqrt(a2)"), ("Rs", "((a - x) * (a - x) + b2) / ((a + x) * (a + x) + b2)"),
+              ("u", "A * c2 + s2 * s2"), ("q", "2.0 * a * x * s2")),
+        p=("eta", "kappa"),
+        doc="Born & Wolf sec. 14.2 in real arithmetic (pbrt-v4's FrComplex): a + ib = √((η + iκ)² − sin²θ),\n"
+            "A = a² + b²; a² (or b²) as 2η²κ²/(A ∓ t₀) where A ± t₀ would cancel. κ ≫ η and η = 0 work.")

@@ -13,7 +13,7 @@ import numpy as np
 
 from ..numeric import where_valid
 from ..params import Param
-from ..scalar import scalar
+from ..formula import Formula
 from .base import FRESNELS, Fresnel, _cos, clip_cos_scalar
 
 IOR_DIELECTRIC = Param("ior", "η (index of refraction)", 1.0, 4.0, 1.5,
@@ -84,20 +84,13 @@ class Dielectric(Fresnel):
     def F(self, cos_theta_d):
         return dielectric_reflectance(cos_theta_d, self.ior)
 
-    @staticmethod
-    @scalar
-    def F_scalar(c, p):
-        eta = p[0]
-        if not math.isfinite(eta):
-            return 1.0
-        c = clip_cos_scalar(c)
-        e2 = eta * eta
-        d = (eta - 1.0) * (eta + 1.0)
-        g = math.sqrt(d + c * c)
-        den_s = d + 2.0 * c * (c + g)
-        den_p = d + c * c + e2 * c * (e2 * c + 2.0 * g)
-        if not (den_s > 0.0 and den_p > 0.0):
-            return 0.0
-        rs = -d / den_s
-        rp = d * ((e2 + 1.0) * c * c - 1.0) / den_p
-        return 0.5 * (rs * rs + rp * rp)
+    F_formula = Formula(
+        "F_dielectric", ("c",),
+        "sel(eta < INF(), sel(and_(den_s > 0.0, den_p > 0.0), 0.5 * ((d / den_s) * (d / den_s) + "
+        "(d * ((e2 + 1.0) * x * x - 1.0) / den_p) * (d * ((e2 + 1.0) * x * x - 1.0) / den_p)), 0.0), 1.0)",
+        body=(("x", "clamp(c, 0.0, 1.0)"), ("e2", "eta * eta"), ("d", "(eta - 1.0) * (eta + 1.0)"),
+              ("g", "sqrt(d + x * x)"), ("den_s", "d + 2.0 * x * (x + g)"),
+              ("den_p", "d + x * x + e2 * x * (e2 * x + 2.0 * g)")),
+        p=("eta",),
+        doc="(r_s² + r_p²)/2, r_s = −d/(d + 2c(c + g)), r_p = d((η² + 1)c² − 1)/(d + c² + η²c(η²c + 2g)),\n"
+            "d = η² − 1, g = √(d + c²) (Born & Wolf sec. 1.5.2, expanded so nothing cancels as η → 1).")

@@ -3,7 +3,7 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..scalar import scalar
+from ..formula import Formula
 from .base import FRESNELS, Fresnel
 
 
@@ -23,7 +23,4 @@ class NoFresnel(Fresnel):
     def schlick_basis(self):
         return ((1.0, None),)
 
-    @staticmethod
-    @scalar
-    def F_scalar(c, p):
-        return 1.0
+    F_formula = Formula("F_none", ("c",), "1.0", doc="F = 1.")

@@ -8,7 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..params import Param
-from ..scalar import scalar
+from ..formula import Formula
 from .base import FRESNELS, Fresnel, clip_cos_scalar, _cos
 from .dielectric import Dielectric, ior_from_f0
 
@@ -49,11 +49,8 @@ class Schlick(Fresnel):
         limit η → ∞, a perfect mirror)."""
         return Dielectric(ior=float(ior_from_f0(self.f0)))
 
-    @staticmethod
-    @scalar
-    def F_scalar(c, p):
-        x = 1.0 - clip_cos_scalar(c)
-        if p[2] == 5.0:      # Schlick's exponent by multiplication: a pow costs as much as f
-            x2 = x * x
-            return p[0] + (p[1] - p[0]) * (x2 * x2 * x)
-        return p[0] + (p[1] - p[0]) * x ** p[2]
+    # Schlick's p = 5 by multiplication: a pow costs as much as the rest of f
+    F_formula = Formula(
+        "F_schlick", ("c",), "f0 + (f90 - f0) * sel(fresnel_p == 5.0, x2 * x2 * x, pow(x, fresnel_p))",
+        body=(("x", "1.0 - clamp(c, 0.0, 1.0)"), ("x2", "x * x")), p=("f0", "f90", "fresnel_p"),
+        doc="Schlick 1994, eq. 15, generalised: F = F₀ + (F₉₀ − F₀)(1 − cos θ_d)^p.")

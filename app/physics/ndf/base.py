@@ -17,6 +17,7 @@ from typing import Callable, ClassVar
 
 import numpy as np
 
+from ..formula import Formula, scalar_function
 from ..numeric import where_valid
 from ..params import Param
 from ..registry import Registry
@@ -159,6 +160,24 @@ class SlopeSpaceNDF(NDF):
     # radial_ccdf_inv_scalar(v, p). An NDF without them is served by numpy alone.
     D_scalar = mu_Lambda_scalar = None
     radial_ccdf_scalar = radial_cdf_inv_scalar = radial_ccdf_inv_scalar = None
+
+    # ---- the one spelling (physics/formula.py) of D and μΛ for kernels and shaders ----
+    #: α_x α_y D(mz, q2) for mz ≥ 0, its limit at mz = 0 included; p names bind
+    #: kernel_params(). Given, it is the source of ``D_scalar`` and of the shaders' D.
+    D_formula: ClassVar[Formula | None] = None
+    #: μΛ(mu, s); given, the source of ``mu_Lambda_scalar`` and of the shaders' μΛ. None
+    #: where μΛ needs what no shading language has (an incomplete beta or gamma function,
+    #: a table of the Smith integral): the shaders then embed that table.
+    mu_Lambda_formula: ClassVar[Formula | None] = None
+    def __init_subclass__(cls, **kwargs):
+        """Each declared formula becomes the ``*_scalar`` function the kernels compile
+        (unless the class writes that function itself)."""
+        super().__init_subclass__(**kwargs)
+        for formula_attr, scalar_attr in (("D_formula", "D_scalar"), ("mu_Lambda_formula", "mu_Lambda_scalar")):
+            formula = cls.__dict__.get(formula_attr)
+            if formula is not None and scalar_attr not in cls.__dict__:
+                setattr(cls, scalar_attr, staticmethod(
+                    scalar_function(formula, cls.__module__, f"{cls.__qualname__}.{scalar_attr}")))
 
     def kernel_params(self) -> tuple[float, ...]:
         """The floats the scalar formulas read from ``p`` (α-dependent constants and

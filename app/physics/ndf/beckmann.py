@@ -13,6 +13,7 @@ import math
 import numpy as np
 from scipy.special import erfc, erfcx, ndtri
 
+from ..formula import Formula
 from ..numeric import where_valid
 from ..scalar import scalar
 from ..vectors import slopes_to_normal, unit
@@ -66,22 +67,31 @@ def beckmann_mu_Lambda(mu, s):
     return where_valid(s > 0, [mu, s], formula, 0.0)
 
 
-@scalar
-def beckmann_mu_Lambda_scalar(mu, s, p):
-    """:func:`beckmann_mu_Lambda` for one point (the same two branches)."""
-    if not s > 0.0:
-        return 0.0
-    a = mu / s
-    if a < A_SERIES:
-        bracket = 1.0 / SQRT_PI - a * erfcx(a)
-    else:
-        x = 1.0 / (2.0 * a * a)
-        total, term = 0.0, 1.0
-        for k in range(1, SERIES_TERMS + 1):
-            term = term * x * (2 * k - 1) if k > 1 else x
-            total = total + (term if k % 2 else -term)
-        bracket = total / SQRT_PI
-    return 0.5 * s * math.exp(-a * a) * bracket
+def _series_horner(terms: int) -> str:
+    """Σ_{k=1}^{K} (−1)^{k+1} (2k−1)!! x^k in Horner form: x(1 − 3x(1 − 5x(1 − …)))."""
+    inner = "1.0"
+    for k in range(terms, 1, -1):
+        inner = f"1.0 - {2 * k - 1}.0 * x * ({inner})"
+    return f"x * ({inner})"
+
+
+#: The one spelling of :func:`beckmann_mu_Lambda` for the kernels and the shaders: the same
+#: two branches, the series in Horner form; the direct bracket is ≥ 0.0044 for a < 8 in
+#: float64 (its max with 0 guards a float32 erfcx fit only).
+#: Beckmann, BECKMANN_MZ_MIN: below this n·m, D = 0 in any float format: the exponent
+#: −q²/mz² ≤ −(1 − mz²)/(α² mz²) < −9.9e5 for α ≤ 1, so exp underflows to 0 in float64
+#: too, while mz⁴ in the denominator underflows in float32 (0/0) below mz ≈ 1e-10.
+BECKMANN_MZ_MIN = 1e-3
+BECKMANN_MU_LAMBDA = Formula(
+    "muLambda_beckmann", ("mu", "s"),
+    "sel(s > 0.0, 0.5 * s * exp(-a * a) * sel(a < A_SERIES, max(INV_SQRT_PI - a * erfcx(a), 0.0), "
+    "INV_SQRT_PI * series), 0.0)",
+    body=(("a", "mu / max(s, TINY)"), ("x", "1.0 / (2.0 * a * a)"), ("series", _series_horner(SERIES_TERMS))),
+    consts=(("INV_SQRT_PI", 1.0 / math.sqrt(math.pi), "1/√π"),
+            ("A_SERIES", A_SERIES, "from here on the asymptotic series (A&S 7.1.23)"),
+            ("TINY", 1e-30, "s is > 0 where a is used; the floor only keeps the unused side finite")),
+    doc="Beckmann's Smith μΛ, a = μ/s: (s e^(−a²)/2)(1/√π − a erfcx(a)) (Walter et al. 2007, eq. 27;\n"
+        "Heitz 2014, eq. 84); from a = 8 the bracket's asymptotic series (A&S 7.1.23), 20 terms.")
 
 
 def _slope_marginal_inv(cos_t, sin_t, u):
@@ -139,14 +149,13 @@ class Beckmann(ShapeInvariantNDF):
     def radial_ccdf_inv(self, v):
         return -np.log(v)
 
-    @staticmethod
-    @scalar
-    def D_scalar(mz, q2, p):
-        if not mz > 0.0:
-            return 0.0
-        return math.exp(-q2 / (mz * mz)) / (math.pi * mz ** 4)
-
-    mu_Lambda_scalar = staticmethod(beckmann_mu_Lambda_scalar)
+    D_formula = Formula(
+        "D_beckmann", ("mz", "q2"),
+        "sel(mz > BECKMANN_MZ_MIN, exp(-q2 / (mz * mz)) / (PI * mz * mz * mz * mz), 0.0)",
+        consts=(("PI", math.pi, "π"),
+                ("BECKMANN_MZ_MIN", BECKMANN_MZ_MIN, "below it D = 0 in float64 too; mz⁴ would underflow in float32")),
+        doc="Beckmann: α_x α_y D = exp(−q²/mz²)/(π mz⁴) (Walter et al. 2007, eq. 25; Heitz 2014, eq. 83).")
+    mu_Lambda_formula = BECKMANN_MU_LAMBDA
 
     @staticmethod
     @scalar

@@ -18,9 +18,10 @@ import math
 
 import numpy as np
 
+from ..formula import Formula
 from ..scalar import scalar
 from .base import NDFS, SlopeSpaceNDF
-from .beckmann import beckmann_mu_Lambda, beckmann_mu_Lambda_scalar
+from .beckmann import BECKMANN_MU_LAMBDA, beckmann_mu_Lambda
 
 
 @NDFS.register
@@ -78,12 +79,13 @@ class BlinnPhong(SlopeSpaceNDF):
         a2 = self.alpha_x ** 2
         return (a2, self.alpha_p, a2 * (self.alpha_p + 2.0) / (2.0 * np.pi))
 
-    @staticmethod
-    @scalar
-    def D_scalar(mz, q2, p):
-        return p[2] * mz ** p[1]
-
-    mu_Lambda_scalar = staticmethod(beckmann_mu_Lambda_scalar)
+    # pow(0, 0) is undefined in GLSL: α_p = 0 (α = 1) is the constant lobe, written apart
+    D_formula = Formula(
+        "D_blinn_phong", ("mz", "q2"), "sel(alpha_p > 0.0, norm * pow(max(mz, 0.0), alpha_p), norm)",
+        p=("a2", "alpha_p", "norm"),
+        doc="Blinn-Phong: α² D = α² (α_p + 2)/(2π) (n·m)^α_p, α_p = 2/α² − 2 (Blinn 1977; Walter et al. 2007, eq. 30).")
+    # Walter 2007's substitution: Beckmann's Λ (shape-invariant, α enters through s)
+    mu_Lambda_formula = BECKMANN_MU_LAMBDA
 
     @staticmethod
     @scalar

@@ -23,6 +23,7 @@ from scipy.interpolate import CubicHermiteSpline
 from scipy.special import gamma as gamma_fn
 from scipy.special import gammainc, gammaincc, gammainccinv, gammaincinv, gammaln
 
+from ..formula import Formula
 from ..lambda_table import table_params, tabulated_mu_Lambda_scalar
 from ..numeric import where_valid
 from ..params import Param
@@ -101,13 +102,13 @@ class ExpPower(SlopeSpaceNDF):
     def kernel_params(self):
         return np.concatenate([self.radial_params(), table_params(self)])
 
-    @staticmethod
-    @scalar
-    def D_scalar(mz, q2, p):
-        if not mz > 0.0:
-            return 0.0
-        tail = math.exp(p[0] * (math.log(q2) - 2.0 * math.log(mz))) if q2 > 0.0 else 0.0
-        return p[2] * math.exp(-tail - 4.0 * math.log(mz))
+    D_formula = Formula(
+        "D_exp_power", ("mz", "q2"), "sel(mz > 0.0, norm * exp(-tail - 4.0 * lmz), 0.0)",
+        body=(("lmz", "log(max(mz, MZ_FLOOR))"),
+              ("tail", "sel(q2 > 0.0, exp(p_exp * (log(max(q2, MZ_FLOOR)) - 2.0 * lmz)), 0.0)")),
+        p=("p_exp", "inv_p", "norm"),
+        consts=(("MZ_FLOOR", 1e-30, "keeps the side not selected finite (mz = 0 or q² = 0); float32 has it"),),
+        doc="Exponential power: α_x α_y D = p/(π Γ(1/p)) exp(−(q²/mz²)^p) / mz⁴ (p = 1 is Beckmann), in logs.")
 
     @staticmethod
     @scalar

@@ -12,6 +12,7 @@ import math
 
 import numpy as np
 
+from ..formula import Formula
 from ..numeric import where_valid
 from ..scalar import scalar
 from ..vectors import unit
@@ -49,16 +50,15 @@ class GGX(ShapeInvariantNDF):
     def radial_ccdf_inv(self, v):
         return (1.0 - v) / v
 
-    @staticmethod
-    @scalar
-    def D_scalar(mz, q2, p):
-        t = mz * mz + q2
-        return 1.0 / (math.pi * (t * t))
-
-    @staticmethod
-    @scalar
-    def mu_Lambda_scalar(mu, s, p):
-        return s * s / (2.0 * (math.sqrt(mu * mu + s * s) + mu))
+    # The one spelling of D and μΛ for the compiled kernels and the shaders (_D and
+    # _mu_Lambda above are the numpy reference they are tested against).
+    D_formula = Formula(
+        "D_ggx", ("mz", "q2"), "1.0 / (PI * t * t)", body=(("t", "mz * mz + q2"),),
+        consts=(("PI", math.pi, "π"),),
+        doc="GGX: α_x α_y D = 1/(π (mz² + q²)²) (Walter et al. 2007, eq. 33; Heitz 2014, eq. 85).")
+    mu_Lambda_formula = Formula(
+        "muLambda_ggx", ("mu", "s"), "s * s / (2.0 * (sqrt(mu * mu + s * s) + mu))",
+        doc="GGX's Smith μΛ = (√(μ² + s²) − μ)/2, without the cancellation (Heitz 2014, eq. 86).")
 
     @staticmethod
     @scalar

@@ -18,6 +18,7 @@ import math
 
 import numpy as np
 
+from ..formula import Formula
 from ..lambda_table import table_params, tabulated_mu_Lambda_scalar
 from ..numeric import (SERIES_CUTOFF, expm1_ratio, expm1_ratio_scalar, log1p_ratio,
                        log1p_ratio_scalar, where_valid)
@@ -131,10 +132,11 @@ class GTR(SlopeSpaceNDF):
     def kernel_params(self):
         return np.concatenate([self.radial_params(), table_params(self)])
 
-    @staticmethod
-    @scalar
-    def D_scalar(mz, q2, p):
-        return math.exp(p[5] - p[1] * math.log(mz * mz + q2))
+    D_formula = Formula(
+        "D_gtr", ("mz", "q2"), "exp(log_d0 - gamma * log(mz * mz + q2))",
+        p=("a2", "gamma", "k", "log_a2", "k_a", "log_d0"),
+        doc="GTR: α² D = exp(ln(k/π) + (2 − 2γ) ln α − γ ln(mz² + q²)), k(α, γ) of Burley 2012 (eq. 8,\n"
+            "appendix B) formed once in float64 with expm1/log1p (kernel_params); mz² + q² ≥ min(1, 1/α²).")
 
     @staticmethod
     @scalar

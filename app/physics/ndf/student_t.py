@@ -19,6 +19,7 @@ import math
 import numpy as np
 from scipy.special import betainc, gammaln
 
+from ..formula import Formula
 from ..numeric import where_valid
 from ..params import Param
 from ..scalar import scalar
@@ -100,18 +101,16 @@ class StudentT(SlopeSpaceNDF):
     def kernel_params(self):
         return (self.gamma, float(self._log_c), 2.0 * self.gamma - 4.0)
 
-    @staticmethod
-    @scalar
-    def D_scalar(mz, q2, p):
-        g = p[0]
-        if mz > 0.0:
-            log_d = p[2] * math.log(mz) - g * math.log(mz * mz + q2 / (g - 1.0))
-            return math.exp(log_d) / math.pi if log_d < LOG_MAX else math.inf
-        if g > 2.0:
-            return 0.0
-        if g == 2.0:
-            return 1.0 / (math.pi * q2 * q2) if q2 > 0.0 else math.inf
-        return math.inf
+    D_formula = Formula(
+        "D_student_t", ("mz", "q2"),
+        "sel(mz > 0.0, sel(log_d < LOG_MAX, exp(log_d) / PI, INF()), "
+        "sel(gamma > 2.0, 0.0, sel(and_(gamma == 2.0, q2 > 0.0), 1.0 / (PI * q2 * q2), INF())))",
+        body=(("log_d", "e * log(max(mz, MZ_FLOOR)) - gamma * log(mz * mz + q2 / (gamma - 1.0))"),),
+        p=("gamma", "log_c", "e"),
+        consts=(("PI", math.pi, "π"), ("LOG_MAX", LOG_MAX, "exp overflows float64 beyond: +∞"),
+                ("MZ_FLOOR", 1e-30, "keeps the side not selected at mz = 0 finite (float32 has it)")),
+        doc="Student-t: α_x α_y D = mz^(2γ−4) / (π (mz² + q²/(γ − 1))^γ), in logs (Ribardière et al. 2017);\n"
+            "at mz = 0 its limit: 0 for γ > 2, 1/(π q⁴) for γ = 2, +∞ for γ < 2.")
 
     @staticmethod
     @scalar
