@@ -81,6 +81,13 @@ Phi = Annotated[float, Field(ge=-360.0, le=360.0, description="azimuth in degree
                              examples=[0.0])]
 
 
+def _material_slug(value):
+    """A known material slug, else a ValueError that suggests the nearest (422)."""
+    if value is not None and value not in materials.materials():
+        raise ValueError(materials.unknown_material(value))
+    return value
+
+
 #: Parameters the principled family shares by name with the microfacet one (its roughness
 #: spans [0, 1]; the microfacet form starts at 0.01)
 SHARED_PARAMS = {PRINCIPLED_ROUGHNESS.name: PRINCIPLED_ROUGHNESS}
@@ -115,7 +122,7 @@ def _model_fields() -> dict:
         fields[name] = (Optional[float], Field(
             None, ge=lo, le=hi, examples=[first.default],
             description=f"{first.description} Applies with {where}; default {first.default:g}."))
-    fields["material"] = (Optional[Literal[tuple(materials.materials())]], Field(
+    fields["material"] = (Optional[Annotated[str, BeforeValidator(_material_slug)]], Field(
         None, examples=["gold"], description="a measured material (GET /api/v1/materials): sets fresnel to "
         "its kind with its RGB index; /eval then answers F_rgb and f_rgb beside the luminance F, f"))
     fields.update(principled_fields())
