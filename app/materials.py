@@ -15,6 +15,7 @@ every form gives F = 1 there (Gulbrandsen's n, k diverge: the limit is used).
 """
 from __future__ import annotations
 
+import difflib
 import json
 from dataclasses import replace
 from functools import lru_cache
@@ -46,10 +47,21 @@ def materials() -> dict[str, dict]:
     return {m["slug"]: m for m in _data()["materials"]}
 
 
+def unknown_material(slug) -> str:
+    """The message for a slug that names no material: the nearest slugs first ("did you
+    mean gold?" for Gold), then where the full list is."""
+    table = materials()
+    near = difflib.get_close_matches(str(slug).strip().lower().replace(" ", "_").replace("-", "_"),
+                                     list(table), n=3, cutoff=0.6)
+    hint = f"did you mean {' or '.join(near)}? " if near else ""
+    return (f"unknown material {slug!r}; {hint}(the {len(table)} slugs: GET /api/v1/materials; "
+            f"lower case, e.g. {next(iter(table))})")
+
+
 def material(slug: str) -> dict:
     table = materials()
     if slug not in table:
-        raise ParameterError("material", f"material must be one of {', '.join(table)}; got {slug!r}")
+        raise ParameterError("material", unknown_material(slug))
     return table[slug]
 
 

@@ -340,14 +340,26 @@ def half_difference_slice(brdf: BRDF, phi_h_deg: float, phi_d_deg: float, n: int
 
     theta = np.linspace(0.0, 90.0, n)
     seeds = np.concatenate([theta, ladder(0.0, _width_deg(brdf) / 2, 0.0, 90.0)])
+    # no peak search: at φ_d = 90° the column θ_h = 90° is a divergence (both directions
+    # graze), which a search would chase to a node 1e-11° from it (f ~ 1e13)
     theta_h, probe, report = refine_curve(lambda t: value(SLICE_PROBE_THETA_D, t), seeds,
-                                          max_added=_added(n))
+                                          max_added=_added(n), locate=False)
+    report["located"] = _largest(theta_h, probe)
     f = value(theta[:, None], theta_h[None, :])
     key = "f_cos" if cosine else "f"
     return {"theta_d_deg": theta, "theta_h_deg": theta_h, key: f,
             "peak": {**peak(probe, report.pop("located"), key, "theta_h_deg"),
                      "theta_d_deg": SLICE_PROBE_THETA_D},
             "resolution": report}
+
+
+def _largest(x, y):
+    """(x, y) of the largest finite y: the drawn maximum, as the located one."""
+    finite = np.isfinite(y)
+    if not finite.any():
+        return None
+    k = int(np.argmax(np.where(finite, y, -np.inf)))
+    return float(x[k]), float(y[k])
 
 
 #: The row of the slice on which the highlight's columns are refined: the highlight

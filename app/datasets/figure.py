@@ -10,6 +10,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..figures.scale import colour_range, grid_weights, titled
 from ..figures.style import axis, base_layout, gaps
 
 #: the data trace's colour: black markers read against every palette colour of a model
@@ -24,6 +25,9 @@ SYMBOLS = {"theta_o_deg": "θ_o", "theta_deg": "θ", "phi_deg": "φ_v", "mu": "�
 LABELS = {"theta_o_deg": "θ_o (degrees; > 0 on the mirror side)", "theta_deg": "θ (degrees)",
           "mu": "μ = cos θ_v", "theta_h_deg": "θ_h (degrees)", "theta_d_deg": "θ_d (degrees)",
           "phi_deg": "φ_v (degrees)", "x": "x (sphere radii)", "y": "y (sphere radii)"}
+
+#: (rows, columns) of the images whose axes share a unit: drawn with a locked aspect
+SQUARE = {("y", "x"), ("theta_d_deg", "theta_h_deg")}
 
 
 def where_text(result: dict) -> str:
@@ -90,9 +94,15 @@ def relative_error(result: dict, label: str) -> dict:
         return {"data": [trace], "layout": base_layout(
             title, xaxis=axis(LABELS.get(names[0], names[0])), yaxis=axis("relative error (%)"))}
     rows, columns = names
-    limit = float(np.nanmax(np.abs(values))) if np.isfinite(values).any() else 1.0
+    # the scale's half-width from the area-weighted quantile of |error| (figures/scale.py):
+    # one cell at a grazing divergence does not wash out the rest
+    scale = colour_range(np.abs(values), grid_weights(result["axes"][rows], result["axes"][columns]))
+    limit = scale.top if scale.top else 1.0
     trace = {"type": "heatmap", "x": result["axes"][columns], "y": result["axes"][rows], "z": values,
              "colorscale": "RdBu", "zmid": 0.0, "zmin": -limit, "zmax": limit, "hoverongaps": False,
-             "colorbar": {"title": {"text": "%"}, "thickness": 14}}
+             "colorbar": {"title": {"text": titled("%", scale)}, "thickness": 14}}
+    # an image whose two axes share a unit keeps its aspect (the sphere is round)
+    square = {"scaleanchor": "x", "constrain": "domain"} if (rows, columns) in SQUARE else {}
     return {"data": [trace], "layout": base_layout(
-        title, xaxis=axis(LABELS.get(columns, columns)), yaxis=axis(LABELS.get(rows, rows)))}
+        title, xaxis=axis(LABELS.get(columns, columns), **({"constrain": "domain"} if square else {})),
+        yaxis=axis(LABELS.get(rows, rows), **square))}

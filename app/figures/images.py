@@ -8,6 +8,7 @@ from __future__ import annotations
 import numpy as np
 
 from .markup import subscripted
+from .scale import ColourRange, colour_range, grid_weights, titled
 from .style import DIRECTION_COLORS, axis, base_layout, gaps, model_title
 
 # Sequential and readable with colour-vision deficiency (Nuñez, Anderton, Renslow 2018,
@@ -23,19 +24,21 @@ NO_PAIR_GREY = "#d0d0d0"
 GREY_RAMP = [[0.0, "#000000"], [1.0, "#ffffff"]]
 
 
-def _log_z(values: np.ndarray):
-    """log10 of the values for a log colour scale, floored IMAGE_DECADES below the peak;
-    gaps (NaN) stay gaps. Returns z and the colour bar's ticks (one per decade)."""
+def _log_z(values: np.ndarray, scale: ColourRange):
+    """log10 of the values for a log colour scale from IMAGE_DECADES below the scale's top
+    (scale.py: a high quantile of the finite values, not their maximum) to the top; darker
+    values are drawn as the floor; gaps (NaN) stay gaps. Returns z, zmin, zmax and the
+    colour bar's ticks (one per decade)."""
     v = gaps(values)
-    positive = v[np.isfinite(v) & (v > 0)]
-    if positive.size == 0:
-        return np.where(np.isfinite(v), 0.0, np.nan), {}
-    top = float(np.log10(positive.max()))
+    if scale.top is None or scale.top <= 0.0:
+        return np.where(np.isfinite(v), 0.0, np.nan), 0.0, 1.0, {}
+    top = float(np.log10(scale.top))
     floor = 10.0 ** (top - IMAGE_DECADES)
     with np.errstate(invalid="ignore"):        # NaN (a gap) compares false: stays NaN
         z = np.log10(np.where(v > floor, v, np.where(np.isnan(v), np.nan, floor)))
     ticks = np.arange(np.ceil(top - IMAGE_DECADES), np.floor(top) + 1)
-    return z, {"tickvals": ticks, "ticktext": [f"10<sup>{int(k)}</sup>" for k in ticks]}
+    return z, top - IMAGE_DECADES, top, {"tickvals": ticks,
+                                         "ticktext": [f"10<sup>{int(k)}</sup>" for k in ticks]}
 
 
 def srgb_encode(linear: np.ndarray) -> np.ndarray:
@@ -59,13 +62,16 @@ def lit_sphere_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: flo
                      showscale=False)
         what = f"rendered, sRGB, exposure {exposure:+g}"
     elif display == "log":
-        z, ticks = _log_z(L)
-        trace.update(z=z, colorscale=SEQUENTIAL,
-                     colorbar={"title": {"text": label}, "thickness": 14, **ticks})
+        scale = colour_range(L)
+        z, lo, hi, ticks = _log_z(L, scale)
+        trace.update(z=z, zmin=lo, zmax=hi, colorscale=SEQUENTIAL,
+                     colorbar={"title": {"text": titled(label, scale)}, "thickness": 14, **ticks})
         what = "log scale"
     else:
-        trace.update(z=L, zmin=0.0, colorscale=SEQUENTIAL,
-                     colorbar={"title": {"text": label}, "thickness": 14})
+        scale = colour_range(L)
+        trace.update(z=L, zmin=0.0, zmax=scale.top if scale.top and scale.top > 0 else 1.0,
+                     colorscale=SEQUENTIAL,
+                     colorbar={"title": {"text": titled(label, scale)}, "thickness": 14})
         what = "L_o/E = f·cos θ_l"
     ti, pi = np.deg2rad(theta_i_deg), np.deg2rad(phi_i_deg)
     light = np.array([np.sin(ti) * np.cos(pi), np.sin(ti) * np.sin(pi), np.cos(ti)])
@@ -102,14 +108,18 @@ def slice_figure(data: dict, spec: dict, phi_d_deg: float, log: bool = True) -> 
     key = "f_cos" if "f_cos" in data else "f"
     name = "f·cos θ_l" if key == "f_cos" else "f"
     values = gaps(data[key])
+    theta_h, theta_d = np.asarray(data["theta_h_deg"]), np.asarray(data["theta_d_deg"])
+    # the columns are refined toward features: each value weighs the area it covers
+    scale = colour_range(values, grid_weights(theta_d, theta_h))
+    colorbar = {"title": {"text": titled(f"{name} (1/sr)", scale)}, "thickness": 14}
     if log:
-        z, ticks = _log_z(values)
-        colorbar = {"title": {"text": f"{name} (1/sr)"}, "thickness": 14, **ticks}
+        z, lo, hi, ticks = _log_z(values, scale)
+        colorbar.update(ticks)
     else:
-        z, colorbar = values, {"title": {"text": f"{name} (1/sr)"}, "thickness": 14}
+        z, lo, hi = values, 0.0, scale.top if scale.top and scale.top > 0 else 1.0
     return {
-        "data": [{"type": "heatmap", "x": np.asarray(data["theta_h_deg"]),
-                  "y": np.asarray(data["theta_d_deg"]), "z": z, "customdata": values,
+        "data": [{"type": "heatmap", "x": theta_h, "y": theta_d, "z": z, "customdata": values,
+                  "zmin": lo, "zmax": hi,
                   "colorscale": SEQUENTIAL, "colorbar": colorbar, "hoverongaps": False,
                   "hovertemplate": "θ_h=%{x:.1f}°<br>θ_d=%{y:.1f}°<br>" + name
                                    + "=%{customdata:.4g}<extra></extra>"}],

@@ -4,6 +4,7 @@ from __future__ import annotations
 import numpy as np
 
 from .markup import subscripted
+from .scale import cell_widths, colour_range, titled
 from .style import DIRECTION_COLORS, PALETTE, base_layout, gaps, model_title
 
 # Decades below the peak shown by the log-scale polar lobe.
@@ -71,13 +72,21 @@ def lobe3d_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: float,
     theta = np.deg2rad(np.asarray(data["theta_deg"]))[:, None]
     phi = np.deg2rad(np.asarray(data["phi_deg"]))[None, :]
     f = gaps(data["f"])
+    # the colour stops at the scale's top (scale.py): a spike or a grazing divergence
+    # covering < 0.1 % of the hemisphere's solid angle does not set it (the radius still
+    # draws the lobe's true shape; a divergence is a gap)
+    solid_angle = np.sin(theta) * cell_widths(theta[:, 0])[:, None] * cell_widths(phi[0])[None, :]
+    scale = colour_range(f, solid_angle)
+    top = scale.top if scale.top and scale.top > 0 else 1.0
     if log:
         positive = f[np.isfinite(f) & (f > 0)]
         floor = positive.max() * 1e-6 if positive.size else 1.0
         # gaps (NaN) stay gaps: np.maximum and log10 propagate NaN silently.
         radius = np.log10(np.maximum(f, floor) / floor)
+        colour_top = float(np.log10(max(top, floor) / floor))
+        label = "log<sub>10</sub>(f/f<sub>floor</sub>)"
     else:
-        radius = f
+        radius, colour_top, label = f, top, "f (1/sr)"
     x = radius * np.sin(theta) * np.cos(phi)
     y = radius * np.sin(theta) * np.sin(phi)
     z = radius * np.cos(theta)
@@ -86,7 +95,8 @@ def lobe3d_figure(data: dict, spec: dict, theta_i_deg: float, phi_i_deg: float,
     l = np.array([np.sin(ti) * np.cos(pi), np.sin(ti) * np.sin(pi), np.cos(ti)])
     mirror = np.array([-l[0], -l[1], l[2]])
     traces = [{"type": "surface", "x": x, "y": y, "z": z, "surfacecolor": radius,
-               "colorscale": "Viridis", "showscale": False, "name": "f",
+               "colorscale": "Viridis", "showscale": True, "name": "f", "cmin": 0.0, "cmax": colour_top,
+               "colorbar": {"title": {"text": titled(label, scale)}, "thickness": 14},
                "hovertemplate": "f-radius=%{surfacecolor:.4g}<extra></extra>"}]
     for name, d, color in [("normal n", np.array([0, 0, 1.0]), DIRECTION_COLORS["normal"]),
                            ("incident l", l, DIRECTION_COLORS["incident"]),

@@ -48,9 +48,11 @@ def _by_rule(shape, mu) -> tuple[np.ndarray, float]:
 
 
 def _diffuse(m, mu):
-    E, err = _by_rule(lambda a, b, c: L.diffuse_shape(m, a, b, c), mu)
     colour = (1.0 - m.metallic) * m.base_linear
-    return E[:, None] * colour, err * float(colour.max())
+    # one channel at a time: the diffuse model need not be linear in ρ (EON)
+    parts = [_by_rule(lambda a, b, c, rho=float(rho): L.diffuse_rho(m, rho, a, b, c), mu)
+             for rho in colour]
+    return np.stack([E for E, _ in parts], axis=-1), max(err for _, err in parts)
 
 
 def _sheen(m, mu):

@@ -12,7 +12,7 @@ import numpy as np
 
 from .. import kernels
 from ..physics.diffuse import DIFFUSES
-from ..physics.diffuse.base import schlick_weight
+from ..physics.diffuse.base import schlick_weight, times_rho
 from ..physics.fresnel import FRESNELS
 from ..physics.masking import MASKINGS
 from ..physics.ndf import NDFS
@@ -41,27 +41,35 @@ def subsurface(roughness: float, mu_l, mu_v, l_dot_v) -> np.ndarray:
     return 1.25 * (f_ss * (inv - 0.5) + 0.5) / np.pi
 
 
-def diffuse_shape(material, mu_l, mu_v, l_dot_v) -> np.ndarray:
-    """mix(F_d, ss, subsurface)/π: the diffuse lobe without its colour (1 − metallic)·C."""
+def diffuse_model(material):
+    """The registry's diffuse model the option names, at the material's roughness."""
     r = material.roughness
-    if material.options["principled_diffuse"] == "burley":
-        base = DIFFUSES["burley"](alpha=r * r).f(1.0, mu_l, mu_v, l_dot_v)
-    elif material.options["principled_diffuse"] == "eon":
-        base = DIFFUSES["eon"](diffuse_roughness=r).f(1.0, mu_l, mu_v, l_dot_v)
-    else:
-        base = DIFFUSES["lambert"]().f(1.0, mu_l, mu_v, l_dot_v)
+    choice = material.options["principled_diffuse"]
+    if choice == "burley":
+        return DIFFUSES["burley"](alpha=r * r)
+    if choice == "eon":
+        return DIFFUSES["eon"](diffuse_roughness=r)
+    return DIFFUSES["lambert"]()
+
+
+def diffuse_rho(material, rho: float, mu_l, mu_v, l_dot_v) -> np.ndarray:
+    """mix(f_d(ρ), ρ·ss, subsurface) for one channel's albedo ρ = (1 − metallic)·C: ρ
+    goes inside the diffuse model, which need not be linear in it (EON's multiple-
+    scattering albedo ρ_ms = ρ² E_F,avg/(1 − ρ(1 − E_F,avg)), Portsmouth et al. 2025)."""
+    base = np.asarray(diffuse_model(material).f(rho, mu_l, mu_v, l_dot_v), dtype=float)
     if material.subsurface == 0:
-        return np.asarray(base, dtype=float)
-    ss = subsurface(r, mu_l, mu_v, l_dot_v)
-    return (1.0 - material.subsurface) * base + material.subsurface * ss
+        return base
+    ss = subsurface(material.roughness, mu_l, mu_v, l_dot_v)
+    return (1.0 - material.subsurface) * base + material.subsurface * times_rho(rho, ss)
 
 
 def diffuse(material, l, v) -> np.ndarray:
+    """The diffuse lobe per channel, each channel's colour inside its model."""
     colour = (1.0 - material.metallic) * material.base_linear
     if not colour.any():
         return np.zeros(np.shape(l)[:-1] + (3,))
-    shape = diffuse_shape(material, l[..., 2], v[..., 2], dot(l, v))
-    return shape[..., None] * colour
+    mu_l, mu_v, l_dot_v = l[..., 2], v[..., 2], dot(l, v)
+    return np.stack([diffuse_rho(material, float(c), mu_l, mu_v, l_dot_v) for c in colour], axis=-1)
 
 
 def theta_d_weight(l, v) -> np.ndarray:
