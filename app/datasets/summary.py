@@ -15,6 +15,8 @@ import numpy as np
 from scipy.interpolate import LinearNDInterpolator, NearestNDInterpolator
 from scipy.spatial import ConvexHull, QhullError
 
+from ..errors import TooLarge
+from ..integrate import budget
 from . import merl
 from .dataset import BrdfData, TermData, angles_deg
 
@@ -28,6 +30,11 @@ GRID_SAMPLES = (48, 96)
 MIN_GROUP, MIN_COVER = 32, 0.75
 #: view directions of a samples CSV integrated at most (evenly spread in μ_v)
 MAX_GROUPS = 10
+#: samples of one view direction triangulated at most (a fixed-seed subset of larger
+#: groups): the integration grid has 48 × 96 points, so more samples than this refine
+#: nothing the error estimate (from the same subset) does not already state, and a
+#: Delaunay triangulation of a whole 10⁶-sample group would cost seconds
+MAX_TRIANGULATED = 20_000
 
 
 def summarize(data) -> dict:
@@ -99,58 +106,101 @@ def _reciprocity_table(data: BrdfData) -> dict:
 
 
 def _keys(theta, phi) -> np.ndarray:
-    """Directions rounded to 1e-6° (azimuth mod 360°) as hashable keys."""
-    return np.round(np.column_stack([theta, np.mod(phi, 360.0) * (theta > 0)]), 6)
+    """Directions rounded to 1e-6° (azimuth mod 360°, 0 at the pole) as rows of a key
+    array; ``+ 0.0`` makes −0 and +0 one key."""
+    return np.round(np.column_stack([theta, np.mod(phi, 360.0) * (theta > 0)]), 6) + 0.0
 
 
-def _swapped_pairs(data: BrdfData, isotropic: bool) -> list:
-    """(a, b) index pairs where sample b is sample a with l and v exchanged; with
-    ``isotropic``, up to a rotation about n (keys (θ_i, θ_o, φ_o − φ_i))."""
+def _row_ids(rows: np.ndarray) -> np.ndarray:
+    """An integer per row of ``rows`` (m, k), equal for equal rows: column by column,
+    each a 1-D np.unique of (id so far, value) folded into one int64 — k fast 1-D sorts
+    instead of one slow sort of m structured rows."""
+    ids = np.zeros(len(rows), np.int64)
+    for col in rows.T:
+        _, values = np.unique(col, return_inverse=True)
+        _, ids = np.unique(ids * (values.max() + 1) + values, return_inverse=True)
+    return ids.ravel()
+
+
+def _swapped_pairs(data: BrdfData, isotropic: bool) -> tuple[np.ndarray, np.ndarray]:
+    """(a, b) index arrays where sample b is sample a with l and v exchanged (a < b; of
+    equal keys the last sample counts); with ``isotropic``, up to a rotation about n
+    (keys (θ_i, θ_o, φ_o − φ_i)). One sort of keys and swapped keys together: O(n log n)."""
     (ti, pi), (to, po) = angles_deg(data.l), angles_deg(data.v)
     if isotropic:
         dphi = np.mod(po - pi, 360.0) * (ti > 0) * (to > 0)
-        key = np.round(np.column_stack([ti, to, dphi]), 6)
-        swap = np.round(np.column_stack([to, ti, np.mod(-dphi, 360.0) * (dphi > 0)]), 6)
+        key = np.round(np.column_stack([ti, to, dphi]), 6) + 0.0
+        swap = np.round(np.column_stack([to, ti, np.mod(-dphi, 360.0) * (dphi > 0)]), 6) + 0.0
     else:
         key = np.hstack([_keys(ti, pi), _keys(to, po)])
         swap = np.hstack([_keys(to, po), _keys(ti, pi)])
-    index = {tuple(k): n for n, k in enumerate(key)}
-    pairs = [(n, index.get(tuple(k))) for n, k in enumerate(swap)]
-    return [(a, b) for a, b in pairs if b is not None and a < b]
+    n = len(key)
+    inverse = _row_ids(np.vstack([key, swap]))
+    last = np.full(inverse.max() + 1, -1)
+    np.maximum.at(last, inverse[:n], np.arange(n))
+    a = np.arange(n)
+    b = last[inverse[n:]]
+    keep = a < b                     # b = −1 (no swap in the data) is never > a
+    return a[keep], b[keep]
 
 
 def _reciprocity_samples(data: BrdfData) -> dict:
-    pairs, how = _swapped_pairs(data, False), "whose swap (l and v exchanged) is in the data"
-    if not pairs:
-        pairs = _swapped_pairs(data, True)
+    (a, b), how = _swapped_pairs(data, False), "whose swap (l and v exchanged) is in the data"
+    if not a.size:
+        a, b = _swapped_pairs(data, True)
         how = ("whose swap is in the data up to a rotation about n (assuming the data "
                "isotropic)")
-    if not pairs:
+    if not a.size:
         return {"max_relative_error": None, "pairs": 0,
                 "method": "no sample has its swap (l and v exchanged) in the data"}
-    a, b = (np.array(x) for x in zip(*pairs))
     fa, fb = data.f[:, a], data.f[:, b]
     scale = np.maximum(fa, fb)
     rel = np.abs(fa - fb) / np.where(scale > 0, scale, 1.0)
     c, k = np.unravel_index(int(np.argmax(rel)), rel.shape)
     ti, pi = angles_deg(data.l[a[k]][None])
     to, po = angles_deg(data.v[a[k]][None])
-    return {"max_relative_error": float(rel[c, k]), "pairs": len(pairs),
+    return {"max_relative_error": float(rel[c, k]), "pairs": int(a.size),
             "where": {"channel": data.channels[c], **{name: round(float(x[0]), 6) for name, x in (
                 ("theta_i_deg", ti), ("phi_i_deg", pi), ("theta_o_deg", to), ("phi_o_deg", po))}},
             "method": f"|f(l, v) − f(v, l)| / max of the two over the samples {how}"}
 
 
+class SummaryOverBudget(TooLarge):
+    """The summary of an upload did not end within the request's time budget: 413 (the
+    file is larger than this server summarises in BRDF_MAX_SECONDS), naming how far it got."""
+
+    def __init__(self, done: int, total: int, seconds: float):
+        super().__init__("file", f"summarising this file took longer than the request's time "
+                                 f"budget (BRDF_MAX_SECONDS={seconds:g}): {done} of {total} view "
+                                 "directions were checked; upload fewer samples or fewer "
+                                 "distinct view directions", loc="body")
+
+
+def _check_budget(done: int, total: int) -> None:
+    """Cooperative cut between groups: raise once the request's budget is spent."""
+    b = budget.current()
+    if b is not None and b.elapsed() > b.seconds:
+        raise SummaryOverBudget(done, total, b.seconds)
+
+
 def _groups(fixed: np.ndarray, moving: np.ndarray) -> list:
     """[(μ of the fixed direction, sample indices)] of the fixed directions whose samples
-    of the moving one cover enough of the projected hemisphere."""
-    groups, inverse = np.unique(_keys(*angles_deg(fixed)), axis=0, return_inverse=True)
-    inverse = inverse.ravel()
+    of the moving one cover enough of the projected hemisphere. One sort groups the
+    samples (O(n log n)); only groups of ≥ MIN_GROUP samples are triangulated (a convex
+    hull, O(m log m) for m samples), so all hulls together cost O(n log n)."""
+    keys = _keys(*angles_deg(fixed))
+    ids = _row_ids(keys)
+    first, counts = np.unique(ids, return_index=True, return_counts=True)[1:]
+    keys, inverse = keys[first], ids
+    order = np.argsort(inverse.ravel(), kind="stable")     # each group's indices ascending
+    ends = np.cumsum(counts)
+    big = np.flatnonzero(counts >= MIN_GROUP)
     usable = []
-    for g in range(len(groups)):
-        members = np.flatnonzero(inverse == g)
-        if members.size >= MIN_GROUP and _hull_area(moving[members, :2]) >= MIN_COVER * np.pi:
-            usable.append((float(np.cos(np.deg2rad(groups[g, 0]))), members))
+    for done, g in enumerate(big):
+        _check_budget(done, big.size)
+        members = order[ends[g] - counts[g]:ends[g]]
+        if _hull_area(moving[members, :2]) >= MIN_COVER * np.pi:
+            usable.append((float(np.cos(np.deg2rad(keys[g, 0]))), members))
     return usable
 
 
@@ -166,7 +216,13 @@ def _albedo_samples(data: BrdfData) -> dict:
     E = {c: [] for c in data.channels}
     err = {c: [] for c in data.channels}
     fine, coarse = _disk(*GRID_SAMPLES), _disk(GRID_SAMPLES[0] // 2, GRID_SAMPLES[1] // 2)
-    for _, members in usable:
+    subset = ""
+    for done, (_, members) in enumerate(usable):
+        _check_budget(done, len(usable))
+        if members.size > MAX_TRIANGULATED:
+            members = np.sort(np.random.default_rng(0).choice(members, MAX_TRIANGULATED, replace=False))
+            subset = (f"; a direction with more than {MAX_TRIANGULATED} samples is integrated "
+                      "from a fixed-seed random subset of that many")
         xy, f = moving[members, :2], data.f[:, members].T
         linear, nearest = LinearNDInterpolator(xy, f), NearestNDInterpolator(xy, f)
 
@@ -187,7 +243,7 @@ def _albedo_samples(data: BrdfData) -> dict:
                       "(n·l) dl, f interpolated linearly over the projected directions (nearest "
                       "sample outside their hull), midpoint rule on a "
                       f"{GRID_SAMPLES[0]} × {GRID_SAMPLES[1]} (ρ², φ) grid; E_error = |linear − "
-                      "nearest| (interpolation) + |grid − half grid| (quadrature)"}
+                      "nearest| (interpolation) + |grid − half grid| (quadrature)" + subset}
 
 
 def _hull_area(xy: np.ndarray) -> float:
