@@ -67,10 +67,8 @@ def _view(mu: float) -> np.ndarray:
 
 
 def _mean_with_gaps(f: np.ndarray, ok: np.ndarray):
-    """(π·mean, π·missing part): missing values taken as the mean of the others, their
-    whole share counted as error."""
-    if not ok.any():
-        return 0.0, np.inf
+    """(π·mean, π·missing part) per channel: missing values taken as the mean of the
+    others, their whole share counted as error. Only called with some value measured."""
     mean = f[..., ok].mean(axis=-1)
     return np.pi * mean, np.pi * mean * (1.0 - ok.mean())
 
@@ -79,6 +77,7 @@ def _albedo_table(data: BrdfData) -> dict:
     channels = data.channels
     E = {c: [] for c in channels}
     err = {c: [] for c in channels}
+    coverage, unmeasured = [], []
     fine, coarse = _disk(*GRID_MERL), _disk(GRID_MERL[0] // 2, GRID_MERL[1] // 2)
     every_other = data.table[:, ::2, ::2, ::2]
     for mu in MU:
@@ -86,12 +85,28 @@ def _albedo_table(data: BrdfData) -> dict:
         runs = []
         for l, table, stride in ((fine, data.table, 1), (fine, every_other, 2), (coarse, data.table, 1)):
             f = merl.lookup_linear(table, l, np.broadcast_to(v, l.shape), stride)
-            runs.append(_mean_with_gaps(f, (f >= 0).all(axis=0)))
+            ok = (f >= 0).all(axis=0)
+            runs.append(_mean_with_gaps(f, ok) if ok.any() else None)
+            if stride == 1 and l is fine:
+                coverage.append(float(ok.mean()))
+        if any(run is None for run in runs):     # nothing measured at this view direction
+            unmeasured.append(float(mu))
+            for c in channels:
+                E[c].append(None)
+                err[c].append(None)
+            continue
         (full, gap), (sparse, _), (half, _) = runs
         for k, c in enumerate(channels):
             E[c].append(float(full[k]))
             err[c].append(float(abs(full[k] - sparse[k]) + abs(full[k] - half[k]) + gap[k]))
-    return {"mu": MU.tolist(), "E": E, "E_error": err,
+    theta_v = [round(float(np.degrees(np.arccos(m))), 2) for m in unmeasured]
+    return {"mu": MU.tolist(), "E": E, "E_error": err, "coverage": coverage,
+            "unmeasured": {"mu": unmeasured, "theta_v_deg": theta_v,
+                           "note": (f"no cell is measured for the view directions at θ_v = "
+                                    f"{', '.join(f'{t:g}°' for t in theta_v)}: E is null there"
+                                    if unmeasured else "every view direction has measured cells"),
+                           "coverage": "share of the light directions l (projected disk) "
+                                       "measured at each μ; the rest counts fully into E_error"},
             "method": f"E(μ) = ∫ f (n·l) dl over the table, midpoint rule on a {GRID_MERL[0]} × "
                       f"{GRID_MERL[1]} (ρ², φ) grid of l, f interpolated linearly between cell "
                       "centres; E_error = |all cells − every other cell| (interpolation: "
