@@ -22,8 +22,11 @@ from .dataset import BrdfData, TermData, angles_deg
 
 #: cosines μ_v of the view directions at which E is given for a MERL table
 MU = np.round(np.linspace(0.1, 1.0, 10), 6)
-#: (ρ², φ) midpoint grid of the albedo integral; the error estimate uses half of it
-GRID_MERL = (96, 192)
+#: (u, φ_h) midpoint grid of a MERL table's albedo integral over the half vector, u =
+#: √(θ_h / 90°) as the table indexes θ_h: two nodes per table cell in θ_h, so the grid is
+#: as fine as the table at the peak (the first cell spans 0.011°) however sharp the lobe;
+#: the error estimate uses half of it
+GRID_MERL = (180, 180)
 GRID_SAMPLES = (48, 96)
 #: a view direction of a samples CSV is integrated if it has this many samples whose
 #: projected directions span this fraction of the unit disk (else E is not given there)
@@ -62,6 +65,24 @@ def _disk(n_s: int, n_phi: int) -> np.ndarray:
     return np.stack([x, y, z], axis=-1).reshape(-1, 3)
 
 
+def _half_grid(n_u: int, n_phi: int, v: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """(l, weight) with E = Σ f(l, v) · weight: the integral ∫ f (n·l) dl taken over the
+    half vector h, dl = 4 (v·h) dh (Walter et al. 2007, eq. 14), h at the midpoints of
+    a grid in (u = √(2θ_h/π), φ_h), dθ_h = π u du. Nodes whose l is below the horizon
+    (or h facing away from v) weigh 0: outside the integral, not unmeasured."""
+    u = (np.arange(n_u) + 0.5) / n_u
+    phi = (np.arange(n_phi) + 0.5) * 2.0 * np.pi / n_phi
+    theta = 0.5 * np.pi * u * u
+    st = np.sin(theta)[:, None]
+    h = np.stack(np.broadcast_arrays(st * np.cos(phi), st * np.sin(phi), np.cos(theta)[:, None]),
+                 axis=-1).reshape(-1, 3)
+    vh = h @ v
+    l = 2.0 * vh[:, None] * h - v
+    jac = np.broadcast_to((np.pi * u * np.sin(theta))[:, None], (n_u, n_phi)).ravel()
+    weight = np.where((l[:, 2] > 0) & (vh > 0), l[:, 2] * 4.0 * vh * jac, 0.0) / n_u * (2.0 * np.pi / n_phi)
+    return l, weight
+
+
 def _view(mu: float) -> np.ndarray:
     return np.array([np.sqrt(1.0 - mu * mu), 0.0, mu])
 
@@ -73,22 +94,34 @@ def _mean_with_gaps(f: np.ndarray, ok: np.ndarray):
     return np.pi * mean, np.pi * mean * (1.0 - ok.mean())
 
 
+def _weighted_with_gaps(f: np.ndarray, ok: np.ndarray, weight: np.ndarray):
+    """(E, missing part) of E = Σ f · weight: unmeasured nodes taken at the measured
+    nodes' weighted mean, their whole weight counted as error."""
+    inside = weight > 0
+    measured = ok & inside
+    share = weight[measured].sum() / weight[inside].sum()
+    E = (f[..., measured] * weight[measured]).sum(axis=-1) / share
+    return E, E * (1.0 - share)
+
+
 def _albedo_table(data: BrdfData) -> dict:
     channels = data.channels
     E = {c: [] for c in channels}
     err = {c: [] for c in channels}
     coverage, unmeasured = [], []
-    fine, coarse = _disk(*GRID_MERL), _disk(GRID_MERL[0] // 2, GRID_MERL[1] // 2)
     every_other = data.table[:, ::2, ::2, ::2]
     for mu in MU:
         v = _view(mu)
+        fine, coarse = _half_grid(*GRID_MERL, v), _half_grid(GRID_MERL[0] // 2, GRID_MERL[1] // 2, v)
         runs = []
-        for l, table, stride in ((fine, data.table, 1), (fine, every_other, 2), (coarse, data.table, 1)):
+        for (l, weight), table, stride in ((fine, data.table, 1), (fine, every_other, 2),
+                                           (coarse, data.table, 1)):
             f = merl.lookup_linear(table, l, np.broadcast_to(v, l.shape), stride)
             ok = (f >= 0).all(axis=0)
-            runs.append(_mean_with_gaps(f, ok) if ok.any() else None)
-            if stride == 1 and l is fine:
-                coverage.append(float(ok.mean()))
+            measured = ok & (weight > 0)
+            runs.append(_weighted_with_gaps(f, ok, weight) if measured.any() else None)
+            if stride == 1 and l is fine[0]:
+                coverage.append(float(weight[measured].sum() / weight[weight > 0].sum()))
         if any(run is None for run in runs):     # nothing measured at this view direction
             unmeasured.append(float(mu))
             for c in channels:
@@ -107,8 +140,10 @@ def _albedo_table(data: BrdfData) -> dict:
                                     if unmeasured else "every view direction has measured cells"),
                            "coverage": "share of the light directions l (projected disk) "
                                        "measured at each μ; the rest counts fully into E_error"},
-            "method": f"E(μ) = ∫ f (n·l) dl over the table, midpoint rule on a {GRID_MERL[0]} × "
-                      f"{GRID_MERL[1]} (ρ², φ) grid of l, f interpolated linearly between cell "
+            "method": f"E(μ) = ∫ f (n·l) dl over the table, taken over the half vector h (dl = "
+                      f"4 (v·h) dh), midpoint rule on a {GRID_MERL[0]} × {GRID_MERL[1]} grid in "
+                      "(√(θ_h/90°), φ_h) — the table's own θ_h spacing, so a sharp peak is "
+                      "resolved as finely as it was measured — f interpolated linearly between cell "
                       "centres; E_error = |all cells − every other cell| (interpolation: "
                       "linear interpolation's error is O(h²), so this is ~3× the error of the full "
                       "table) + |grid − half grid| (quadrature) + the share of unmeasured cells"}
