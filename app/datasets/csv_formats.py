@@ -20,6 +20,13 @@ ANGLES = ("theta_i_deg", "phi_i_deg", "theta_o_deg", "phi_o_deg")
 SAMPLE_CHANNELS = {("f",): ("f",), ("f_r", "f_g", "f_b"): ("r", "g", "b")}
 TERM_AXES = {"theta_deg": ("D", "G1", "F"), "mu": ("E",)}
 KNOWN = set(ANGLES) | {"f", "f_r", "f_g", "f_b"} | set(TERM_AXES) | {"D", "G1", "F", "E"}
+#: names other tools give the columns, and this format's name for each (a hint, never a
+#: silent rename: f_r and r are not the same quantity in every tool)
+ALIASES = {"r": "f_r", "g": "f_g", "b": "f_b", "red": "f_r", "green": "f_g", "blue": "f_b",
+           "brdf": "f", "value": "f", "theta_i": "theta_i_deg", "phi_i": "phi_i_deg",
+           "theta_o": "theta_o_deg", "phi_o": "phi_o_deg", "theta": "theta_deg"}
+#: separators other than the comma that a header may be written with, by name
+OTHER_SEPARATORS = {";": "a semicolon ';'", "\t": "a tab", "|": "a bar '|'"}
 #: ranges of the columns that have one (a polar angle past 90° is below the horizon)
 RANGES = {"theta_i_deg": (0.0, 90.0), "theta_o_deg": (0.0, 90.0), "theta_deg": (0.0, 90.0),
           "mu": (0.0, 1.0)}
@@ -57,14 +64,24 @@ def _lines(text: str) -> list[str]:
 
 
 def _header(line: str) -> list[str]:
+    if "," not in line:
+        for sep, name in OTHER_SEPARATORS.items():
+            if sep in line:
+                raise _error(f"the columns are separated by {name}; this format separates them "
+                             f"with commas ','; save the file as comma-separated (decimal point "
+                             f"'.'), e.g. {','.join(ANGLES)},f")
     header = [_canonical(h) for h in line.split(",")]
     if len(set(header)) != len(header):
         twice = next(h for h in header if header.count(h) > 1)
         raise _error(f"column {twice!r} appears twice in the header")
     unknown = [h for h in header if h not in KNOWN]
     if unknown:
-        near = difflib.get_close_matches(unknown[0], sorted(KNOWN), n=1, cutoff=0.6)
+        alias = ALIASES.get(unknown[0].lower())
+        near = [alias] if alias else difflib.get_close_matches(unknown[0], sorted(KNOWN), n=1, cutoff=0.6)
         hint = f" (did you mean {near[0]!r}?)" if near else ""
+        if alias and all(h.lower() in ALIASES for h in unknown) and len(unknown) > 1:
+            hint = (f" (did you mean {', '.join(repr(ALIASES[h.lower()]) for h in unknown)} for "
+                    f"{', '.join(repr(h) for h in unknown)}?)")
         raise _error(f"unknown column {unknown[0]!r}{hint}; the columns are {', '.join(ANGLES)} "
                      f"with f or f_r, f_g, f_b (BRDF samples), or theta_deg with D, G1, F, or "
                      f"mu with E (one term)")

@@ -19,6 +19,7 @@ import numpy as np
 
 from ..errors import ParameterError
 from ..model import COMMON_PARAMS, choice_params, make_spec
+from ..datasets.channel import model_f
 from ..datasets.dataset import term_of_model
 from ..physics.params import Param
 
@@ -54,6 +55,7 @@ class Problem:
     v: np.ndarray | None = None
     term: str | None = None     # "D", "G1", "F" for term data
     angle_deg: np.ndarray | None = None
+    channel: str | None = None  # the data's channel: a coloured model is fitted in it
 
     def spec(self, x: np.ndarray):
         values = dict(self.model)
@@ -63,7 +65,7 @@ class Problem:
     def predict(self, x: np.ndarray) -> np.ndarray:
         brdf = self.spec(x).brdf()
         if self.term is None:
-            return brdf.f(self.l, self.v)
+            return model_f(brdf, self.l, self.v, self.channel)
         return term_of_model(brdf, self.term, self.angle_deg)
 
     def residual(self, x: np.ndarray) -> np.ndarray:
@@ -85,6 +87,11 @@ def make_problem(model: dict, free: list[str], measure: str, **points) -> Proble
         base = make_spec(**model)
     except ParameterError as exc:
         raise ParameterError(f"model.{exc.param}", exc.message, loc="body") from None
+    family = base.values.get("model", "microfacet")
+    if family != "microfacet":
+        raise ParameterError("model.model", f"fits are offered for the microfacet model only; "
+                                            f"model={family} cannot be fitted (its parameters are "
+                                            "not the microfacet ones a fit would free)", loc="body")
     allowed = free_params(base.values)
     if not free:
         raise ParameterError("free", f"name at least one free parameter: {', '.join(allowed)}", loc="body")

@@ -18,6 +18,18 @@ from .build import SIZE_MAX, SIZE_MIN
 
 #: a rearrangement is reported when its max error is this many times below the as-given one
 DIAGNOSIS_RATIO = 4.0
+#: JSON nesting accepted: an object holding [i][j][c] is 4 deep; deeper is refused before
+#: parsing (a recursive parser would otherwise exhaust its stack on "[[[[…")
+MAX_JSON_DEPTH = 8
+
+
+def json_depth(body: bytes) -> int:
+    """The deepest nesting of ``[``/``{`` in ``body``, counting brackets inside strings too
+    (an over-estimate only for strings holding brackets, which a LUT body has none of)."""
+    raw = np.frombuffer(body, np.uint8)
+    step = (np.isin(raw, (ord("["), ord("{"))).astype(np.int64)
+            - np.isin(raw, (ord("]"), ord("}"))))
+    return int(np.cumsum(step).max(initial=0))
 
 
 def parse(body: bytes, content_type: str, channels: int, dims: int) -> np.ndarray:
@@ -25,7 +37,10 @@ def parse(body: bytes, content_type: str, channels: int, dims: int) -> np.ndarra
     PNG (8 or 16 bits; RG tables in R and G) or JSON ``{"values": [i][j][c]}``."""
     if body.startswith(png.SIGNATURE) or content_type.startswith("image/png"):
         try:
-            samples, bits = png.read(body)
+            samples, bits = png.read(body, max_side=SIZE_MAX)
+        except png.PngSizeError as exc:
+            raise ParameterError("body", f"{exc}: a LUT is n × n (kc_E_avg: 1 × n) with n in "
+                                         f"[{SIZE_MIN}, {SIZE_MAX}]", loc="body") from None
         except png.PngError as exc:
             raise ParameterError("body", f"malformed PNG: {exc}", loc="body") from None
         if samples.shape[-1] < channels:
@@ -35,6 +50,11 @@ def parse(body: bytes, content_type: str, channels: int, dims: int) -> np.ndarra
         if dims == 1 and values.shape[0] == 1:
             values = values[0]
     else:
+        depth = json_depth(body)
+        if depth > MAX_JSON_DEPTH:
+            raise ParameterError("body", f"the JSON body nests {depth} deep; a LUT is "
+                                         f'{{"values": [i][j][c]}}, at most {MAX_JSON_DEPTH} deep',
+                                 loc="body")
         try:
             data = json.loads(body)
             values = np.asarray(data["values"] if isinstance(data, dict) else data, dtype=float)

@@ -36,72 +36,100 @@ def write(samples: np.ndarray, bits: int) -> bytes:
             + _chunk(b"IEND", b""))
 
 
-def read(data: bytes) -> tuple[np.ndarray, int]:
-    """(samples (rows, columns, channels) as integers, bit depth)."""
+class PngSizeError(PngError):
+    """The header declares a width or height outside what the caller accepts: refused
+    from IHDR, before a byte of image data is inflated."""
+
+
+def header(data: bytes) -> tuple[int, int, int, int]:
+    """(width, height, bit depth, colour type) from IHDR, which PNG requires to be the
+    first chunk (ISO/IEC 15948 §5.6); nothing else is read."""
     if not data.startswith(SIGNATURE):
         raise PngError("not a PNG file (signature missing)")
-    pos, header, idat = len(SIGNATURE), None, []
-    while pos + 8 <= len(data):
-        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
-        body = data[pos + 8:pos + 8 + length]
-        if len(body) != length:
-            raise PngError("truncated chunk")
-        if kind == b"IHDR":
-            header = struct.unpack(">IIBBBBB", body)
-        elif kind == b"IDAT":
-            idat.append(body)
-        elif kind == b"IEND":
-            break
-        pos += 12 + length
-    if header is None or not idat:
-        raise PngError("no IHDR or IDAT chunk")
-    cols, rows, bits, colour, _, _, interlace = header
+    start = len(SIGNATURE)
+    if len(data) < start + 8 + 13 or data[start + 4:start + 8] != b"IHDR":
+        raise PngError("the first chunk is not IHDR")
+    cols, rows, bits, colour, _, _, interlace = struct.unpack(">IIBBBBB", data[start + 8:start + 21])
     if bits not in (8, 16) or colour not in COLOUR_CHANNELS or interlace:
         raise PngError(f"unsupported PNG: bit depth {bits}, colour type {colour}, interlace {interlace} "
                        "(8 or 16 bits, grey/RGB with or without alpha, not interlaced)")
+    return cols, rows, bits, colour
+
+
+def read(data: bytes, max_side: int | None = None) -> tuple[np.ndarray, int]:
+    """(samples (rows, columns, channels) as integers, bit depth).
+
+    The size is checked from IHDR first (``max_side`` bounds width and height), and
+    inflation is bounded by the size the header declares, so a small file declaring a huge
+    image or inflating to more than its header says costs no more than its own size."""
+    cols, rows, bits, colour = header(data)
+    if max_side is not None and not (1 <= cols <= max_side and 1 <= rows <= max_side):
+        raise PngSizeError(f"the PNG is {cols} × {rows} pixels (width × height); width and height "
+                           f"must be in [1, {max_side}]")
+    idat, pos = [], len(SIGNATURE)
+    while pos + 8 <= len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        if pos + 12 + length > len(data):
+            raise PngError("truncated chunk")
+        if kind == b"IDAT":
+            idat.append(data[pos + 8:pos + 8 + length])
+        elif kind == b"IEND":
+            break
+        pos += 12 + length
+    if not idat:
+        raise PngError("no IDAT chunk")
     channels = COLOUR_CHANNELS[colour]
     bpp = channels * bits // 8
     stride = cols * bpp
+    expected = rows * (stride + 1)
+    inflate = zlib.decompressobj()
     try:
-        raw = zlib.decompress(b"".join(idat))
+        raw = inflate.decompress(b"".join(idat), expected + 1)   # one byte more shows an excess
     except zlib.error as exc:
         raise PngError(f"corrupt image data: {exc}") from None
-    if len(raw) != rows * (stride + 1):
-        raise PngError("image data does not match the header's size")
+    if len(raw) != expected:
+        raise PngError(f"the image data inflate to {'more' if len(raw) > expected else len(raw)} "
+                       f"bytes; the header's {cols} × {rows} pixels need {expected}")
     lines = np.frombuffer(raw, np.uint8).reshape(rows, stride + 1)
-    out = np.zeros((rows, stride), np.int32)
-    prev = np.zeros(stride, np.int32)
-    for r in range(rows):
-        out[r] = _unfilter(int(lines[r, 0]), lines[r, 1:].astype(np.int32), prev, bpp)
-        prev = out[r]
-    pixels = out.astype(np.uint8)
+    kinds = lines[:, 0]
+    if kinds.max() > 4:
+        raise PngError(f"unknown scanline filter {int(kinds.max())} (0–4 are defined)")
+    pixels = _unfilter(kinds, lines[:, 1:].reshape(rows, cols, bpp))
     if bits == 16:
-        pixels = pixels.reshape(rows, -1, 2)
-        values = pixels[..., 0].astype(np.int64) * 256 + pixels[..., 1]
+        values = pixels.reshape(rows, cols, channels, 2).astype(np.int64)
+        values = values[..., 0] * 256 + values[..., 1]
     else:
-        values = pixels.astype(np.int64)
-    return values.reshape(rows, cols, channels), bits
+        values = pixels.reshape(rows, cols, channels).astype(np.int64)
+    return values, bits
 
 
-def _unfilter(kind: int, line: np.ndarray, prev: np.ndarray, bpp: int) -> np.ndarray:
-    if kind == 0:
-        return line
-    if kind == 2:
-        return (line + prev) & 0xFF
-    if kind not in (1, 3, 4):
-        raise PngError(f"unknown scanline filter {kind}")
-    out = line.copy()
-    for i in range(line.size):           # Sub, Average, Paeth depend on the decoded left byte
-        left = out[i - bpp] if i >= bpp else 0
-        up = prev[i]
-        if kind == 1:
-            pred = left
-        elif kind == 3:
-            pred = (left + up) >> 1
-        else:
-            upleft = prev[i - bpp] if i >= bpp else 0
-            p = left + up - upleft
-            pa, pb, pc = abs(p - left), abs(p - up), abs(p - upleft)
-            pred = left if pa <= pb and pa <= pc else up if pb <= pc else upleft
-        out[i] = (line[i] + pred) & 0xFF
-    return out
+def _paeth(a: np.ndarray, b: np.ndarray, c: np.ndarray) -> np.ndarray:
+    """The Paeth predictor (ISO/IEC 15948 §9.4): of left a, up b, upper-left c, the one
+    nearest to a + b − c, ties to a, then b."""
+    p = a + b - c
+    pa, pb, pc = np.abs(p - a), np.abs(p - b), np.abs(p - c)
+    return np.where((pa <= pb) & (pa <= pc), a, np.where(pb <= pc, b, c))
+
+
+def _unfilter(kinds: np.ndarray, filtered: np.ndarray) -> np.ndarray:
+    """Undo the scanline filters (ISO/IEC 15948 §9.2) of ``filtered`` (rows, columns,
+    bytes per pixel), each row's filter in ``kinds``.
+
+    A byte depends on its left, upper and upper-left neighbours once they are decoded,
+    so the pixels on one anti-diagonal (row + column = k) depend only on earlier ones:
+    one vectorised step per anti-diagonal (rows + columns − 1 steps) undoes every filter
+    at once. The decoded image is padded with a zero row above and a zero column to the
+    left, which are the "missing neighbour" values the standard prescribes."""
+    rows, cols, bpp = filtered.shape
+    out = np.zeros((rows + 1, cols + 1, bpp), np.int32)
+    line = filtered.astype(np.int32)
+    for k in range(rows + cols - 1):
+        r = np.arange(max(0, k - cols + 1), min(rows, k + 1))
+        c = k - r
+        x = line[r, c]
+        a, b, up_left = out[r + 1, c], out[r, c + 1], out[r, c]
+        kind = kinds[r][:, None]
+        pred = np.select([kind == 1, kind == 2, kind == 3, kind == 4],
+                         [a, b, (a + b) >> 1, _paeth(a, b, up_left)], 0)
+        out[r + 1, c + 1] = (x + pred) & 0xFF
+    return out[1:, 1:].astype(np.uint8)
