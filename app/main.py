@@ -7,17 +7,13 @@ from pathlib import Path
 
 import fastapi_offline
 from fastapi import FastAPI
-from fastapi.responses import FileResponse
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 from . import __version__, kernels, server
 from .api import errors, http, openapi
-from .api import routes, routes_batch, routes_figures, routes_pages
-from .api.routes_data import router as data_router
-from .api.routes_shader import router as shader_router
-from .api.routes_lut import router as lut_router
-from .api.routes_principled import router as principled_router
+from .api.routes import (batch, code, conventions, datasets, eval, exports, fallback, figures, fit,
+                         lut, materials, meta, pages, principled, views)
 from .config import Settings
 from .model import make_spec
 from .physics.ndf import NDFS
@@ -25,7 +21,7 @@ from .resources import static_dir
 from .integrate import cost, table_store
 
 STATIC_DIR = static_dir()
-PLOTLY_JS = server.plotly_js()
+PLOTLY_JS = pages.PLOTLY_JS
 #: Swagger UI 5 (reads OpenAPI 3.1, which FastAPI writes), vendored by fastapi-offline
 SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 
@@ -83,38 +79,13 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     http.install(app, app.state.settings, STATIC_DIR)
     # the most asked first: FastAPI tries the routes in order, ~10 µs each here (the
     # batch after the 147 routes before it took 2.5 ms of each slider move to find)
-    app.include_router(routes_batch.router)
-    app.include_router(routes_figures.router)
-    app.include_router(routes.router)
-    app.include_router(routes_pages.router)
-    app.include_router(shader_router)
-    app.include_router(data_router)
-    app.include_router(lut_router)
-    app.include_router(principled_router)
-
-    @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
-    def plotly_js():
-        # plotly.js from the installed plotly package: the page works offline and the
-        # figure JSON always matches the plotly.js that draws it.
-        return FileResponse(PLOTLY_JS, media_type="application/javascript")
-
-    @app.get("/docs", include_in_schema=False)
-    def docs():
-        return FileResponse(STATIC_DIR / "docs.html", media_type="text/html")
-
+    for module in (batch, figures, views, eval, meta, pages, principled, code, conventions,
+                   materials, lut, datasets, fit, exports):
+        app.include_router(module.router)
     # Swagger UI's script and stylesheet from the fastapi-offline package: /docs offline
     app.mount("/static/vendor/swagger-ui", StaticFiles(directory=SWAGGER_UI_DIR), name="swagger-ui")
-
-    @app.get("/", include_in_schema=False)
-    def index():
-        return FileResponse(STATIC_DIR / "index.html", media_type="text/html")
-
-    @app.get("/favicon.ico", include_in_schema=False)
-    def favicon():
-        return FileResponse(STATIC_DIR / "favicon.svg", media_type="image/svg+xml")
-
-    # last: any other /api/v1 path is a 404 listing the views
-    app.include_router(routes.fallback)
+    # last: any other /api/v1 path is a 405 or a 404 listing the views
+    app.include_router(fallback.router)
     app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
     return app
 

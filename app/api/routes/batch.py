@@ -25,14 +25,15 @@ from pydantic import BaseModel, ConfigDict, Field
 from starlette.concurrency import run_in_threadpool
 from starlette.datastructures import QueryParams
 
-from ..config import Settings
-from ..errors import ParameterError
-from ..export import build
-from ..integrate import budget
-from .http.caching import cache_control
-from .http.guard import json_error, query_refusal
-from .http.query_route import read_query
-from .routes_figures import FIGURE_GETS, figure_body
+from ...config import Settings
+from ...errors import ParameterError
+from ...export import build
+from ...integrate import budget
+from ..deps import SettingsDep
+from ..http.caching import cache_control
+from ..http.guard import json_error, query_refusal
+from ..http.query_route import read_query
+from .figures import FIGURE_GETS, figure_body
 
 router = APIRouter(prefix="/api/v1")
 
@@ -117,7 +118,7 @@ def _compute(entries: list, settings: Settings) -> list:
                                                                         "msg": "…", "type": "…"}]}},
                  {"status": 503, "cache": "no-store", "retry_after": 2, "body": {"detail": [
                      {"loc": ["query", "time budget"], "msg": "…: retry", "type": "busy"}]}}]}}}}})
-async def batch(request: Request, body: BatchBody) -> Response:
+async def batch(request: Request, settings: SettingsDep, body: BatchBody) -> Response:
     targets = [urlsplit(target) for target in body.requests]
     for k, (target, parts) in enumerate(zip(body.requests, targets)):
         if parts.scheme or parts.netloc or not parts.path.startswith(PREFIX) or parts.fragment:
@@ -126,7 +127,7 @@ async def batch(request: Request, body: BatchBody) -> Response:
         if not target.isascii():
             raise ParameterError(f"requests[{k}]", f"requests[{k}]: {target[:80]!r} has characters "
                                  "a URL does not: percent-encode them", loc="body")
-    app, settings = request.app, request.app.state.settings
+    app = request.app
     answers: list[Answer | None] = [None] * len(body.requests)
     direct, whole = [], []       # (k, view, query) for the figures' JSON; k for the rest
     for k, parts in enumerate(targets):

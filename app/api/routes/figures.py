@@ -16,19 +16,17 @@ import re
 import time
 from typing import Annotated, Any, Optional
 
-from fastapi import APIRouter, Depends, HTTPException, Query, Request, Response
+from fastapi import APIRouter, HTTPException, Query, Response
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from .. import figures
-from ..errors import ParameterError
-from ..export import build
-from ..figures.titles import file_stem
-from ..export.image import ImageRenderer, get_renderer
-from ..views import VIEWS, View, compare, lookup, schemas
-from .http.query_route import QueryModelRoute
+from ... import figures
+from ...errors import ParameterError
+from ...export import build
+from ...figures.titles import file_stem
+from ...views import VIEWS, View, compare, lookup, schemas
+from ..deps import RendererDep, Route, SettingsDep
 
-router = APIRouter(prefix="/api/v1/figures", route_class=QueryModelRoute)
-Renderer = Annotated[ImageRenderer, Depends(get_renderer)]
+router = APIRouter(prefix="/api/v1/figures", route_class=Route)
 
 MEDIA = {"svg": "image/svg+xml", "png": "image/png", "csv": "text/csv; charset=utf-8",
          "json": "application/json"}
@@ -64,8 +62,7 @@ def _timing(**seconds: float) -> str:
 def _image_route(view: View, fmt: str):
     model = build.image_query(view)
 
-    def route(request: Request, renderer: Renderer, q: Annotated[model, Query()]) -> Response:
-        settings = request.app.state.settings
+    def route(settings: SettingsDep, renderer: RendererDep, q: Annotated[model, Query()]) -> Response:
         build.check_image_size(q, settings)
         # a place in the export queue before any work: a full queue is a 503 at once
         with renderer.slot():
@@ -83,8 +80,8 @@ def _image_route(view: View, fmt: str):
 def _csv_route(view: View):
     model = build.export_query(view)
 
-    def route(request: Request, q: Annotated[model, Query()]) -> Response:
-        produced = build.produce(view, q, request.app.state.settings)
+    def route(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
+        produced = build.produce(view, q, settings)
         return Response(produced.csv(), media_type=MEDIA["csv"], headers={
             "Content-Disposition": f'inline; filename="{_filename(view, q, "csv")}"'})
     return route
@@ -99,8 +96,8 @@ def figure_body(view: View, q, settings) -> bytes:
 def _figure_route(view: View):
     model = build.export_query(view)
 
-    def route(request: Request, q: Annotated[model, Query()]) -> Response:
-        return Response(figure_body(view, q, request.app.state.settings), media_type=MEDIA["json"])
+    def route(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
+        return Response(figure_body(view, q, settings), media_type=MEDIA["json"])
     return route
 
 
@@ -119,8 +116,7 @@ class CompareBody(BaseModel):
 
 
 def _compare_route(view: View):
-    def route(request: Request, body: CompareBody) -> Response:
-        settings = request.app.state.settings
+    def route(settings: SettingsDep, body: CompareBody) -> Response:
         limit = settings.max_compare_models
         if len(body.models) > limit:
             raise ParameterError("models", f"{len(body.models)} models; the limit is {limit} "
