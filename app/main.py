@@ -45,7 +45,7 @@ async def lifespan(app: FastAPI):
     settings = app.state.settings
     defaults = table_store.default_keys([make_spec(**v).brdf() for v in ({}, {"ndf": "beckmann"})])
     cache = await run_in_threadpool(
-        table_store.start, settings.cache_dir or table_store.default_directory(), defaults)
+        table_store.start, settings.cache_directory(), defaults)
     logging.getLogger("uvicorn.error").info(
         "E(μ, α) tables: %s%s", cache or "in memory only",
         f", {len(table_store.building())} being built" if table_store.building() else "")
