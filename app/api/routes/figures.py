@@ -59,21 +59,34 @@ def _timing(**seconds: float) -> str:
     return ", ".join(f"{k};dur={v * 1000:.1f}" for k, v in seconds.items())
 
 
+def image_body(view: View, fmt: str, q, settings, renderer) -> Response:
+    """The answer of ``GET /api/v1/figures/{view}.svg`` or ``.png`` (POST /api/v1/batch
+    answers such entries with it too)."""
+    build.check_image_size(q, settings)
+    # a place in the export queue before any work: a full queue is a 503 at once
+    with renderer.slot():
+        t0 = time.perf_counter()
+        produced = build.produce(view, q, settings)
+        t1 = time.perf_counter()
+        body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
+        t2 = time.perf_counter()
+    return Response(body, media_type=MEDIA[fmt], headers={
+        "Content-Disposition": f'inline; filename="{_filename(view, q, fmt)}"',
+        "Server-Timing": _timing(compute=t1 - t0, render=t2 - t1)})
+
+
+def csv_body(view: View, q, settings) -> Response:
+    """The answer of ``GET /api/v1/figures/{view}.csv`` (and of such a batch entry)."""
+    produced = build.produce(view, q, settings)
+    return Response(produced.csv(), media_type=MEDIA["csv"], headers={
+        "Content-Disposition": f'inline; filename="{_filename(view, q, "csv")}"'})
+
+
 def _image_route(view: View, fmt: str):
     model = build.image_query(view)
 
     def route(settings: SettingsDep, renderer: RendererDep, q: Annotated[model, Query()]) -> Response:
-        build.check_image_size(q, settings)
-        # a place in the export queue before any work: a full queue is a 503 at once
-        with renderer.slot():
-            t0 = time.perf_counter()
-            produced = build.produce(view, q, settings)
-            t1 = time.perf_counter()
-            body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
-            t2 = time.perf_counter()
-        return Response(body, media_type=MEDIA[fmt], headers={
-            "Content-Disposition": f'inline; filename="{_filename(view, q, fmt)}"',
-            "Server-Timing": _timing(compute=t1 - t0, render=t2 - t1)})
+        return image_body(view, fmt, q, settings, renderer)
     return route
 
 
@@ -81,9 +94,7 @@ def _csv_route(view: View):
     model = build.export_query(view)
 
     def route(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
-        produced = build.produce(view, q, settings)
-        return Response(produced.csv(), media_type=MEDIA["csv"], headers={
-            "Content-Disposition": f'inline; filename="{_filename(view, q, "csv")}"'})
+        return csv_body(view, q, settings)
     return route
 
 
@@ -99,10 +110,6 @@ def _figure_route(view: View):
     def route(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
         return Response(figure_body(view, q, settings), media_type=MEDIA["json"])
     return route
-
-
-#: the paths of the figures' JSON GETs (both spellings) and their views
-FIGURE_GETS: dict[str, View] = {}
 
 
 class CompareBody(BaseModel):
@@ -148,7 +155,6 @@ for _view in VIEWS.values():
     _figure = _figure_route(_view)
     for _path, _name in ((f"/{_view.name}", f"figure_{_view.name}"),
                          (f"/{_view.name}.json", f"export_json_{_view.name}")):
-        FIGURE_GETS[router.prefix + _path] = _view
         router.add_api_route(
             _path, _figure, methods=["GET"], tags=["figures"], name=_name, response_class=Response,
             summary=f"Plotly figure: {_view.title}",
@@ -191,6 +197,8 @@ for _view in VIEWS.values():
         responses={200: {"content": {"text/csv": {"example": _CSV_EXAMPLE}}}})
 
 FORMATS = ("svg", "png", "csv", "json")
+#: the formats drawn by the image renderer
+IMAGES = ("svg", "png")
 
 
 @router.api_route("/{name}", methods=["GET", "POST"], include_in_schema=False)
