@@ -6,7 +6,8 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 
 import fastapi_offline
-from fastapi import FastAPI
+from fastapi import APIRouter, FastAPI
+from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
@@ -61,6 +62,18 @@ def default_models() -> list:
     return first + per_ndf
 
 
+def with_head(router: APIRouter) -> APIRouter:
+    """HEAD answered wherever GET is (RFC 9110 9.3.2: the GET's status and headers, no
+    body; the server drops the body): a twin of each GET route taking HEAD, left out of
+    the OpenAPI document (FastAPI's routes take only the methods they list)."""
+    twins = [type(route)(route.path, route.endpoint, methods=["HEAD"], include_in_schema=False,
+                         name=f"{route.name}_head", response_class=route.response_class,
+                         dependency_overrides_provider=route.dependency_overrides_provider)
+             for route in router.routes if isinstance(route, APIRoute) and "GET" in route.methods]
+    router.routes.extend(twins)
+    return router
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(
         lifespan=lifespan,
@@ -81,11 +94,11 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # batch after the 147 routes before it took 2.5 ms of each slider move to find)
     for module in (batch, figures, views, eval, meta, pages, principled, code, conventions,
                    materials, lut, datasets, fit, exports):
-        app.include_router(module.router)
+        app.include_router(with_head(module.router))
     # Swagger UI's script and stylesheet from the fastapi-offline package: /docs offline
     app.mount("/static/vendor/swagger-ui", StaticFiles(directory=SWAGGER_UI_DIR), name="swagger-ui")
     # last: any other /api/v1 path is a 405 or a 404 listing the views
-    app.include_router(fallback.router)
+    app.include_router(with_head(fallback.router))
     app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
     return app
 

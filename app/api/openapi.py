@@ -102,8 +102,9 @@ class Operations:
         return next((item for regex, item in self.templated if regex.fullmatch(path)), None)
 
     def operation(self, path: str, method: str) -> dict | None:
+        """The operation, a HEAD being its GET's."""
         item = self.item(path)
-        return item.get(method.lower()) if item else None
+        return item.get("get" if method.upper() == "HEAD" else method.lower()) if item else None
 
     def methods(self, path: str) -> list[str]:
         item = self.item(path)
