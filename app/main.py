@@ -62,6 +62,21 @@ def default_models() -> list:
     return first + per_ndf
 
 
+#: /docs' groups, by task, in this order
+TAGS = [
+    {"name": "data", "description": "Numbers: the BRDF's terms at direction pairs (/eval), and "
+                                    "each view's arrays (/albedo, /lobe, …)"},
+    {"name": "figures", "description": "Plotly figures of every view, in every format; several "
+                                       "models in one figure; several figures in one request"},
+    {"name": "datasets", "description": "Measured data: upload, summary, the model against it, fits"},
+    {"name": "code", "description": "For shader writers: the model as code, lookup tables, "
+                                    "roughness conventions, measured materials"},
+    {"name": "exports", "description": "The model as data files (MERL .binary, CSV of samples)"},
+    {"name": "meta", "description": "What the page builds itself from: options, views, gallery"},
+    {"name": "pages", "description": "Pages: embeds and the gallery"},
+]
+
+
 def with_head(router: APIRouter) -> APIRouter:
     """HEAD answered wherever GET is (RFC 9110 9.3.2: the GET's status and headers, no
     body; the server drops the body): a twin of each GET route taking HEAD, left out of
@@ -83,16 +98,16 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     "and Plotly figures. Angles in degrees; α is the microfacet roughness.",
         # FastAPI's own /docs and /redoc load their scripts from a CDN: /docs is served
         # below from installed files instead, and ReDoc (no installable bundle) is off.
-        docs_url=None, redoc_url=None,
+        docs_url=None, redoc_url=None, openapi_tags=TAGS,
     )
     app.state.settings = settings or Settings.from_env()
     cost.set_memory_limit(app.state.settings.max_request_bytes)
     errors.install(app)
-    openapi.install(app)
+    openapi.install(app, {"/api/v1/figures/{view}.{format}": figures.format_operation()})
     http.install(app, app.state.settings, STATIC_DIR)
     # the most asked first: FastAPI tries the routes in order, ~10 µs each here (the
     # batch after the 147 routes before it took 2.5 ms of each slider move to find)
-    for module in (batch, figures, views, eval, meta, pages, principled, code, conventions,
+    for module in (batch, figures, eval, views, meta, pages, principled, code, conventions,
                    materials, lut, datasets, fit, exports):
         app.include_router(with_head(module.router))
     # Swagger UI's script and stylesheet from the fastapi-offline package: /docs offline

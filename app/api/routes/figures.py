@@ -28,6 +28,12 @@ from ..deps import RendererDep, Route, SettingsDep
 
 router = APIRouter(prefix="/api/v1/figures", route_class=Route)
 
+FORMATS = ("svg", "png", "csv", "json")
+#: the formats drawn by the image renderer
+IMAGES = ("svg", "png")
+#: a format twin (``/figures/lobe.svg``): out of the document, which shows all of them as
+#: one operation (:func:`format_operation`), and in the request guard's index
+TWIN = {"x-format-twin": True}
 MEDIA = {"svg": "image/svg+xml", "png": "image/png", "csv": "text/csv; charset=utf-8",
          "json": "application/json"}
 
@@ -157,6 +163,7 @@ for _view in VIEWS.values():
                          (f"/{_view.name}.json", f"export_json_{_view.name}")):
         router.add_api_route(
             _path, _figure, methods=["GET"], tags=["figures"], name=_name, response_class=Response,
+            include_in_schema=_path == f"/{_view.name}", openapi_extra=TWIN if "." in _path else None,
             summary=f"Plotly figure: {_view.title}",
             description=f"{_view.summary} `vary` + `values` draw one curve per value. Example: "
                         f"`{_example}?vary=alpha&values=0.1,0.3`",
@@ -174,14 +181,16 @@ for _view in VIEWS.values():
 for _view in VIEWS.values():
     _example = f"/api/v1/figures/{_view.name}"
     router.add_api_route(
-        f"/{_view.name}.svg", _image_route(_view, "svg"), methods=["GET"],
+        f"/{_view.name}.svg", include_in_schema=False, openapi_extra=TWIN,
+        endpoint=_image_route(_view, "svg"), methods=["GET"],
         tags=["exports"], name=f"export_svg_{_view.name}", response_class=Response,
         summary=f"SVG: {_view.title}",
         description=f"Example: `{_example}.svg?alpha=0.2&width=1200&height=800`",
         responses={200: {"content": {"image/svg+xml": {"example": _SVG_EXAMPLE}}},
                    503: _UNAVAILABLE})
     router.add_api_route(
-        f"/{_view.name}.png", _image_route(_view, "png"), methods=["GET"],
+        f"/{_view.name}.png", include_in_schema=False, openapi_extra=TWIN,
+        endpoint=_image_route(_view, "png"), methods=["GET"],
         tags=["exports"], name=f"export_png_{_view.name}", response_class=Response,
         summary=f"PNG: {_view.title}",
         description=f"Example: `{_example}.png?alpha=0.2&width=1200&height=800&scale=2`. {_PNG_NOTE}",
@@ -189,16 +198,14 @@ for _view in VIEWS.values():
                                                    "example": "(binary PNG)"}}},
                    503: _UNAVAILABLE})
     router.add_api_route(
-        f"/{_view.name}.csv", _csv_route(_view), methods=["GET"],
+        f"/{_view.name}.csv", include_in_schema=False, openapi_extra=TWIN,
+        endpoint=_csv_route(_view), methods=["GET"],
         tags=["exports"], name=f"export_csv_{_view.name}", response_class=Response,
         summary=f"CSV: {_view.title}",
         description=f"Example: `{_example}.csv?alpha=0.2`. Header row with units; 2-D grids "
                     "in long format; `# name = value` lines above it give the state.",
         responses={200: {"content": {"text/csv": {"example": _CSV_EXAMPLE}}}})
 
-FORMATS = ("svg", "png", "csv", "json")
-#: the formats drawn by the image renderer
-IMAGES = ("svg", "png")
 
 
 @router.api_route("/{name}", methods=["GET", "POST"], include_in_schema=False)
@@ -212,3 +219,29 @@ def unknown_figure(name: str):
                                    f"{', '.join(FORMATS)}", status=404, loc="path")
 
 
+
+
+def format_operation() -> dict:
+    """The one documented operation of every view's format twins:
+    ``GET /api/v1/figures/{view}.{format}``."""
+    image = build.image_query(next(iter(VIEWS.values()))).model_fields
+    size = [{"name": n, "in": "query", "required": False,
+             "description": f"{image[n].description} (svg, png)",
+             "schema": {"type": "integer" if n != "scale" else "number", "default": image[n].default}}
+            for n in ("width", "height", "scale")]
+    return {"get": {
+        "tags": ["figures"], "operationId": "figure_export", "summary": "A figure as SVG, PNG, CSV or JSON",
+        "description": "Every view in every format: the query is the view's own, as `GET "
+                       "/api/v1/figures/{view}` lists it (and `vary` + `values`); `width`, "
+                       "`height` and `scale` size an image. Example: `/api/v1/figures/lobe.svg?"
+                       "alpha=0.2&width=1200&height=800`. SVG and PNG are rendered by a headless "
+                       "Chromium on the server (503 without one); CSV has a header row with units.",
+        "parameters": [
+            {"name": "view", "in": "path", "required": True, "schema": {"type": "string", "enum": list(VIEWS)},
+             "example": "lobe"},
+            {"name": "format", "in": "path", "required": True,
+             "schema": {"type": "string", "enum": list(FORMATS)}, "example": "svg"}, *size],
+        "responses": {"200": {"description": "The figure in the format asked for", "content": {
+            MEDIA[f].split(";")[0]: {"example": {"svg": _SVG_EXAMPLE, "csv": _CSV_EXAMPLE,
+                                                  "png": "(binary PNG)", "json": {"data": [], "layout": {}}}[f]}
+            for f in FORMATS}}, "503": _UNAVAILABLE}}}
