@@ -120,7 +120,6 @@ def run_exports(jobs: list[list[str]], quiet: bool = False) -> int:
     from .config import Settings
     from .export import files
     from .export.image import ExportUnavailable, ImageRenderer
-    import os
 
     parsed = []
     for i, argv in enumerate(jobs, 1):
@@ -133,7 +132,7 @@ def run_exports(jobs: list[list[str]], quiet: bool = False) -> int:
             return 2
         parsed.append((view, q, out))
     settings = Settings.from_env()
-    renderer = ImageRenderer(os.environ.get("BRDF_CHROMIUM") or None)
+    renderer = ImageRenderer(settings.chromium or None)
     progress = Progress(len(parsed)) if (len(parsed) > 1 and not quiet) else None
     try:
         for view, q, out in parsed:

@@ -1,16 +1,16 @@
-"""Settings: limits and CORS, from environment variables (documented in the README).
+"""Settings: every environment variable the application reads, read here and nowhere else
+(documented in the README): the limits that bound the work one request may cause (so no
+request can hang a worker), CORS, and where things are (the page, the caches, Chromium).
 
-Every limit bounds the work one request may cause, so no request can hang a worker.
+Each field's comment names its variable: ``BRDF_`` and the field's name in capitals, but
+``xdg_cache_home`` (the XDG standard's own ``XDG_CACHE_HOME``). :func:`environment` is the
+settings of the process's environment, for code below the API that has no application.
 """
 from __future__ import annotations
 
 import os
 from dataclasses import dataclass, field, fields
-
-
-def _env(name: str, default, cast):
-    raw = os.environ.get(name)
-    return default if raw is None else cast(raw)
+from pathlib import Path
 
 
 @dataclass(frozen=True)
@@ -71,19 +71,63 @@ class Settings:
     cache_max_age: int = 3600
     #: origins allowed to GET cross-origin (embedding): BRDF_CORS_ORIGINS, comma-separated
     cors_origins: tuple[str, ...] = field(default=("*",))
+    #: the page's directory, served at / and /static (a page under development elsewhere):
+    #: BRDF_STATIC_DIR (empty: the installed app/static, else the checkout's static/)
+    static_dir: str = ""
+    #: the Chromium binary of server-side image export (SVG, PNG): BRDF_CHROMIUM (empty:
+    #: the one kaleido finds)
+    chromium: str = ""
+    #: the compiled (numba) loops: BRDF_FAST ("0" turns them off; numpy answers)
+    fast: bool = True
+    #: directory of the generated and compiled loops, shared by processes: BRDF_KERNEL_DIR
+    #: (empty: app/kernels/_generated, else a temporary directory)
+    kernel_dir: str = ""
+    #: the user's cache root, under which the tables go when cache_dir is empty:
+    #: XDG_CACHE_HOME (empty: ~/.cache)
+    xdg_cache_home: str = ""
 
     @classmethod
     def from_env(cls) -> "Settings":
+        """The settings of the environment's variables; a bad value stops with an error
+        naming its variable."""
         values = {}
         for f in fields(cls):
-            env = "BRDF_" + f.name.upper()
-            if f.name == "cache_dir":
-                values[f.name] = os.environ.get(env, "")
-            elif f.name == "cors_origins":
-                values[f.name] = _env(env, ("*",), lambda s: tuple(x.strip() for x in s.split(",") if x.strip()))
-            else:
-                values[f.name] = _env(env, f.default, _non_negative(env, type(f.default)))
+            name = variable(f.name)
+            raw = os.environ.get(name)
+            if raw is not None:
+                values[f.name] = _PARSERS.get(f.name, _non_negative)(name, type(f.default))(raw)
         return cls(**values)
+
+    def cache_directory(self) -> Path:
+        """Where the E(μ, α) tables go: cache_dir, else $XDG_CACHE_HOME/brdf-explorer
+        (~/.cache/brdf-explorer when unset)."""
+        if self.cache_dir:
+            return Path(self.cache_dir)
+        return Path(self.xdg_cache_home or Path.home() / ".cache") / "brdf-explorer"
+
+
+def variable(name: str) -> str:
+    """The environment variable of the setting ``name``."""
+    return "XDG_CACHE_HOME" if name == "xdg_cache_home" else "BRDF_" + name.upper()
+
+
+def environment() -> Settings:
+    """The settings of the process's environment, read now (code with no application:
+    the page's directory, the compiled loops, the CLI, the image renderer)."""
+    return Settings.from_env()
+
+
+def _text(env: str, cast):
+    return lambda raw: raw
+
+
+def _switch(env: str, cast):
+    """A switch: "0" is off, anything else on."""
+    return lambda raw: raw.strip() != "0"
+
+
+def _origins(env: str, cast):
+    return lambda raw: tuple(x.strip() for x in raw.split(",") if x.strip())
 
 
 def _non_negative(env: str, cast):
@@ -98,3 +142,8 @@ def _non_negative(env: str, cast):
             raise ValueError(f"{env}={raw!r}: must not be negative")
         return value
     return parse
+
+
+#: how each setting that is not a non-negative number is read from its variable
+_PARSERS = {"cache_dir": _text, "static_dir": _text, "chromium": _text, "kernel_dir": _text,
+            "xdg_cache_home": _text, "fast": _switch, "cors_origins": _origins}

@@ -6,18 +6,15 @@ from contextlib import asynccontextmanager
 from pathlib import Path
 
 import fastapi_offline
-from fastapi import FastAPI
-from fastapi.responses import FileResponse
+from fastapi import APIRouter, FastAPI
+from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
 from . import __version__, kernels, server
 from .api import errors, http, openapi
-from .api import routes, routes_batch, routes_figures, routes_pages
-from .api.routes_data import router as data_router
-from .api.routes_shader import router as shader_router
-from .api.routes_lut import router as lut_router
-from .api.routes_principled import router as principled_router
+from .api.routes import (batch, code, conventions, datasets, eval, exports, fallback, figures, fit,
+                         lut, materials, meta, pages, principled, views)
 from .config import Settings
 from .model import make_spec
 from .physics.ndf import NDFS
@@ -26,7 +23,7 @@ from .integrate import cost
 from .integrate.tables import defaults as table_defaults, store as table_store
 
 STATIC_DIR = static_dir()
-PLOTLY_JS = server.plotly_js()
+PLOTLY_JS = pages.PLOTLY_JS
 #: Swagger UI 5 (reads OpenAPI 3.1, which FastAPI writes), vendored by fastapi-offline
 SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 
@@ -50,7 +47,7 @@ async def lifespan(app: FastAPI):
     settings = app.state.settings
     defaults = table_defaults.default_keys([make_spec(**v).brdf() for v in ({}, {"ndf": "beckmann"})])
     cache = await run_in_threadpool(
-        table_store.start, settings.cache_dir or table_store.default_directory(), defaults)
+        table_store.start, settings.cache_directory(), defaults)
     logging.getLogger("uvicorn.error").info(
         "E(μ, α) tables: %s%s", cache or "in memory only",
         f", {len(table_store.building())} being built" if table_store.building() else "")
@@ -66,6 +63,33 @@ def default_models() -> list:
     return first + per_ndf
 
 
+#: /docs' groups, by task, in this order
+TAGS = [
+    {"name": "data", "description": "Numbers: the BRDF's terms at direction pairs (/eval), and "
+                                    "each view's arrays (/albedo, /lobe, …)"},
+    {"name": "figures", "description": "Plotly figures of every view, in every format; several "
+                                       "models in one figure; several figures in one request"},
+    {"name": "datasets", "description": "Measured data: upload, summary, the model against it, fits"},
+    {"name": "code", "description": "For shader writers: the model as code, lookup tables, "
+                                    "roughness conventions, measured materials"},
+    {"name": "exports", "description": "The model as data files (MERL .binary, CSV of samples)"},
+    {"name": "meta", "description": "What the page builds itself from: options, views, gallery"},
+    {"name": "pages", "description": "Pages: embeds and the gallery"},
+]
+
+
+def with_head(router: APIRouter) -> APIRouter:
+    """HEAD answered wherever GET is (RFC 9110 9.3.2: the GET's status and headers, no
+    body; the server drops the body): a twin of each GET route taking HEAD, left out of
+    the OpenAPI document (FastAPI's routes take only the methods they list)."""
+    twins = [type(route)(route.path, route.endpoint, methods=["HEAD"], include_in_schema=False,
+                         name=f"{route.name}_head", response_class=route.response_class,
+                         dependency_overrides_provider=route.dependency_overrides_provider)
+             for route in router.routes if isinstance(route, APIRoute) and "GET" in route.methods]
+    router.routes.extend(twins)
+    return router
+
+
 def create_app(settings: Settings | None = None) -> FastAPI:
     app = FastAPI(
         lifespan=lifespan,
@@ -75,47 +99,22 @@ def create_app(settings: Settings | None = None) -> FastAPI:
                     "and Plotly figures. Angles in degrees; α is the microfacet roughness.",
         # FastAPI's own /docs and /redoc load their scripts from a CDN: /docs is served
         # below from installed files instead, and ReDoc (no installable bundle) is off.
-        docs_url=None, redoc_url=None,
+        docs_url=None, redoc_url=None, openapi_tags=TAGS,
     )
     app.state.settings = settings or Settings.from_env()
     cost.set_memory_limit(app.state.settings.max_request_bytes)
     errors.install(app)
-    openapi.install(app)
+    openapi.install(app, {"/api/v1/figures/{view}.{format}": figures.format_operation()})
     http.install(app, app.state.settings, STATIC_DIR)
     # the most asked first: FastAPI tries the routes in order, ~10 µs each here (the
     # batch after the 147 routes before it took 2.5 ms of each slider move to find)
-    app.include_router(routes_batch.router)
-    app.include_router(routes_figures.router)
-    app.include_router(routes.router)
-    app.include_router(routes_pages.router)
-    app.include_router(shader_router)
-    app.include_router(data_router)
-    app.include_router(lut_router)
-    app.include_router(principled_router)
-
-    @app.get("/static/vendor/plotly.min.js", include_in_schema=False)
-    def plotly_js():
-        # plotly.js from the installed plotly package: the page works offline and the
-        # figure JSON always matches the plotly.js that draws it.
-        return FileResponse(PLOTLY_JS, media_type="application/javascript")
-
-    @app.get("/docs", include_in_schema=False)
-    def docs():
-        return FileResponse(STATIC_DIR / "docs.html", media_type="text/html")
-
+    for module in (batch, figures, eval, views, meta, pages, principled, code, conventions,
+                   materials, lut, datasets, fit, exports):
+        app.include_router(with_head(module.router))
     # Swagger UI's script and stylesheet from the fastapi-offline package: /docs offline
     app.mount("/static/vendor/swagger-ui", StaticFiles(directory=SWAGGER_UI_DIR), name="swagger-ui")
-
-    @app.get("/", include_in_schema=False)
-    def index():
-        return FileResponse(STATIC_DIR / "index.html", media_type="text/html")
-
-    @app.get("/favicon.ico", include_in_schema=False)
-    def favicon():
-        return FileResponse(STATIC_DIR / "favicon.svg", media_type="image/svg+xml")
-
-    # last: any other /api/v1 path is a 404 listing the views
-    app.include_router(routes.fallback)
+    # last: any other /api/v1 path is a 405 or a 404 listing the views
+    app.include_router(with_head(fallback.router))
     app.mount("/static", StaticFiles(directory=STATIC_DIR), name="static")
     return app
 

@@ -7,15 +7,16 @@ development elsewhere).
 """
 from __future__ import annotations
 
-import os
 from importlib import resources
 from pathlib import Path
+
+from .config import environment
 
 
 def static_dir() -> Path:
     """The page's directory: BRDF_STATIC_DIR, else the installed app/static, else the
     checkout's static/ beside app/."""
-    given = os.environ.get("BRDF_STATIC_DIR")
+    given = environment().static_dir
     if given:
         return Path(given)
     installed = resources.files(__package__) / "static"

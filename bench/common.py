@@ -9,12 +9,9 @@ from __future__ import annotations
 import contextlib
 import os
 import platform
-import socket
 import statistics
-import subprocess
 import sys
 import time
-import urllib.request
 from pathlib import Path
 
 ROOT = Path(__file__).resolve().parents[1]
@@ -107,53 +104,13 @@ def machine() -> dict:
     }
 
 
-def free_port() -> int:
-    """A free TCP port on 127.0.0.1 (never 8000, the default of `brdf-explorer serve`)."""
-    while True:
-        with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
-            sock.bind(("127.0.0.1", 0))
-            port = sock.getsockname()[1]
-        if port != 8000:
-            return port
-
-
-def _healthy(url: str) -> bool:
-    try:
-        with urllib.request.urlopen(f"{url}/api/v1/health", timeout=2) as res:
-            return res.status == 200
-    except OSError:
-        return False
+from tests.live import free_port, running_server  # noqa: E402  (after the sys.path line)
 
 
 @contextlib.contextmanager
 def server(env: dict | None = None):
-    """The real app in its own uvicorn process on a free port; yields its base URL and
-    stops it (only it: by its pid) on the way out."""
+    """The real app in its own uvicorn process on a free port (tests/live.py, the one
+    server-starting helper); yields its base URL and stops it (only it: by its pid)."""
     log_path = Path(os.environ.get("TMPDIR", "/tmp")) / f"brdf-bench-uvicorn-{os.getpid()}.log"
-    for _attempt in range(3):
-        port = free_port()
-        url = f"http://127.0.0.1:{port}"
-        with open(log_path, "ab") as log_file:
-            proc = subprocess.Popen(
-                [sys.executable, "-m", "uvicorn", "--factory", "app.main:create_app",
-                 "--host", "127.0.0.1", "--port", str(port), "--log-level", "warning"],
-                cwd=ROOT, stdout=log_file, stderr=subprocess.STDOUT,
-                env={**os.environ, "PYTHONPATH": str(ROOT), **(env or {})})
-        deadline = time.monotonic() + 60
-        while proc.poll() is None and time.monotonic() < deadline and not _healthy(url):
-            time.sleep(0.1)
-        if proc.poll() is None and _healthy(url):
-            break
-        proc.kill()
-        proc.wait()
-    else:
-        raise RuntimeError(f"uvicorn did not start; see {log_path}")
-    try:
+    with running_server(env=env, log_path=log_path) as (url, _):
         yield url
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=10)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()

@@ -27,7 +27,6 @@ import argparse
 import json
 import os
 import random
-import subprocess
 import sys
 import tempfile
 import threading
@@ -37,6 +36,7 @@ from pathlib import Path
 
 import common  # first: puts the checkout on sys.path
 import httpx
+from tests.live import running_server
 
 from app.server import WORKER_HEALTHCHECK_S
 
@@ -206,28 +206,14 @@ def main() -> None:
     total = args.minutes * 60
     warmup, baseline = total * 0.1, total * 0.1
     body = _post_body()
-    port = common.free_port()
-    url = f"http://127.0.0.1:{port}"
     cache = tempfile.mkdtemp(prefix="brdf-soak-tables-")
     log_path = Path(tempfile.gettempdir()) / f"brdf-soak-{os.getpid()}.log"
-    proc = subprocess.Popen(
-        [sys.executable, "-m", "uvicorn", "--factory", "app.main:create_app", "--workers", "2",
-         "--timeout-worker-healthcheck", str(WORKER_HEALTHCHECK_S),
-         "--host", "127.0.0.1", "--port", str(port), "--log-level", "warning"],
-        cwd=common.ROOT, stdout=open(log_path, "wb"), stderr=subprocess.STDOUT,
-        env={**os.environ, "PYTHONPATH": str(common.ROOT), "BRDF_CACHE_DIR": cache})
     rec, phase, stop = Recorder(), ["warmup"], threading.Event()
     rss: list[tuple[float, str, int]] = []
     per_worker: list[tuple[float, list[int]]] = []     # (t, each worker's MB), every sample
-    try:
-        deadline = time.monotonic() + 300
-        while time.monotonic() < deadline:
-            try:
-                if httpx.get(f"{url}/api/v1/health", timeout=2).status_code == 200:
-                    break
-            except httpx.HTTPError:
-                pass
-            time.sleep(0.5)
+    # stopped by the helper on the way out (SIGTERM, SIGKILL after 10 s)
+    with running_server(("--workers", "2", "--timeout-worker-healthcheck", str(WORKER_HEALTHCHECK_S)),
+                        env={"BRDF_CACHE_DIR": cache}, log_path=log_path, seconds=300) as (url, proc):
         common.log(f"soak: server up, {args.minutes:g} min, log {log_path}")
         clients = [threading.Thread(target=_slider, args=(url, rec, phase, stop), daemon=True)
                    for _ in range(SLIDER_CLIENTS)]
@@ -263,13 +249,6 @@ def main() -> None:
         stop.set()
         for t in clients + side:
             t.join(timeout=150)
-    finally:
-        proc.terminate()
-        try:
-            proc.wait(timeout=20)
-        except subprocess.TimeoutExpired:
-            proc.kill()
-            proc.wait()
     after_warmup = [b for t, p, b in rss if p != "warmup"]
     mixed = [(t, b) for t, p, b in rss if p == "mixed"]
     result = {

@@ -1,5 +1,10 @@
-"""What holds for the repository as a whole: small modules, short docstrings, and no pointer
-to documents a user does not have (the project's own derivations live in docs/)."""
+"""What holds for the repository as a whole: no pointer to documents a user does not have
+(the project's own derivations live in docs/), a page that loads nothing from another
+host, every folder of app/ a package the wheel ships, and no private name of one module
+imported by another (a module's private names are its own to change).
+
+Modules are split by responsibility, not by length: the line and docstring caps this file
+once held produced splits made to pass them (issue 31), and are gone."""
 from __future__ import annotations
 
 import ast
@@ -9,12 +14,7 @@ from pathlib import Path
 import pytest
 
 ROOT = Path(__file__).resolve().parents[1]
-#: The longest a module under app/ or static/ may be: one job per module.
-MAX_LINES = 400
 SOURCE = (".py", ".js", ".css", ".html")
-#: The longest a docstring under app/ may be, counted from its opening quotes to its
-#: closing ones: what and why; a derivation goes to docs/, a measurement to BENCHMARKS.md.
-MAX_DOCSTRING_LINES = 15
 #: A private working document, its section numbers (a parenthesised "3-17"), or the
 #: internal sources it was drawn from; built from parts so that this file does not match
 #: itself.
@@ -31,15 +31,6 @@ def _files(*tops: str, suffixes=SOURCE) -> list[Path]:
                                              if p.is_file() and p.suffix in suffixes
                                              and "vendor" not in p.parts and "_generated" not in p.parts]
     return out
-
-
-@pytest.mark.parametrize("top", ["app", "static"])
-def test_no_module_is_longer_than_400_lines(top):
-    files = _files(top)
-    assert files
-    long = {str(p.relative_to(ROOT)): n for p in files
-            if (n := len(p.read_text(encoding="utf-8").splitlines())) > MAX_LINES}
-    assert long == {}
 
 
 def test_no_pointer_to_documents_outside_the_repository():
@@ -62,17 +53,51 @@ def test_every_folder_of_app_is_a_package_the_wheel_ships():
     assert sorted(str(f.relative_to(ROOT)) for f in folders if not (f / "__init__.py").is_file()) == []
 
 
-def test_no_docstring_is_longer_than_15_lines():
-    """Every module, class and function docstring under app/ (the generated kernels aside)
-    states what and why in at most MAX_DOCSTRING_LINES lines; a derivation goes to docs/,
-    cited by section."""
-    files = _files("app", suffixes=(".py",))
+#: a script, stylesheet or module the page would load from another host
+REMOTE = re.compile(r"""(<script[^>]+src|<link[^>]+href)=["']?(https?:)?//|\bfrom\s+["'](https?:)?//|"""
+                    r"""\bimport\s*\(\s*["'](https?:)?//|@import\s+(url\()?["']?(https?:)?//""")
+
+
+def test_the_page_loads_nothing_from_another_host():
+    """No CDN: the page, /docs and the embeds work offline (plotly.js and Swagger UI are
+    served from installed packages)."""
+    files = _files("static", suffixes=(".html", ".js", ".css"))
     assert files
-    long = []
-    for path in files:
+    hits = [f"{p.relative_to(ROOT)}:{i}" for p in files
+            for i, line in enumerate(p.read_text(encoding="utf-8").splitlines(), 1) if REMOTE.search(line)]
+    assert hits == []
+
+
+#: private names imported from another module today, with the issue that removes them
+#: (the lead empties this list as the fixing branches merge)
+KNOWN_PRIVATE_IMPORTS = {
+    "app/integrate/albedo.py imports _psi_quarters from .albedo_nodes": "31 (tables): re-export for tests",
+    "app/physics/fresnel/schlick.py imports _cos from .base": "31: a public cos helper in physics",
+    "app/physics/fresnel/conductor.py imports _cos from .base": "31: a public cos helper in physics",
+    "app/physics/fresnel/dielectric.py imports _cos from .base": "31: a public cos helper in physics",
+    "app/materials.py imports _cos from .physics.fresnel.base": "31: a public cos helper in physics",
+    "app/principled/albedo.py imports _albedo_at_order from ..physics.diffuse.base": "31 (views)",
+    "app/analysis/advise.py imports _affords from .albedo_grid": "31: budget helpers public",
+    "app/analysis/advise.py imports _cut from .albedo_grid": "31: budget helpers public",
+    "app/analysis/pointwise.py imports _affords from .albedo_grid": "31: budget helpers public",
+    "app/analysis/pointwise.py imports _cut from .albedo_grid": "31: budget helpers public",
+}
+
+
+def _private_imports() -> set[str]:
+    """``from m import _name`` in app/ (a dunder aside), m being another module of app/
+    (a library's private name, functools._CacheInfo say, is the library's business)."""
+    out = set()
+    for path in _files("app", suffixes=(".py",)):
         for node in ast.walk(ast.parse(path.read_text(encoding="utf-8"))):
-            if isinstance(node, (ast.Module, ast.ClassDef, ast.FunctionDef, ast.AsyncFunctionDef)):
-                doc = ast.get_docstring(node, clean=False)
-                if doc is not None and (n := len(doc.split("\n"))) > MAX_DOCSTRING_LINES:
-                    long.append(f"{path.relative_to(ROOT)}: {getattr(node, 'name', '(module)')}, {n} lines")
-    assert long == []
+            if isinstance(node, ast.ImportFrom) and (node.level or (node.module or "").startswith("app")):
+                source = "." * node.level + (node.module or "")
+                out.update(f"{path.relative_to(ROOT)} imports {a.name} from {source}" for a in node.names
+                           if a.name.startswith("_") and not a.name.startswith("__"))
+    return out
+
+
+def test_no_module_imports_another_modules_private_names():
+    found = _private_imports()
+    assert sorted(found - set(KNOWN_PRIVATE_IMPORTS)) == [], "private names imported across modules"
+    assert sorted(set(KNOWN_PRIVATE_IMPORTS) - found) == [], "fixed: take these out of the list"

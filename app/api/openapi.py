@@ -63,9 +63,10 @@ def _with_errors(schema: dict) -> dict:
     return schema
 
 
-def install(app: FastAPI) -> None:
-    """``app.openapi()`` builds the document on its first call (FastAPI's generator plus
-    the error responses) and returns the same object afterwards."""
+def install(app: FastAPI, extra_paths: dict | None = None) -> None:
+    """``app.openapi()`` builds the document on its first call (FastAPI's generator, the
+    ``extra_paths`` that stand for routes left out of it, the error responses) and returns
+    the same object afterwards."""
     generate = app.openapi
     # FastAPI's generator is not thread-safe: concurrent first requests of an app served
     # without its lifespan (which builds the document first) raised KeyError inside it
@@ -74,7 +75,9 @@ def install(app: FastAPI) -> None:
     def openapi() -> dict:
         with lock:
             if app.openapi_schema is None:
-                app.openapi_schema = _with_errors(generate())
+                document = generate()
+                document["paths"].update(extra_paths or {})
+                app.openapi_schema = _with_errors(document)
         return app.openapi_schema
 
     app.openapi = openapi
@@ -102,8 +105,9 @@ class Operations:
         return next((item for regex, item in self.templated if regex.fullmatch(path)), None)
 
     def operation(self, path: str, method: str) -> dict | None:
+        """The operation, a HEAD being its GET's."""
         item = self.item(path)
-        return item.get(method.lower()) if item else None
+        return item.get("get" if method.upper() == "HEAD" else method.lower()) if item else None
 
     def methods(self, path: str) -> list[str]:
         item = self.item(path)
@@ -227,7 +231,9 @@ def route_document(app: FastAPI) -> dict:
     any_input = False
     for route in _route_contexts(app):
         original = getattr(route, "original_route", route)
-        if not isinstance(original, APIRoute) or not route.include_in_schema:
+        # the routes of the document, and the format twins it shows as one operation
+        twin = (getattr(original, "openapi_extra", None) or {}).get("x-format-twin")
+        if not isinstance(original, APIRoute) or not (route.include_in_schema or twin):
             continue
         params = _parameters(route.dependant, models)
         body = route.body_field

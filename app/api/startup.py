@@ -49,7 +49,7 @@ def _file_stack():
 
     def serves(scope) -> bool:
         """A GET of one of the page's files, with no query string."""
-        if scope["method"] != "GET" or scope.get("query_string") or scope.get("root_path"):
+        if scope["method"] not in ("GET", "HEAD") or scope.get("query_string") or scope.get("root_path"):
             return False
         path = scope["path"]
         if path in files:

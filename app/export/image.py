@@ -17,12 +17,12 @@ from __future__ import annotations
 
 import asyncio
 import atexit
-import os
 import sys
 import threading
 import time
 from contextlib import contextmanager
 
+from ..config import environment
 from ..errors import Busy
 
 from ..errors import Busy
@@ -188,6 +188,6 @@ def get_renderer() -> ImageRenderer:
     global _renderer
     with _renderer_lock:
         if _renderer is None:
-            _renderer = ImageRenderer(os.environ.get("BRDF_CHROMIUM") or None)
+            _renderer = ImageRenderer(environment().chromium or None)
             atexit.register(_renderer.close)
         return _renderer

@@ -16,7 +16,6 @@ from __future__ import annotations
 import contextlib
 import importlib.util
 import logging
-import os
 import threading
 import time
 
@@ -24,6 +23,7 @@ from dataclasses import replace
 
 import numpy as np
 
+from ..config import environment
 from ..physics.brdf import BRDF, CompensatedBRDF, blend_lobes
 from ..physics.g2 import lambda_phi_entry
 from ..physics import smith_table
@@ -37,7 +37,7 @@ from .kernel import Kernel
 #: switched off with BRDF_FAST=0. Read once; numba itself is imported only by the
 #: background thread, with the first generated module (~0.5 s off the server's start).
 ENABLED = (importlib.util.find_spec("numba") is not None
-           and os.environ.get("BRDF_FAST", "1") != "0")
+           and environment().fast)
 
 log = logging.getLogger("uvicorn.error")   # uvicorn shows its own loggers' lines
 

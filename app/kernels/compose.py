@@ -27,6 +27,7 @@ from dataclasses import dataclass
 from pathlib import Path
 from types import ModuleType
 
+from ..config import environment
 from ..physics.g2 import G2Form, LambdaPhi
 from ..physics.masking import Masking
 from ..physics.scalar import SCALAR_FUNCTIONS
@@ -227,7 +228,7 @@ def _fingerprint(text: str) -> str:
 
 
 def kernel_dir() -> Path:
-    for candidate in (os.environ.get(KERNEL_DIR_ENV), Path(__file__).parent / "_generated",
+    for candidate in (environment().kernel_dir or None, Path(__file__).parent / "_generated",
                       Path(tempfile.gettempdir()) / f"brdf-kernels-{os.getuid()}"):
         if candidate is None:
             continue

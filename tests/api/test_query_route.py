@@ -10,8 +10,9 @@ from fastapi.responses import JSONResponse, Response
 from fastapi.routing import APIRoute
 from fastapi.testclient import TestClient
 
-from app.api.http.query_route import QueryModelRoute, _plan
-from app.api import routes, routes_figures
+from app.api.deps import takes_the_fast_path
+from app.api.http.query_route import QueryModelRoute
+from app.api.routes import figures as figure_routes, views as view_routes
 from app.views import schemas
 
 
@@ -46,8 +47,8 @@ def test_the_same_model_or_the_same_errors_as_fastapi(query):
 
 
 def test_every_figure_and_data_route_takes_the_fast_path():
-    figures = [r for r in routes_figures.router.routes if "GET" in r.methods and "{" not in r.path
+    figures = [r for r in figure_routes.router.routes if "GET" in r.methods and "{" not in r.path
                and not r.path.endswith((".svg", ".png"))]      # images take the renderer too
-    data = [r for r in routes.router.routes if r.path in ("/api/v1/lobe", "/api/v1/albedo")]
+    data = [r for r in view_routes.router.routes if r.path in ("/api/v1/lobe", "/api/v1/albedo")]
     assert len(data) == 2 and len(figures) > 20
-    assert [r.path for r in figures + data if not (isinstance(r, QueryModelRoute) and _plan(r))] == []
+    assert [r.path for r in figures + data if not takes_the_fast_path(r)] == []

@@ -33,8 +33,14 @@ def test_the_route_index_says_what_the_openapi_document_says(client):
     app = client.app
     document = client.get("/openapi.json").json()
     index = openapi.route_document(app)
-    assert sorted(index["paths"]) == sorted(document["paths"])
+    # the format twins (/figures/lobe.svg) are in the index only; the document shows them
+    # as one operation, /figures/{view}.{format}, which no route of its own answers
+    twins = {p for p, item in index["paths"].items() if item.get("get", {}).get("x-format-twin")}
+    shown = {p for p in document["paths"] if p != "/api/v1/figures/{view}.{format}"}
+    assert sorted(set(index["paths"]) - twins) == sorted(shown)
     for path, item in document["paths"].items():
+        if path not in shown:
+            continue
         assert sorted(index["paths"][path]) == sorted(item), path
         for method, op in item.items():
             assert _facts(index["paths"][path][method]) == _facts(op), f"{method.upper()} {path}"

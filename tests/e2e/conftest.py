@@ -9,11 +9,6 @@ from __future__ import annotations
 import json
 import os
 import shutil
-import socket
-import subprocess
-import sys
-import time
-import urllib.request
 from dataclasses import dataclass, field
 from pathlib import Path
 from urllib.parse import urlparse
@@ -21,6 +16,7 @@ from urllib.parse import urlparse
 import pytest
 
 from tests.budget import TEST_MAX_SECONDS
+from tests.live import running_server
 
 CHROMIUM = os.environ.get("BRDF_CHROMIUM", "/usr/bin/chromium")
 CHROMIUM_ARGS = [
@@ -84,52 +80,13 @@ def context(_profile):
     _profile.clear_permissions()
 
 
-def _free_port() -> int:
-    with socket.socket(socket.AF_INET, socket.SOCK_STREAM) as sock:
-        sock.bind(("127.0.0.1", 0))
-        return sock.getsockname()[1]
-
-
-def _healthy(url: str) -> bool:
-    try:
-        with urllib.request.urlopen(f"{url}/api/v1/health", timeout=2) as res:
-            return res.status == 200
-    except OSError:
-        return False
-
-
 @pytest.fixture(scope="session")
 def live_server(tmp_path_factory):
-    """The real app (uvicorn --factory app.main:create_app) in its own process, so
-    that timings are not skewed by sharing the test process's interpreter."""
+    """The real app in its own process (tests/live.py), so that timings are not skewed by
+    sharing the test process's interpreter."""
     log_path = tmp_path_factory.mktemp("server") / "uvicorn.log"
-    for _attempt in range(3):                     # a free port can be taken meanwhile
-        port = _free_port()
-        url = f"http://127.0.0.1:{port}"
-        log = open(log_path, "ab")
-        proc = subprocess.Popen(
-            [sys.executable, "-m", "uvicorn", "--factory", "app.main:create_app",
-             "--host", "127.0.0.1", "--port", str(port), "--log-level", "warning"],
-            cwd=ROOT, stdout=log, stderr=subprocess.STDOUT,
-            env={**os.environ, "BRDF_MAX_SECONDS": str(TEST_MAX_SECONDS)})
-        deadline = time.monotonic() + 60   # a clean clone compiles the fast path first (~12 s)
-        while proc.poll() is None and time.monotonic() < deadline and not _healthy(url):
-            time.sleep(0.1)
-        if proc.poll() is None and _healthy(url):
-            break
-        proc.kill()
-        proc.wait()
-        log.close()
-    else:
-        raise RuntimeError(f"uvicorn did not start; see {log_path}:\n{log_path.read_text()}")
-    yield url
-    proc.terminate()
-    try:
-        proc.wait(timeout=10)
-    except subprocess.TimeoutExpired:
-        proc.kill()
-        proc.wait()
-    log.close()
+    with running_server(env={"BRDF_MAX_SECONDS": str(TEST_MAX_SECONDS)}, log_path=log_path) as (url, _):
+        yield url
 
 
 @pytest.fixture(scope="session")

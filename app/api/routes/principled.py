@@ -5,12 +5,12 @@ from __future__ import annotations
 
 from fastapi import APIRouter
 
-from ..principled.params import BASE_COLOR_DEFAULT, OPTIONS, PARAMS
-from ..principled.spec import ROUGHNESS
-from ..views import VIEWS
-from .http.query_route import QueryModelRoute
+from ...principled.params import BASE_COLOR_DEFAULT, OPTIONS, PARAMS
+from ...principled.spec import ROUGHNESS
+from ...views import VIEWS
+from ..deps import Route
 
-router = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
+router = APIRouter(prefix="/api/v1", route_class=Route)
 
 #: Views that refuse model=principled (422 naming ``model``), and why: each varies the
 #: microfacet model's own choices, which the principled model fixes.

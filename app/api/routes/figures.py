@@ -16,20 +16,24 @@ import re
 import time
 from typing import Annotated, Any, Optional
 
-from fastapi import APIRouter, Depends, HTTPException, Query, Request, Response
+from fastapi import APIRouter, HTTPException, Query, Response
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from .. import figures
-from ..errors import ParameterError
-from ..export import build
-from ..figures.titles import file_stem
-from ..export.image import ImageRenderer, get_renderer
-from ..views import VIEWS, View, compare, lookup, schemas
-from .http.query_route import QueryModelRoute
+from ... import figures
+from ...errors import ParameterError
+from ...export import build
+from ...figures.titles import file_stem
+from ...views import VIEWS, View, compare, lookup, schemas
+from ..deps import RendererDep, Route, SettingsDep
 
-router = APIRouter(prefix="/api/v1/figures", route_class=QueryModelRoute)
-Renderer = Annotated[ImageRenderer, Depends(get_renderer)]
+router = APIRouter(prefix="/api/v1/figures", route_class=Route)
 
+FORMATS = ("svg", "png", "csv", "json")
+#: the formats drawn by the image renderer
+IMAGES = ("svg", "png")
+#: a format twin (``/figures/lobe.svg``): out of the document, which shows all of them as
+#: one operation (:func:`format_operation`), and in the request guard's index
+TWIN = {"x-format-twin": True}
 MEDIA = {"svg": "image/svg+xml", "png": "image/png", "csv": "text/csv; charset=utf-8",
          "json": "application/json"}
 
@@ -61,32 +65,42 @@ def _timing(**seconds: float) -> str:
     return ", ".join(f"{k};dur={v * 1000:.1f}" for k, v in seconds.items())
 
 
+def image_body(view: View, fmt: str, q, settings, renderer) -> Response:
+    """The answer of ``GET /api/v1/figures/{view}.svg`` or ``.png`` (POST /api/v1/batch
+    answers such entries with it too)."""
+    build.check_image_size(q, settings)
+    # a place in the export queue before any work: a full queue is a 503 at once
+    with renderer.slot():
+        t0 = time.perf_counter()
+        produced = build.produce(view, q, settings)
+        t1 = time.perf_counter()
+        body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
+        t2 = time.perf_counter()
+    return Response(body, media_type=MEDIA[fmt], headers={
+        "Content-Disposition": f'inline; filename="{_filename(view, q, fmt)}"',
+        "Server-Timing": _timing(compute=t1 - t0, render=t2 - t1)})
+
+
+def csv_body(view: View, q, settings) -> Response:
+    """The answer of ``GET /api/v1/figures/{view}.csv`` (and of such a batch entry)."""
+    produced = build.produce(view, q, settings)
+    return Response(produced.csv(), media_type=MEDIA["csv"], headers={
+        "Content-Disposition": f'inline; filename="{_filename(view, q, "csv")}"'})
+
+
 def _image_route(view: View, fmt: str):
     model = build.image_query(view)
 
-    def route(request: Request, renderer: Renderer, q: Annotated[model, Query()]) -> Response:
-        settings = request.app.state.settings
-        build.check_image_size(q, settings)
-        # a place in the export queue before any work: a full queue is a 503 at once
-        with renderer.slot():
-            t0 = time.perf_counter()
-            produced = build.produce(view, q, settings)
-            t1 = time.perf_counter()
-            body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
-            t2 = time.perf_counter()
-        return Response(body, media_type=MEDIA[fmt], headers={
-            "Content-Disposition": f'inline; filename="{_filename(view, q, fmt)}"',
-            "Server-Timing": _timing(compute=t1 - t0, render=t2 - t1)})
+    def route(settings: SettingsDep, renderer: RendererDep, q: Annotated[model, Query()]) -> Response:
+        return image_body(view, fmt, q, settings, renderer)
     return route
 
 
 def _csv_route(view: View):
     model = build.export_query(view)
 
-    def route(request: Request, q: Annotated[model, Query()]) -> Response:
-        produced = build.produce(view, q, request.app.state.settings)
-        return Response(produced.csv(), media_type=MEDIA["csv"], headers={
-            "Content-Disposition": f'inline; filename="{_filename(view, q, "csv")}"'})
+    def route(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
+        return csv_body(view, q, settings)
     return route
 
 
@@ -99,13 +113,9 @@ def figure_body(view: View, q, settings) -> bytes:
 def _figure_route(view: View):
     model = build.export_query(view)
 
-    def route(request: Request, q: Annotated[model, Query()]) -> Response:
-        return Response(figure_body(view, q, request.app.state.settings), media_type=MEDIA["json"])
+    def route(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
+        return Response(figure_body(view, q, settings), media_type=MEDIA["json"])
     return route
-
-
-#: the paths of the figures' JSON GETs (both spellings) and their views
-FIGURE_GETS: dict[str, View] = {}
 
 
 class CompareBody(BaseModel):
@@ -119,8 +129,7 @@ class CompareBody(BaseModel):
 
 
 def _compare_route(view: View):
-    def route(request: Request, body: CompareBody) -> Response:
-        settings = request.app.state.settings
+    def route(settings: SettingsDep, body: CompareBody) -> Response:
         limit = settings.max_compare_models
         if len(body.models) > limit:
             raise ParameterError("models", f"{len(body.models)} models; the limit is {limit} "
@@ -152,9 +161,9 @@ for _view in VIEWS.values():
     _figure = _figure_route(_view)
     for _path, _name in ((f"/{_view.name}", f"figure_{_view.name}"),
                          (f"/{_view.name}.json", f"export_json_{_view.name}")):
-        FIGURE_GETS[router.prefix + _path] = _view
         router.add_api_route(
             _path, _figure, methods=["GET"], tags=["figures"], name=_name, response_class=Response,
+            include_in_schema=_path == f"/{_view.name}", openapi_extra=TWIN if "." in _path else None,
             summary=f"Plotly figure: {_view.title}",
             description=f"{_view.summary} `vary` + `values` draw one curve per value. Example: "
                         f"`{_example}?vary=alpha&values=0.1,0.3`",
@@ -172,14 +181,16 @@ for _view in VIEWS.values():
 for _view in VIEWS.values():
     _example = f"/api/v1/figures/{_view.name}"
     router.add_api_route(
-        f"/{_view.name}.svg", _image_route(_view, "svg"), methods=["GET"],
+        f"/{_view.name}.svg", include_in_schema=False, openapi_extra=TWIN,
+        endpoint=_image_route(_view, "svg"), methods=["GET"],
         tags=["exports"], name=f"export_svg_{_view.name}", response_class=Response,
         summary=f"SVG: {_view.title}",
         description=f"Example: `{_example}.svg?alpha=0.2&width=1200&height=800`",
         responses={200: {"content": {"image/svg+xml": {"example": _SVG_EXAMPLE}}},
                    503: _UNAVAILABLE})
     router.add_api_route(
-        f"/{_view.name}.png", _image_route(_view, "png"), methods=["GET"],
+        f"/{_view.name}.png", include_in_schema=False, openapi_extra=TWIN,
+        endpoint=_image_route(_view, "png"), methods=["GET"],
         tags=["exports"], name=f"export_png_{_view.name}", response_class=Response,
         summary=f"PNG: {_view.title}",
         description=f"Example: `{_example}.png?alpha=0.2&width=1200&height=800&scale=2`. {_PNG_NOTE}",
@@ -187,14 +198,14 @@ for _view in VIEWS.values():
                                                    "example": "(binary PNG)"}}},
                    503: _UNAVAILABLE})
     router.add_api_route(
-        f"/{_view.name}.csv", _csv_route(_view), methods=["GET"],
+        f"/{_view.name}.csv", include_in_schema=False, openapi_extra=TWIN,
+        endpoint=_csv_route(_view), methods=["GET"],
         tags=["exports"], name=f"export_csv_{_view.name}", response_class=Response,
         summary=f"CSV: {_view.title}",
         description=f"Example: `{_example}.csv?alpha=0.2`. Header row with units; 2-D grids "
                     "in long format; `# name = value` lines above it give the state.",
         responses={200: {"content": {"text/csv": {"example": _CSV_EXAMPLE}}}})
 
-FORMATS = ("svg", "png", "csv", "json")
 
 
 @router.api_route("/{name}", methods=["GET", "POST"], include_in_schema=False)
@@ -208,3 +219,29 @@ def unknown_figure(name: str):
                                    f"{', '.join(FORMATS)}", status=404, loc="path")
 
 
+
+
+def format_operation() -> dict:
+    """The one documented operation of every view's format twins:
+    ``GET /api/v1/figures/{view}.{format}``."""
+    image = build.image_query(next(iter(VIEWS.values()))).model_fields
+    size = [{"name": n, "in": "query", "required": False,
+             "description": f"{image[n].description} (svg, png)",
+             "schema": {"type": "integer" if n != "scale" else "number", "default": image[n].default}}
+            for n in ("width", "height", "scale")]
+    return {"get": {
+        "tags": ["figures"], "operationId": "figure_export", "summary": "A figure as SVG, PNG, CSV or JSON",
+        "description": "Every view in every format: the query is the view's own, as `GET "
+                       "/api/v1/figures/{view}` lists it (and `vary` + `values`); `width`, "
+                       "`height` and `scale` size an image. Example: `/api/v1/figures/lobe.svg?"
+                       "alpha=0.2&width=1200&height=800`. SVG and PNG are rendered by a headless "
+                       "Chromium on the server (503 without one); CSV has a header row with units.",
+        "parameters": [
+            {"name": "view", "in": "path", "required": True, "schema": {"type": "string", "enum": list(VIEWS)},
+             "example": "lobe"},
+            {"name": "format", "in": "path", "required": True,
+             "schema": {"type": "string", "enum": list(FORMATS)}, "example": "svg"}, *size],
+        "responses": {"200": {"description": "The figure in the format asked for", "content": {
+            MEDIA[f].split(";")[0]: {"example": {"svg": _SVG_EXAMPLE, "csv": _CSV_EXAMPLE,
+                                                  "png": "(binary PNG)", "json": {"data": [], "layout": {}}}[f]}
+            for f in FORMATS}}, "503": _UNAVAILABLE}}}

@@ -8,17 +8,17 @@ from fastapi import APIRouter, Query, Request, Response
 from pydantic import Field
 from starlette.concurrency import run_in_threadpool
 
-from ..errors import TooLarge
-from ..lut import build, check, export
-from ..lut.table import KINDS, QUANTISATIONS, make, orientation
-from ..model import make_spec
-from ..physics.ndf import NDFS
-from ..shader.generate import model_query
-from ..views import schemas
-from .encode import json_response
-from .http.query_route import QueryModelRoute
+from ...errors import TooLarge
+from ...lut import build, check, export
+from ...lut.table import KINDS, QUANTISATIONS, make, orientation
+from ...model import make_spec
+from ...physics.ndf import NDFS
+from ...shader.generate import model_query
+from ...views import schemas
+from ..encode import json_response
+from ..deps import Route
 
-router = APIRouter(prefix="/api/v1", route_class=QueryModelRoute)
+router = APIRouter(prefix="/api/v1", route_class=Route)
 
 #: bytes an uploaded LUT may have: a 256² RG table as 16-bit PNG is ~0.4 MB, as JSON ~3 MB
 UPLOAD_MAX_BYTES = 4 * 1024 * 1024
