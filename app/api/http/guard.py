@@ -16,7 +16,7 @@ from starlette.datastructures import Headers, MutableHeaders
 from ...config import Settings
 from ...integrate import budget
 from ..openapi import operations
-from . import strict
+from . import content_types, strict
 
 #: a JSON body up to this size is judged on the event loop: ~0.3 ms here (strict.parse_json
 #: reads ~25 µs a KiB), less than the hop to a worker thread and back under load, which
@@ -133,6 +133,12 @@ class RequestGuard:
         if refusal is not None:
             await _send_error(send, refusal.status, refusal.loc, refusal.message, refusal.kind)
             return
+        wrong_type = content_types.refusal(self._operation(scope), scope["method"],
+                                           scope["path"], Headers(scope=scope))
+        if wrong_type is not None:
+            await _send_error(send, wrong_type.status, wrong_type.loc, wrong_type.message,
+                              wrong_type.kind)
+            return
         limit_name = self._body_limit(scope)
         limit = getattr(s, limit_name)
         headers = Headers(scope=scope)
@@ -202,10 +208,9 @@ class RequestGuard:
 
     def _json_body(self, scope, headers: Headers) -> bool:
         """A JSON body for an operation that reads one: judged (strict.py) before the route."""
-        op = self._operation(scope)
-        content = ((op or {}).get("requestBody") or {}).get("content", {})
-        kind = headers.get("content-type", "application/json").split(";")[0].strip().lower()
-        return "application/json" in content and kind in ("application/json", "")
+        kinds = content_types.accepted(self._operation(scope), scope["method"], scope["path"])
+        return "application/json" in kinds and content_types.media_type(headers) in (
+            "application/json", "")
 
     def _numeric(self) -> frozenset[str]:
         if self._numeric_names is None:
