@@ -56,6 +56,9 @@ class _Worker:
         self.context = context
         self.executor = ProcessPoolExecutor(max_workers=1, mp_context=context,
                                             initializer=os.nice, initargs=(WORKER_NICENESS,))
+        # start the process now, not at the first job: a spawned interpreter took > 1 s
+        # to start under load, which the next job's budget would pay
+        self.executor.submit(int)
 
     def kill(self) -> None:
         """End the process now (SIGTERM, then SIGKILL), without joining its job."""
