@@ -4,6 +4,7 @@ cache and gzip.
 
     python bench/worst_case.py            # every case, budget off and on (~5 min)
     python bench/worst_case.py --quick    # the budgeted runs only
+    python bench/worst_case.py --mix      # issue 36's mix against a real server (worst_mix.py)
 
 Each case runs in a fresh process (peak RSS is per process and never goes down), once
 with BRDF_MAX_SECONDS at 1e9 (the uncut worst case) and once at the default 10 s;
@@ -163,6 +164,10 @@ def seconds_of(key: str) -> bool:
 
 
 def main() -> None:
+    if "--mix" in sys.argv:
+        import worst_mix
+        worst_mix.main([a for a in sys.argv[1:] if a != "--mix"])
+        return
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--quick", action="store_true")
     parser.add_argument("--json", action="store_true")

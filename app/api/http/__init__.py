@@ -1,10 +1,12 @@
 """The HTTP layer around every route, outermost first:
 
 ``security.SecurityHeaders``  nosniff, CSP, Referrer-Policy; an escaped exception → 500
+``origin.SameOriginWrites``   writes only from the page's own origin; CORS headers on reads
 ``CORSMiddleware``            cross-origin GET for embedding, nothing else
 ``caching.HttpCache``         ETag, If-None-Match → 304, Cache-Control
 ``Compress``                  gzip for bodies of GZIP_MINIMUM_SIZE bytes and more
-``guard.RequestGuard``        limits on the request itself, and its time budget
+``guard.RequestGuard``        limits on the request itself (content types: content_types.py),
+                              and its time budget
 
 All are plain ASGI callables: ``BaseHTTPMiddleware`` would copy every body through a
 stream and run the route in another task.
@@ -22,6 +24,7 @@ from starlette.middleware.gzip import GZipMiddleware
 
 from ...config import Settings
 from .caching import HttpCache
+from .origin import SameOriginWrites
 from .security import SecurityHeaders, content_security_policy, inline_script_hashes
 
 if TYPE_CHECKING:
@@ -58,6 +61,7 @@ def _outer_layers(settings: Settings, static_dir: Path) -> list:
         (HttpCache, {"max_age": settings.cache_max_age}),
         (CORSMiddleware, {"allow_origins": list(settings.cors_origins),
                           "allow_methods": ["GET"], "allow_headers": []}),
+        (SameOriginWrites, {}),
         (SecurityHeaders, {"csp": content_security_policy(inline_script_hashes(static_dir))}),
     ]
 

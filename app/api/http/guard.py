@@ -5,7 +5,9 @@ string sent to a body-only operation), list every method of a path in a 405, and
 the request's time budget (BRDF_MAX_SECONDS)."""
 from __future__ import annotations
 
+import asyncio
 import json
+import os
 from collections import Counter, deque
 from urllib.parse import parse_qsl
 
@@ -16,13 +18,31 @@ from starlette.datastructures import Headers, MutableHeaders
 from ...config import Settings
 from ...integrate import budget
 from ..openapi import operations
-from . import strict
+from . import content_types, strict
 
 #: a JSON body up to this size is judged on the event loop: ~0.3 ms here (strict.parse_json
 #: reads ~25 µs a KiB), less than the hop to a worker thread and back under load, which
 #: a slider's POST /api/v1/batch (~1.5 KiB) paid on every move; a larger one is judged in
 #: a worker thread (a 24 MB body took 5 s)
 INLINE_JSON_BYTES = 8 * 1024
+
+
+#: seconds a request body may go without a byte before it is answered 408: setting
+#: BRDF_BODY_IDLE_SECONDS (read here until app/config.py holds it). A 36 MB upload at
+#: 1 Mbit/s sends a TCP segment every few ms; 15 s of silence is a stalled or hostile client.
+BODY_IDLE_ENV = "BRDF_BODY_IDLE_SECONDS"
+BODY_IDLE_SECONDS = 15.0
+
+
+def body_idle_seconds(environ=os.environ) -> float:
+    raw = environ.get(BODY_IDLE_ENV)
+    try:
+        value = BODY_IDLE_SECONDS if raw is None else float(raw)
+    except ValueError:
+        raise ValueError(f"{BODY_IDLE_ENV}={raw!r}: expected a number of seconds") from None
+    if not value > 0:
+        raise ValueError(f"{BODY_IDLE_ENV}={raw!r}: must be positive")
+    return value
 
 
 def json_error(status: int, loc: list, msg: str, kind: str) -> tuple[dict, bytes]:
@@ -34,8 +54,11 @@ def json_error(status: int, loc: list, msg: str, kind: str) -> tuple[dict, bytes
     return start, body
 
 
-async def _send_error(send, status: int, loc: list, msg: str, kind: str) -> None:
+async def _send_error(send, status: int, loc: list, msg: str, kind: str,
+                      close: bool = False) -> None:
     start, body = json_error(status, loc, msg, kind)
+    if close:          # the rest of the body will not be read: end the connection
+        start["headers"].append((b"connection", b"close"))
     await send(start)
     await send({"type": "http.response.body", "body": body})
 
@@ -119,6 +142,7 @@ class RequestGuard:
         self.fastapi_app = fastapi_app
         self.settings = settings
         self._numeric_names: frozenset[str] | None = None
+        self.body_idle_seconds = body_idle_seconds()
 
     def _operation(self, scope) -> dict | None:
         return operations(self.fastapi_app).operation(scope["path"], scope["method"])
@@ -132,6 +156,12 @@ class RequestGuard:
                                 scope.get("query_string", b""))
         if refusal is not None:
             await _send_error(send, refusal.status, refusal.loc, refusal.message, refusal.kind)
+            return
+        wrong_type = content_types.refusal(self._operation(scope), scope["method"],
+                                           scope["path"], Headers(scope=scope))
+        if wrong_type is not None:
+            await _send_error(send, wrong_type.status, wrong_type.loc, wrong_type.message,
+                              wrong_type.kind)
             return
         limit_name = self._body_limit(scope)
         limit = getattr(s, limit_name)
@@ -148,12 +178,22 @@ class RequestGuard:
                               "body_too_large")
             return
         judge = self._json_body(scope, headers)
-        if (length is None or judge) and scope["method"] in ("POST", "PUT", "PATCH"):
-            # Chunked: read up to the limit before the route sees any of it (the route's
-            # body reader would turn an error raised mid-stream into a vague 400).
+        if scope["method"] in ("POST", "PUT", "PATCH"):
+            # Every body read here, up to the limit, before the route sees any of it (the
+            # route's body reader would turn an error raised mid-stream into a vague 400),
+            # each piece within BODY_IDLE_SECONDS of the last (a client that stops sending
+            # would hold the worker's memory and a connection without end)
             messages, received = [], 0
             while True:
-                message = await receive()
+                try:
+                    async with asyncio.timeout(self.body_idle_seconds):
+                        message = await receive()
+                except TimeoutError:
+                    await _send_error(send, 408, ["body"], (
+                        f"no byte of the request body for {self.body_idle_seconds:g} s after "
+                        f"{received} bytes; the limit is setting {BODY_IDLE_ENV}"),
+                        "body_timeout", close=True)
+                    return
                 messages.append(message)
                 received += len(message.get("body", b""))
                 if received > limit:
@@ -202,10 +242,9 @@ class RequestGuard:
 
     def _json_body(self, scope, headers: Headers) -> bool:
         """A JSON body for an operation that reads one: judged (strict.py) before the route."""
-        op = self._operation(scope)
-        content = ((op or {}).get("requestBody") or {}).get("content", {})
-        kind = headers.get("content-type", "application/json").split(";")[0].strip().lower()
-        return "application/json" in content and kind in ("application/json", "")
+        kinds = content_types.accepted(self._operation(scope), scope["method"], scope["path"])
+        return "application/json" in kinds and content_types.media_type(headers) in (
+            "application/json", "")
 
     def _numeric(self) -> frozenset[str]:
         if self._numeric_names is None:

@@ -1,0 +1,202 @@
+"""Heavy work apart from the cheap: a bounded pool of worker processes.
+
+An upload's summary, an export, a batch, a fit or a large image ran in the server's own
+threads, where the GIL let one of them starve every slider request of its worker
+(issue 36: p99 70 ms → 13 s under one heavy mix). Here each runs in a worker *process*:
+
+* ``workers`` processes (BRDF_HEAVY_WORKERS, default 1) run one job each; at most
+  ``queue`` more (BRDF_HEAVY_QUEUE, default 4) wait. Admission is decided at once:
+  - a job whose predicted cost (seconds on one worker) exceeds the time budget can never
+    fit: :class:`~app.errors.TooLarge` (413) naming BRDF_MAX_SECONDS and what would fit;
+  - a job that does not fit *now* (queue full, or the wait ahead plus its cost past the
+    budget): :class:`~app.errors.Busy` (503 + Retry-After);
+* an admitted job is cut at the request's budget (what is left of BRDF_MAX_SECONDS, or all
+  of it outside a request): its worker process is killed and replaced, the others keep
+  running; the caller gets Busy (503) saying it was stopped;
+* :meth:`HeavyPool.close` kills every worker at once, so a graceful shutdown ends within
+  its timeout whatever runs (concurrent.futures' own exit hook joins running jobs: that
+  was the SIGTERM that hung until SIGKILL).
+
+Each worker is a one-process ``ProcessPoolExecutor`` (its process known, so one overrun
+kills one job only), started with ``spawn``: the server's threads (uvicorn, numba, the
+table builders) make ``fork`` unsafe. ``fn`` and its arguments must be picklable: a
+module-level function and plain data.
+"""
+from __future__ import annotations
+
+import asyncio
+import math
+import multiprocessing
+import os
+import time
+from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures.process import BrokenProcessPool
+
+from ..errors import Busy, TooLarge
+from ..integrate import budget
+
+#: worker processes and waiting places: settings BRDF_HEAVY_WORKERS, BRDF_HEAVY_QUEUE
+WORKERS_ENV, QUEUE_ENV = "BRDF_HEAVY_WORKERS", "BRDF_HEAVY_QUEUE"
+DEFAULT_WORKERS, DEFAULT_QUEUE = 1, 4
+#: seconds a killed worker is given to end after SIGTERM before SIGKILL
+KILL_GRACE_SECONDS = 0.5
+#: scheduling niceness added to each worker (man 2 nice): on a machine with as many busy
+#: processes as cores, the kernel gives the server's own process (cheap requests) the CPU
+#: first; without it a heavy job took its core's share from the event loop (cheap p50
+#: 2.9 → 19 ms at load 14 on 2 cores, tests/robustness/test_heavy_pool.py)
+WORKER_NICENESS = 10
+#: weight of the newest job in the running mean of job seconds (Retry-After's estimate)
+MEAN_WEIGHT = 0.3
+
+
+class _Worker:
+    """One process that runs one job at a time, and can be killed alone."""
+
+    def __init__(self, context):
+        self.context = context
+        self.executor = ProcessPoolExecutor(max_workers=1, mp_context=context,
+                                            initializer=os.nice, initargs=(WORKER_NICENESS,))
+        # start the process now, not at the first job: a spawned interpreter took > 1 s
+        # to start under load, which the next job's budget would pay
+        self.executor.submit(int)
+
+    def kill(self) -> None:
+        """End the process now (SIGTERM, then SIGKILL), without joining its job."""
+        processes = list((self.executor._processes or {}).values())
+        for p in processes:
+            p.terminate()
+        for p in processes:
+            p.join(KILL_GRACE_SECONDS)
+            if p.is_alive():
+                p.kill()
+        self.executor.shutdown(wait=False, cancel_futures=True)
+
+    def replaced(self) -> "_Worker":
+        self.kill()
+        return _Worker(self.context)
+
+
+class HeavyPool:
+    """``workers`` processes, ``queue`` waiting places, jobs cut at ``max_seconds``."""
+
+    def __init__(self, workers: int = DEFAULT_WORKERS, queue: int = DEFAULT_QUEUE,
+                 max_seconds: float = 10.0, start_method: str = "spawn"):
+        if workers < 1 or queue < 0:
+            raise ValueError(f"{WORKERS_ENV} must be ≥ 1 and {QUEUE_ENV} ≥ 0")
+        self.workers, self.queue, self.max_seconds = workers, queue, float(max_seconds)
+        self._context = multiprocessing.get_context(start_method)
+        self._idle = [_Worker(self._context) for _ in range(workers)]
+        self._busy: set[_Worker] = set()
+        self._running = 0
+        self._waiters: list[asyncio.Future] = []
+        self._mean_seconds = 1.0
+        self._closed = False
+
+    # ------------------------------------------------------------------ admission
+    def _remaining(self) -> float:
+        b = budget.current()
+        return self.max_seconds if b is None else min(self.max_seconds, b.seconds - b.elapsed())
+
+    def _retry_after(self) -> int:
+        ahead = self._running + len(self._waiters)
+        return max(1, math.ceil(self._mean_seconds * (ahead / self.workers)))
+
+    def admit(self, cost: float = 0.0, fits: str = "") -> None:
+        """Refuse at once what can never fit (413) or does not fit now (503)."""
+        if self._closed:
+            raise Busy("the server is shutting down", retry_after=5, what="heavy work pool")
+        if cost > self.max_seconds:
+            raise TooLarge("body", f"this work is predicted to take {cost:.1f} s; the limit is "
+                           f"{self.max_seconds:g} s (setting BRDF_MAX_SECONDS)"
+                           + (f"; {fits}" if fits else ""), loc="body")
+        if self._running + len(self._waiters) >= self.workers + self.queue:
+            raise Busy(f"{self._running} heavy jobs run and {len(self._waiters)} wait (settings "
+                       f"{WORKERS_ENV}={self.workers}, {QUEUE_ENV}={self.queue}); retry later",
+                       retry_after=self._retry_after(), what="heavy work pool")
+        wait = self._mean_seconds * (len(self._waiters) + max(0, self._running - self.workers + 1)) \
+            if self._running >= self.workers else 0.0
+        if wait + cost > self._remaining():
+            raise Busy(f"this work (~{cost:.1f} s) would start after ~{wait:.1f} s of queued "
+                       f"work and end past the time budget (BRDF_MAX_SECONDS="
+                       f"{self.max_seconds:g})", retry_after=self._retry_after(),
+                       what="heavy work pool")
+
+    # ------------------------------------------------------------------ running
+    async def run(self, fn, *args, cost: float = 0.0, fits: str = ""):
+        """``fn(*args)`` in a worker process, admitted and cut as the module says."""
+        self.admit(cost, fits)
+        deadline = time.monotonic() + self._remaining()
+        worker = await self._take(deadline)
+        self._busy.add(worker)
+        started = time.monotonic()
+        loop = asyncio.get_running_loop()
+        try:
+            future = loop.run_in_executor(worker.executor, fn, *args)
+            try:
+                result = await asyncio.wait_for(future, max(0.0, deadline - time.monotonic()))
+            except TimeoutError:
+                worker = await asyncio.to_thread(worker.replaced)
+                raise Busy(f"this work ran past the time budget (BRDF_MAX_SECONDS="
+                           f"{self.max_seconds:g}) and was stopped; ask for less, or retry "
+                           "when the server is less busy", retry_after=self._retry_after(),
+                           what="heavy work pool") from None
+            except BrokenProcessPool:
+                worker = await asyncio.to_thread(worker.replaced)
+                raise Busy("the worker process running this work ended (out of memory?); "
+                           "retry with less", retry_after=self._retry_after(),
+                           what="heavy work pool") from None
+            except asyncio.CancelledError:     # the client left, or the server is stopping
+                worker = worker.replaced()
+                raise
+            seconds = time.monotonic() - started
+            self._mean_seconds += MEAN_WEIGHT * (seconds - self._mean_seconds)
+            return result
+        finally:
+            self._busy.discard(worker)
+            self._give(worker)
+
+    async def _take(self, deadline: float) -> _Worker:
+        self._running += 1
+        if self._idle:
+            return self._idle.pop()
+        waiter = asyncio.get_running_loop().create_future()
+        self._waiters.append(waiter)
+        self._running -= 1
+        try:
+            return await asyncio.wait_for(waiter, max(0.0, deadline - time.monotonic()))
+        except TimeoutError:
+            raise Busy("no worker became free within the time budget (BRDF_MAX_SECONDS="
+                       f"{self.max_seconds:g})", retry_after=self._retry_after(),
+                       what="heavy work pool") from None
+        finally:
+            if waiter in self._waiters:
+                self._waiters.remove(waiter)
+            if waiter.done() and not waiter.cancelled() and waiter.exception() is None:
+                self._running += 1
+
+    def _give(self, worker: _Worker) -> None:
+        self._running -= 1
+        if self._closed:
+            worker.kill()
+            return
+        while self._waiters:
+            waiter = self._waiters.pop(0)
+            if not waiter.done():
+                waiter.set_result(worker)
+                return
+        self._idle.append(worker)
+
+    def close(self) -> None:
+        """Kill every worker now (a shutdown does not wait for running jobs)."""
+        self._closed = True
+        for worker in [*self._idle, *self._busy]:
+            worker.kill()
+        self._idle.clear()
+        for waiter in self._waiters:
+            if not waiter.done():
+                waiter.set_exception(Busy("the server is shutting down", retry_after=5,
+                                          what="heavy work pool"))
+
+    def stats(self) -> dict:
+        return {"workers": self.workers, "queue": self.queue, "running": self._running,
+                "waiting": len(self._waiters), "mean_seconds": round(self._mean_seconds, 3)}
