@@ -188,6 +188,7 @@ function writeUrl() {
   urlTimer = 0;
   const search = stateToSearch(ctx.state);
   if (search !== location.search) history.replaceState(null, "", location.pathname + search);
+  for (const a of document.querySelectorAll("a[data-query]")) a.search = search;   // links that carry the state
 }
 export function scheduleUrlWrite() {
   if (ctx.held) urlAfterHold = true;
