@@ -2,7 +2,7 @@
 model, the difference toggle shows its largest error where the bug predicts; a
 measured-looking MERL file opened, fitted, and its fit loaded into the controls.
 
-Writes docs/screenshot-data.png: the measured-looking data beside its fitted model.
+Takes screenshot-data.png (into the `shots` directory): the measured-looking data beside its fitted model.
 """
 from __future__ import annotations
 
@@ -10,7 +10,6 @@ import json
 import math
 import re
 import urllib.request
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -22,7 +21,6 @@ from tests.datasets import known
 
 pytestmark = pytest.mark.e2e
 
-DOCS = Path(__file__).resolve().parents[2] / "docs"
 OVERLAID = "(id) => document.getElementById(id)?.dataset.overlay === 'data'"
 DIFFERENCE = "(id) => document.getElementById(id)?.dataset.overlay === 'difference'"
 
@@ -71,7 +69,7 @@ def test_a_dropped_dump_shows_on_the_lobe_and_its_error_where_the_bug_predicts(p
     assert not [p for p in page_log.problems() if "/datasets" in p], page_log.problems()
 
 
-def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_path):
+def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_path, shots):
     path = tmp_path / "coppery.binary"
     path.write_bytes(known.measured_style_bytes())
     page.goto("/?show=lobe,slice&theta_i_deg=30")
@@ -90,7 +88,7 @@ def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_pa
     fitted_alpha = page.evaluate("() => window.__brdf.state.alpha")
     assert 0.07 < fitted_alpha < 0.1              # one GGX lobe through the two (0.06, 0.3)
     page.wait_for_function("() => window.__brdf.pending() === 0")
-    page.screenshot(path=str(DOCS / "screenshot-data.png"), full_page=False)
+    page.screenshot(path=str(shots / "screenshot-data.png"), full_page=False)
     assert "data (r)" in plot(page, "lobe")["names"]
     assert not [p for p in page_log.problems() if "/datasets" in p or "/fit" in p], page_log.problems()
 
