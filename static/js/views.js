@@ -31,7 +31,7 @@ export const HINTS = {
            caption: "f over half-vector and difference angles, the image slice of Disney's BRDF explorer." },
   samples: { title: "Importance sampling", heavy: true,
              caption: "Directions drawn by the sampler for one view, against the density they should follow." },
-  checks: { title: "Identity checks", wide: true, short: true,
+  checks: { title: "Identity checks", wide: true,
             caption: "Identities the model must satisfy, each computed next to the value it must have." },
   tradeoff: { title: "Speed against accuracy", wide: true,
               caption: "The albedo's error against its cost, for each integration method." },
