@@ -4,7 +4,8 @@
  */
 import { el, $, richText, getJSON, copyText, flash, setIf } from "./dom.js";
 import { setModels, setMaterials, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "./model.js";
-import { ctx, stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "./state.js";
+import { ctx } from "./ctx.js";
+import { stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "./state.js";
 import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
 import { HINTS, PANEL_ORDER, PAGE_DEFAULTS } from "./views.js";
 import { lightDrag } from "./spheredrag.js";

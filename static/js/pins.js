@@ -8,7 +8,7 @@
 import { reg, subOptions, paramFor, choiceDefaults, fixApplicability, modelQuery, compact,
          isPerceptual, isAnisotropic, materialOf } from "./model.js";
 import { inRange, rangeText } from "./sliders.js";
-import { ctx } from "./state.js";
+import { ctx } from "./ctx.js";
 import { isPrincipled, principledDefaults, readPrincipled, fixPrincipled, principledNames, principledAvailable,
          PRINCIPLED, MICROFACET } from "./principled.js";
 

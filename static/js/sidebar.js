@@ -8,7 +8,7 @@ import { paramControl } from "./sliders.js";
 import { reg, subOptions, choiceOf, sameSpec, switchChoice, fixApplicability, appliesTo, whyNot,
          subApplies, activeParams, anisoAllowed, isAnisotropic, isPerceptual, secondLobeAllowed,
          materialIn, MATERIAL_REPLACES } from "./model.js";
-import { ctx } from "./state.js";
+import { ctx } from "./ctx.js";
 import { MODELS, MICROFACET, principledAvailable, fixPrincipled } from "./principled.js";
 import { principledSections, syncPrincipledForm } from "./principledform.js";
 

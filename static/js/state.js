@@ -9,16 +9,9 @@ import { reg, subOptions, paramFor, choiceDefaults, activeParams, activeGroups, 
 import { inRange, rangeText, clampParam } from "./sliders.js";
 import { isPrincipled, writePrincipled, readPrincipled, fixPrincipled, principledNames, principledAvailable,
          PRINCIPLED, MICROFACET } from "./principled.js";
-import * as pinsModule from "./pins.js";   // a cycle (pins read ctx): used in functions only
+import { ctx } from "./ctx.js";
+import { encodePin, decodePin, samePin, MAX_PINS } from "./pins.js";
 
-export const ctx = {
-  state: {},             // THE state
-  defaultState: {},
-  views: [],             // GET /api/v1/views, in panel order
-  locals: new Map(),     // state key -> {view, field, input} of the panels' own fields
-  embed: new URLSearchParams(location.search).get("embed") === "1",
-  extraKeys: new Set(),  // query parameters another module declared (state.extra)
-};
 
 export const TRUE_WORDS = new Set(["1", "true", "yes", "on"]);
 // Page parameters that are not the API's: which panels, a comparison, pins, embedding.
@@ -43,7 +36,7 @@ export function stateToSearch(s) {
     q.set("vary", s.vary);
     q.set("values", s.values);
   }
-  for (const pin of s.pins) q.append("pin", pinsModule.encodePin(pin));
+  for (const pin of s.pins) q.append("pin", encodePin(pin));
   for (const [k, v] of Object.entries(s.extra || {})) q.set(k, v);
   if (ctx.embed) q.set("embed", "1");
   // ':', ',' and '/' may stand as they are in a query (RFC 3986 3.4): readable pins and lists
@@ -160,9 +153,9 @@ export function stateFromSearch(search) {
   notes.push(...fixApplicability(s));
   s.pins = [];
   for (const raw of q.getAll("pin")) {
-    const { pin, note } = pinsModule.decodePin(raw);
+    const { pin, note } = decodePin(raw);
     if (note) notes.push(note);
-    if (pin && !s.pins.some((x) => pinsModule.samePin(x, pin)) && s.pins.length < pinsModule.MAX_PINS) s.pins.push(pin);
+    if (pin && !s.pins.some((x) => samePin(x, pin)) && s.pins.length < MAX_PINS) s.pins.push(pin);
   }
   s.extra = {};
   for (const k of ctx.extraKeys) if (q.has(k)) s.extra[k] = q.get(k);
