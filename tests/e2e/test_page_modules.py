@@ -324,6 +324,3 @@ def test_static_files_cite_nothing_users_do_not_have():
         if path.is_file() and path.suffix in (".js", ".html", ".css"):
             text = path.read_text(encoding="utf-8")
             assert "MATH" + ".md" not in text and "seed 0" not in text, path
-    big = [p for p in (ROOT / "static").rglob("*") if p.is_file() and p.suffix in (".js", ".html", ".css")
-           and len(p.read_text(encoding="utf-8").splitlines()) > 400]
-    assert big == []
