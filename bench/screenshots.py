@@ -24,6 +24,7 @@ TESTS = [
     "tests/e2e/test_page_modules.py::test_panel_png_is_slide_sized_and_named_after_its_parameters",
     "tests/e2e/test_page_modules.py::test_embed_with_controls_fits_its_frame",
     "tests/e2e/test_exports.py::test_gallery_renders_and_every_link_opens_its_state",
+    "tests/e2e/test_exports.py::test_phone_portrait_has_no_sideways_scroll",
     "tests/e2e/test_models_ui.py::test_compare_tails_and_screenshot",
     "tests/e2e/test_data_overlay.py::test_a_measured_file_opened_fitted_and_its_fit_loaded",
 ]

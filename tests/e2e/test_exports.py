@@ -213,7 +213,7 @@ def test_gallery_renders_and_every_link_opens_its_state(page, page_log, shots):
 
 
 @pytest.mark.parametrize("path", ["/", "/gallery", "/embed/lobe?controls=1"])
-def test_phone_portrait_has_no_sideways_scroll(page, page_log, path):
+def test_phone_portrait_has_no_sideways_scroll(page, page_log, path, shots):
     page.set_viewport_size(PHONE)
     page.goto(path)
     if path == "/":
