@@ -13,6 +13,7 @@ const API = "/api/v1";
 const OVERLAID = ["lobe", "lobe3d", "slice", "sphere", "albedo", "ndf", "g1", "fresnel"];
 const STORE_KEY = "brdf-data";
 const RGB = ["luminance", "r", "g", "b"];
+const LABEL = "brdf-data-label";     // the name of the annotation that says what the overlay shows
 
 const data = { id: null, summary: null, channel: "luminance", difference: false };
 const seq = new Map();          // panel → number of its latest draw (drops stale answers)
@@ -110,6 +111,7 @@ function show(id, summary) {
   difference.checked = data.difference;
   tools.hidden = false;
   fitButton.hidden = s.kind !== "brdf";
+  syncFitLabel();
   clearButton.hidden = false;
 }
 
@@ -145,6 +147,7 @@ async function restore() {
 // "brdf-drawn" does not bubble: listen in the capture phase, on the way down to the plot
 document.addEventListener("brdf-drawn", (e) => {
   const name = e.target?.closest?.("[data-panel]")?.dataset.panel;
+  if (name && data.id) syncFitLabel();
   if (name) overlay(name, e.target);
 }, true);
 
@@ -189,8 +192,10 @@ async function overlay(name, div) {
                      : { ...div.layout };
   const label = data.difference ? "(data − model)/model" : `data ${channelLabel()}`;
   layout.title = { text: "" };
-  layout.annotations = [...(own ? [] : div.layout.annotations || []),
-    { text: label, xref: "paper", yref: "paper", x: 0, y: 1, xanchor: "left", yanchor: "bottom",
+  // the page's own annotations stay; this module's label of an earlier overlay (another
+  // channel's) is replaced, not kept beside the new one
+  layout.annotations = [...(own ? [] : (div.layout.annotations || []).filter((a) => a.name !== LABEL)),
+    { name: LABEL, text: label, xref: "paper", yref: "paper", x: 0, y: 1, xanchor: "left", yanchor: "bottom",
       showarrow: false, font: { size: 11, color: "#000" } }];
   await Plotly.react(div, body.data, layout);
   // as text, in the page's notation: Plotly's "θ<sub>o</sub>" (the figure's) reads "θ_o"
@@ -227,13 +232,42 @@ function modelOfPage() {
   const q = new URLSearchParams(window.__brdf.url("lobe")?.split("?")[1] || "");
   const names = modelNames();
   const model = {};
+  names.add("material");
   for (const [k, v] of q) if (names.has(k)) model[k] = Number.isFinite(Number(v)) && v !== "" ? Number(v) : v;
   return model;
 }
 
+// Parameters of a chosen Fresnel that a fit leaves where they are: Schlick's grazing value
+// and exponent shape the approximation, not the material; freed, they run to their bounds
+// (measured on a MERL file of a Schlick model: f90 → 1, p → 1, the residual unchanged).
+const FIT_HELD = new Set(["f90", "fresnel_p"]);
+const SYMBOLS = { alpha: "α", alpha_y: "α_y", alpha2: "α₂", lobe_mix: "w", kd: "k_d", f0: "F₀", ior: "η", k: "κ",
+                  gamma: "γ", p: "p" };
+
+/** The parameters a fit of `model` frees: the roughness (and its second lobe's), the
+ * diffuse weight, the NDF's shape and every parameter of the chosen Fresnel (η and κ for a
+ * conductor) that describes the material; none of the Fresnel's when a measured material sets it. */
+function freeOf(model) {
+  const models = window.__brdf.models;
+  const choice = (group) => models.options[group]?.choices.find((c) => c.name === (model[group] ?? models.options[group].default));
+  const free = ["alpha"];
+  if (model.alpha_y !== undefined) free.push("alpha_y");
+  if (model.alpha2 !== undefined) free.push("alpha2", "lobe_mix");
+  free.push("kd", ...(choice("ndf")?.params || []).map((p) => p.name));
+  if (model.material === undefined) free.push(...(choice("fresnel")?.params || []).map((p) => p.name).filter((n) => !FIT_HELD.has(n)));
+  return free;
+}
+
+function syncFitLabel() {
+  if (!window.__brdf?.models) return;          // the page not booted yet: labelled after its first draw
+  const free = freeOf(modelOfPage());
+  fitButton.textContent = `Fit ${free.map((n) => SYMBOLS[n] || n).join(", ")}`;
+  fitButton.title = `Least squares of ${free.join(", ")} to the data; the rest of the model is held as it is`;
+}
+
 async function fit() {
   const model = modelOfPage();
-  const free = ["alpha", "kd", ...(model.fresnel === undefined || model.fresnel === "schlick" ? ["f0"] : [])];
+  const free = freeOf(model);
   fitResult.textContent = "Fitting…";
   const res = await fetch(`${API}/fit`, { method: "POST", headers: { "Content-Type": "application/json" },
     body: JSON.stringify({ data: data.id, model, free, measure: "log",
@@ -244,14 +278,23 @@ async function fit() {
     return;
   }
   const lines = Object.entries(body.params).map(([k, v]) => `${k} = ${v.toPrecision(4)} ± ${(body.stderr?.[k] ?? NaN).toPrecision(2)}`);
+  const held = Object.entries(body.model).filter(([k]) => !free.includes(k)).map(([k, v]) => `${k}=${v}`);
+  // what the API says of the fit's quality (warnings when the residual shows the model
+  // does not describe the data), a parameter stopped at its range's end, no convergence
+  const warnings = [...(body.warnings || []), ...(body.warning ? [body.warning] : [])]
+    .map((w) => (typeof w === "string" ? w : w.message || JSON.stringify(w)));
+  if (body.at_bound?.length) warnings.push(`${body.at_bound.join(", ")} stopped at the end of its range: the data may want a value the model cannot take.`);
+  if (!body.converged) warnings.push(`not converged: ${body.message}`);
   const keep = new URLSearchParams(location.search);          // the panels and view stay
-  for (const name of modelNames()) keep.delete(name);
+  for (const name of [...modelNames(), "material"]) keep.delete(name);
   for (const [k, v] of Object.entries(body.model)) keep.set(k, v);
   const use = el("a", { id: "data-fit-use", href: `/?${keep}`, text: "Use the fitted model",
                         title: "Load the fitted model into the controls (the data stay open)" });
   fitResult.replaceChildren(
-    el("div", { text: lines.join(", ") }),
-    el("div", { text: `residual ${body.residual.toPrecision(3)} (log), ${body.evaluations} evaluations, ${body.seconds.toFixed(2)} s${body.converged ? "" : ` — ${body.message}`}` }),
+    el("div", { id: "data-fit-params", text: `Fitted: ${lines.join(", ")}` }),
+    el("div", { id: "data-fit-held", text: `Held fixed: ${held.join(", ") || "nothing"}` }),
+    el("div", { text: `residual ${body.residual.toPrecision(3)} (${body.measure?.name || "log"}), ${body.evaluations} evaluations, ${body.seconds.toFixed(2)} s` }),
+    ...warnings.map((w) => el("div", { class: "data-fit-warning", role: "alert", style: "color:#b3261e", text: `Warning: ${w}` })),
     use);
 }
 

@@ -11,10 +11,9 @@ import { paramControl } from "./sliders.js";
 import { exportBar } from "./exports.js";
 import { fitLayout, reuseLayout, titleText, PLOT_CONFIG } from "./layout.js";
 import { Scheduler } from "./scheduler.js";
-import { fieldRole, fieldLabel } from "./views.js";
+import { fieldRole, fieldLabel, isHeavy } from "./views.js";
 
 const PAGE_OPTIONS = ["controls", "buttons", "embed"];
-const HEAVY = new Set(["lobe3d", "sphere", "slice", "samples"]);
 const TRUE_WORDS = new Set(["1", "true", "yes", "on"]);
 
 const kind = decodeURIComponent(location.pathname.split("/").filter(Boolean).pop() || "");
@@ -46,7 +45,7 @@ function writeUrl() {
 // While a slider is held a heavy image comes at half its resolution each way.
 function heldResolution() {
   const q = {};
-  if (!held || !view || !HEAVY.has(kind)) return q;
+  if (!held || !view || !isHeavy(view)) return q;
   for (const f of view.fields) {
     if (fieldRole(f) === "resolution" && f.type === "integer" && Number.isFinite(f.default) && !(f.name in params)) {
       q[f.name] = Math.max(f.minimum ?? 2, Math.round(f.default / 2));

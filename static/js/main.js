@@ -3,8 +3,9 @@
  *                               \--> every wanted panel fetches at once (scheduler)
  */
 import { el, $, richText, getJSON, copyText, flash, setIf } from "./dom.js";
-import { setModels, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "./model.js";
-import { ctx, stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "./state.js";
+import { setModels, setMaterials, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "./model.js";
+import { ctx } from "./ctx.js";
+import { stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "./state.js";
 import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
 import { HINTS, PANEL_ORDER, PAGE_DEFAULTS } from "./views.js";
 import { lightDrag } from "./spheredrag.js";
@@ -184,11 +185,13 @@ function report(panel) {
 async function boot() {
   let viewList;
   try {
-    let models, principled;
-    // without the principled catalogue (an older server) the page offers the microfacet model alone
-    [models, viewList, principled] = await Promise.all([getJSON("/models"), getJSON("/views"),
-                                                        getJSON("/principled").catch(() => null)]);
+    let models, principled, materials;
+    // without the principled catalogue or the materials (an older server) the page offers
+    // the microfacet model alone
+    [models, viewList, principled, materials] = await Promise.all([getJSON("/models"), getJSON("/views"),
+      getJSON("/principled").catch(() => null), getJSON("/materials").catch(() => null)]);
     setModels(models);
+    setMaterials(materials);
     setPrincipled(principled);
   } catch (e) {
     booting = false;

@@ -7,7 +7,18 @@
 import { inRange } from "./sliders.js";
 import { isPrincipled, principledQuery, principledCompact, PRINCIPLED } from "./principled.js";
 
-export const reg = { models: null, groups: [], params: new Map() };
+export const reg = { models: null, groups: [], params: new Map(), materials: [] };
+
+/** The measured materials (GET /api/v1/materials). A material sets the Fresnel: `material=`
+ * replaces `fresnel` and that choice's parameters in a query (the API refuses both). */
+export const MATERIAL_REPLACES = "fresnel";
+export function setMaterials(listing) {
+  reg.materials = listing?.materials || [];
+  reg.materialSource = listing ? `${listing.source}; ${listing.license}` : "";
+}
+export const materialOf = (slug) => reg.materials.find((m) => m.slug === slug);
+/** The material of s, or null (the principled model takes none). */
+export const materialIn = (s) => (!isPrincipled(s) && s.material && materialOf(s.material)) || null;
 
 export function setModels(models) {
   models.params = models.params || [];
@@ -99,15 +110,20 @@ export function activeParams(s) {
     out.push(p);
   }
   for (const g of reg.groups) {
+    if (g.name === MATERIAL_REPLACES && materialIn(s)) continue;
     for (const p of choiceOf(g.name, s[g.name])?.params || []) if (!out.some((q) => q.name === p.name)) out.push(p);
   }
   return out;
 }
 
+/** The option groups a query of s names (the Fresnel's is the material's when one is chosen). */
+export const activeGroups = (s) => reg.groups.filter((g) => !(g.name === MATERIAL_REPLACES && materialIn(s)));
+
 export function modelQuery(s) {
   if (isPrincipled(s)) return principledQuery(s.principled);
   const q = {};
-  for (const g of reg.groups) q[g.name] = s[g.name];
+  for (const g of activeGroups(s)) q[g.name] = s[g.name];
+  if (materialIn(s)) q.material = s.material;
   for (const g of subOptions()) if (subApplies(g.name, s)) q[g.name] = s[g.name];
   for (const p of activeParams(s)) q[p.name] = s[p.name];
   return q;
@@ -151,6 +167,6 @@ export function modelDefaults() {
   for (const p of reg.params.values()) s[p.name] = p.default;
   for (const g of subOptions()) s[g.name] = g.default;
   choiceDefaults(s);
-  Object.assign(s, { anisotropic: false, perceptual: false, secondLobe: false });
+  Object.assign(s, { anisotropic: false, perceptual: false, secondLobe: false, material: "" });
   return s;
 }

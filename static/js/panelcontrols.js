@@ -2,7 +2,7 @@
  * and the bar of panels above the figures, one toggle per view. */
 import { el, $, richText } from "./dom.js";
 import { reg } from "./model.js";
-import { ctx } from "./state.js";
+import { ctx } from "./ctx.js";
 import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
 
 /** The view's fields a panel sets itself: toggles, menus and bounded numbers that are

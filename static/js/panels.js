@@ -6,9 +6,9 @@
  */
 import { API, el, richText, replaceText, apiMessage, errorLoc, query, setIf } from "./dom.js";
 import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
-import { ctx } from "./state.js";
+import { ctx } from "./ctx.js";
 import { compareModels } from "./pins.js";
-import { hintOf, viewTitle, fieldRole } from "./views.js";
+import { hintOf, viewTitle, fieldRole, isHeavy, overlayable } from "./views.js";
 import { panelFields, localControl, fieldApplies } from "./panelcontrols.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
@@ -108,8 +108,10 @@ export class Panel {
     this.sub.hidden = off;
     this.section.classList.toggle("panel-off", off);   // a note needs no plot's height
   }
-  pinned(s) { return s.pins.length > 0 && !!this.hint.pin && !this.noPin; }
-  overlaid(s) { return !!s.vary && !this.noOverlay && this.view.vary.includes(s.vary) && !this.pinned(s); }
+  pinned(s) { return s.pins.length > 0 && !!this.hint.pin && overlayable(this.view) !== false && !this.noPin; }
+  overlaid(s) {
+    return !!s.vary && overlayable(this.view) !== false && !this.noOverlay && this.view.vary.includes(s.vary) && !this.pinned(s);
+  }
 
   /** The figure's parameters that are not the model's (the "view" of a POST). */
   viewParams(s) {
@@ -127,7 +129,7 @@ export class Panel {
   params(s) { return { ...modelQuery(s), ...this.viewParams(s) }; }
 
   url(s = ctx.state) {
-    const held = ctx.held && this.hint.heavy ? heldResolution(this.view) : {};
+    const held = ctx.held && isHeavy(this.view) ? heldResolution(this.view) : {};
     return `${API}/figures/${this.name}${this.overlaid(s) ? ".json" : ""}?${query({ ...this.params(s), ...held })}`;
   }
 
@@ -146,7 +148,7 @@ export class Panel {
 
   /** Goes out with the other panels' GETs of the same change (batch.js): a figure GET,
    * not a heavy image, which would hold the curves back. */
-  batchable(req) { return !req.init.method && !this.hint.heavy && req.url.startsWith(`${API}/figures/`); }
+  batchable(req) { return !req.init.method && !isHeavy(this.view) && req.url.startsWith(`${API}/figures/`); }
 
   /** Plotly keeps zoom and camera while this stays the same: per panel and toggle. */
   uirevision(s) {
@@ -156,11 +158,13 @@ export class Panel {
 
   receive(req, res, body) {
     const s = ctx.state;
-    if (res.status === 422 && req.init.method === "POST" && /cannot be compared/.test(apiMessage(body, res))) {
+    // a server that does not declare `overlayable` (GET /api/v1/views): learnt from its refusal
+    if (overlayable(this.view) === null && res.status === 422 && req.init.method === "POST"
+        && /cannot be compared/.test(apiMessage(body, res))) {
       this.noPin = true;                 // this figure cannot overlay models: draw it alone
       return { retry: true };
     }
-    if (res.status === 422 && this.overlaid(s) && errorLoc(body).includes("vary")) {
+    if (overlayable(this.view) === null && res.status === 422 && this.overlaid(s) && errorLoc(body).includes("vary")) {
       this.noOverlay = true;             // an image or a surface cannot overlay curves
       return { retry: true };
     }

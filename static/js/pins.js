@@ -6,9 +6,9 @@
  * from the defaults. A value's own commas (base_color r,g,b) are written as '/'.
  */
 import { reg, subOptions, paramFor, choiceDefaults, fixApplicability, modelQuery, compact,
-         isPerceptual, isAnisotropic } from "./model.js";
+         isPerceptual, isAnisotropic, materialOf } from "./model.js";
 import { inRange, rangeText } from "./sliders.js";
-import { ctx } from "./state.js";
+import { ctx } from "./ctx.js";
 import { isPrincipled, principledDefaults, readPrincipled, fixPrincipled, principledNames, principledAvailable,
          PRINCIPLED, MICROFACET } from "./principled.js";
 
@@ -57,7 +57,10 @@ export function decodePin(raw) {
   for (const [k, v] of own) {
     const g = [...reg.groups, ...subOptions()].find((x) => x.name === k);
     const p = reg.params.has(k) && !geometry.has(k) ? paramFor(k, choices) : null;
-    if (g) {
+    if (k === "material") {
+      if (!materialOf(v)) return bad(`material=${v} is not a measured material`);
+      pin[k] = v;
+    } else if (g) {
       if (!g.choices.some((c) => c.name === v)) return bad(`${k}=${v} is not one of ${g.choices.map((c) => c.name).join(", ")}`);
       pin[k] = v;
     } else if (p) {

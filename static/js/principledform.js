@@ -7,7 +7,7 @@
 import { el, $, richText } from "./dom.js";
 import { paramControl } from "./sliders.js";
 import { preg, optionOf, choiceApplies, parseColor, colorText, fixPrincipled, PRINCIPLED } from "./principled.js";
-import { ctx } from "./state.js";
+import { ctx } from "./ctx.js";
 
 const SHOWN = ["lobe", "channel"];                 // what is drawn; the rest change the model
 export const principledControls = new Map();      // name -> {row, box, slider, set}

@@ -1,79 +1,50 @@
-/* For shader writers: the page's model as GLSL / HLSL / Python, measured materials and
- * their RGB Fresnel, and what "roughness" means in each ecosystem.
- *
- * Self-contained: it reads the page's model from window.__brdf (a panel's request URL,
- * kept to the parameters GET /api/v1/code declares in /openapi.json) and writes nothing
- * of the page's state. Plotly is the page's global.
+/* For shader writers (the tools page, tools.js): the model as GLSL / HLSL / Python,
+ * measured materials with their RGB Fresnel, and what "roughness" means in each engine.
+ * Each section takes the model as a query (tools.js: the page's link, kept to the
+ * parameters each endpoint declares) and builds its own nodes.
  */
-const API = "/api/v1";
+import { API, el, getJSON, apiMessage, copyText } from "./dom.js";
+
 const LANGS = [["glsl", "GLSL"], ["hlsl", "HLSL"], ["python", "Python"]];
-const FRESNEL_PARAMS = ["fresnel", "f0", "f90", "fresnel_p", "ior", "k"];
 const CHANNEL_COLORS = ["#D55E00", "#009E73", "#0072B2"];
 const FORM_DASH = { exact: "solid", schlick: "dash", f82_tint: "dot", gulbrandsen: "dashdot" };
+const PLOT_CONFIG = { displaylogo: false, responsive: true };
 
-let codeParams = null;
+export const card = (id, title, intro, ...kids) =>
+  el("section", { class: "tools-card", id, "aria-labelledby": `${id}-h` },
+     el("h2", { id: `${id}-h`, text: title }), intro ? el("p", { text: intro }) : null, ...kids);
 
-function el(tag, attrs = {}, ...children) {
-  const node = document.createElement(tag);
-  for (const [k, v] of Object.entries(attrs)) {
-    if (k === "text") node.textContent = v;
-    else node.setAttribute(k, v);
-  }
-  for (const c of children) node.append(c);
-  return node;
-}
-
-async function getJson(url) {
-  const res = await fetch(url, { headers: { Accept: "application/json" } });
-  const body = await res.json();
-  if (!res.ok) throw new Error(body.detail?.[0]?.msg || `HTTP ${res.status}`);
-  return body;
-}
-
-/** The page's model as the query GET /api/v1/code takes (material added when chosen). */
-async function modelQuery(material) {
-  if (!codeParams) {
-    const spec = await getJson("/openapi.json");
-    codeParams = new Set(spec.paths[`${API}/code`].get.parameters.map((p) => p.name));
-  }
-  const page = window.__brdf;
-  const panels = page?.panels ? page.panels() : [];
-  const panel = panels.find((p) => p.visible) || panels[0];
-  const source = new URL((panel && page.url(panel.name)) || location.href, location.href).searchParams;
-  const q = new URLSearchParams();
-  for (const [k, v] of source) if (codeParams.has(k) && k !== "lang") q.set(k, v);
-  if (material) {
-    for (const name of FRESNEL_PARAMS) q.delete(name);
-    q.set("material", material);
-  }
-  return q;
-}
-
-function codeBlock(section, status) {
-  const out = el("textarea", { id: "shader-code", readonly: "", rows: "12", spellcheck: "false",
-                               "aria-label": "generated code", style: "width: 100%; font-family: monospace;" });
+/** The model as code: one button per language, the code below (and on the clipboard).
+ * modelFor(path) -> URLSearchParams of the model for that endpoint. */
+export function codeSection(modelFor) {
+  const out = el("textarea", { id: "shader-code", class: "tools-code", readonly: "", rows: "14", spellcheck: "false",
+                               "aria-label": "generated code" });
+  const status = el("p", { class: "tools-status", id: "code-status", role: "status" });
   const buttons = LANGS.map(([lang, label]) => {
-    const b = el("button", { type: "button", "data-lang": lang, text: label });
+    const b = el("button", { type: "button", class: "export", "data-lang": lang, text: label });
     b.addEventListener("click", async () => {
       status.textContent = "generating…";
+      status.classList.remove("failed");
       try {
-        const q = await modelQuery(section.dataset.material);
+        const q = await modelFor(`${API}/code`);
         q.set("lang", lang);
         const res = await fetch(`${API}/code?${q}`);
         const text = await res.text();
-        if (!res.ok) throw new Error(JSON.parse(text).detail?.[0]?.msg || `HTTP ${res.status}`);
+        if (!res.ok) throw new Error(apiMessage(JSON.parse(text), res));
         out.value = text;
-        let copied = false;
-        try { await navigator.clipboard.writeText(text); copied = true; } catch (e) { copied = false; }
-        status.textContent = `${label}: ${text.split("\n").length} lines` +
-          (copied ? ", copied to the clipboard" : " (select and copy below)");
+        const copied = await copyText(text);
+        status.textContent = `${label}: ${text.split("\n").length} lines`
+          + (copied ? ", copied to the clipboard" : " (select and copy below)");
       } catch (e) {
-        status.textContent = `could not generate: ${e.message}`;
+        status.textContent = `Could not generate: ${e.message}`;
+        status.classList.add("failed");
       }
     });
     return b;
   });
-  return [el("div", { class: "shader-row" }, el("span", { text: "Copy the model as " }), ...buttons), out];
+  return card("code", "The model as code",
+    "Self-contained GLSL, HLSL or Python of the explorer's model, with its parameters as constants.",
+    el("div", { class: "tools-row" }, el("span", { text: "Copy the model as" }), ...buttons), status, out);
 }
 
 function fresnelFigure(body) {
@@ -86,117 +57,99 @@ function fresnelFigure(body) {
     });
   }
   const layout = { title: { text: `${body.material.name}: Fresnel per RGB channel, exact and the artists' fits`, x: 0.02, font: { size: 14 } },
-                   xaxis: { title: { text: "θ_d (degrees)" } }, yaxis: { title: { text: "F" }, range: [0, 1.02] },
-                   margin: { l: 55, r: 10, t: 40, b: 45 }, legend: { orientation: "h", y: -0.2 }, height: 380 };
+                   xaxis: { title: { text: "θ_d (degrees)" }, range: [0, 90] }, yaxis: { title: { text: "F" }, range: [0, 1.02] },
+                   margin: { l: 55, r: 10, t: 40, b: 45 }, legend: { orientation: "v", x: 1.02, y: 1 } };
   return { traces, layout };
 }
 
 function errorTable(body) {
-  const table = el("table", { class: "shader-table", id: "material-errors", style: "border-collapse: collapse;" });
-  table.append(el("tr", {}, el("th", { text: "form" }), ...body.channels.map((c) => el("th", { text: `max |ΔF| ${c.toUpperCase()}` })),
-                  ...body.channels.map((c) => el("th", { text: `ΔE_avg ${c.toUpperCase()}` }))));
-  for (const [form, e] of Object.entries(body.errors)) {
-    table.append(el("tr", {}, el("td", { text: form }), ...e.F_max.map((x) => el("td", { text: x.toExponential(2) })),
-                    ...e.E_avg.map((x) => el("td", { text: x.toExponential(2) }))));
-  }
-  return table;
+  const head = el("tr", {}, el("th", { text: "form" }),
+    ...body.channels.map((c) => el("th", { text: `max |ΔF| ${c.toUpperCase()}` })),
+    ...body.channels.map((c) => el("th", { text: `ΔE_avg ${c.toUpperCase()}` })));
+  const rows = Object.entries(body.errors).map(([form, e]) => el("tr", {}, el("td", { text: form }),
+    ...e.F_max.map((x) => el("td", { text: x.toExponential(2) })), ...e.E_avg.map((x) => el("td", { text: x.toExponential(2) }))));
+  return el("table", { class: "tools-table", id: "material-errors" }, head, ...rows);
 }
 
-async function materialBlock(section, status) {
+/** A measured material's RGB Fresnel beside Schlick, F82-tint and Gulbrandsen, a lit
+ * sphere of it and the fits' errors; `initial`: the slug to show first (the link's). */
+export async function materialSection(modelFor, initial) {
   const select = el("select", { id: "shader-material", "aria-label": "material preset" });
-  select.append(el("option", { value: "", text: "— the page's Fresnel —" }));
-  const plot = el("div", { id: "material-plot" });
-  const sphere = el("div", { id: "material-sphere" });
+  select.append(el("option", { value: "", text: "— choose a material —" }));
+  const plot = el("div", { id: "material-plot", class: "tools-plot" });
+  const sphere = el("div", { id: "material-sphere", class: "tools-sphere" });
   const errors = el("div", { id: "material-table" });
-  const source = el("p", { class: "shader-source" });
+  const status = el("p", { class: "tools-status", role: "status" });
   try {
-    const list = await getJson(`${API}/materials`);
-    for (const kind of ["conductor", "dielectric"]) {
-      const group = el("optgroup", { label: kind === "conductor" ? "Metals (RGB n, k)" : "Dielectrics (index)" });
-      for (const m of list.materials.filter((x) => x.kind === kind)) group.append(el("option", { value: m.slug, text: m.name }));
-      select.append(group);
+    const list = await getJSON("/materials");
+    for (const [kind, label] of [["conductor", "Metals (RGB n, k)"], ["dielectric", "Dielectrics (index)"]]) {
+      const options = list.materials.filter((x) => x.kind === kind).map((m) => el("option", { value: m.slug, text: m.name }));
+      select.append(el("optgroup", { label }, ...options));
     }
-    source.textContent = `Materials: ${list.source}; ${list.license}.`;
+    status.textContent = `Materials: ${list.source}; ${list.license}.`;
   } catch (e) {
-    status.textContent = `materials unavailable: ${e.message}`;
+    status.textContent = `Materials unavailable: ${e.message}`;
+    status.classList.add("failed");
   }
-  select.addEventListener("change", async () => {
-    section.dataset.material = select.value;
-    if (!select.value) {
-      window.Plotly.purge(plot);
-      window.Plotly.purge(sphere);
-      errors.replaceChildren();
-      return;
-    }
+  const show = async () => {
+    const slug = select.value;
+    plot.hidden = sphere.hidden = !slug;
+    if (!slug) { errors.replaceChildren(); return; }
     try {
-      const q = await modelQuery(select.value);
-      const [body, lit] = await Promise.all([getJson(`${API}/materials/fresnel?${q}`),
-                                             getJson(`${API}/materials/sphere?${q}`)]);
+      const q = await modelFor(`${API}/materials/fresnel`);
+      q.set("material", slug);
+      const qs = await modelFor(`${API}/materials/sphere`);
+      qs.set("material", slug);
+      const [body, lit] = await Promise.all([getJSON(`/materials/fresnel?${q}`), getJSON(`/materials/sphere?${qs}`)]);
       const fig = fresnelFigure(body);
-      await window.Plotly.react(plot, fig.traces, fig.layout, { displaylogo: false, responsive: true });
-      await window.Plotly.react(sphere, [{ type: "image", z: lit.rgb, hoverinfo: "skip" }],
-        { title: { text: `${body.material.name}, lit at 45° (sRGB; max L/E ${lit.max.toFixed(2)})`, x: 0.02, font: { size: 14 } },
-          xaxis: { visible: false }, yaxis: { visible: false, scaleanchor: "x" }, width: 360, height: 380,
-          margin: { l: 10, r: 10, t: 40, b: 10 } }, { displaylogo: false, staticPlot: true });
-      errors.replaceChildren(el("p", { text: "Error of each fit against the exact Fresnel, and its error in E_avg of the page's lobe:" }),
+      await Plotly.react(plot, fig.traces, fig.layout, PLOT_CONFIG);
+      await Plotly.react(sphere, [{ type: "image", z: lit.rgb, hoverinfo: "skip" }],
+        { title: { text: `${body.material.name}, lit at 45° (sRGB; max L/E ${lit.max.toFixed(2)})`, x: 0.02, font: { size: 13 } },
+          xaxis: { visible: false }, yaxis: { visible: false, scaleanchor: "x" }, margin: { l: 10, r: 10, t: 40, b: 10 } },
+        { ...PLOT_CONFIG, staticPlot: true });
+      errors.replaceChildren(el("p", { text: "Error of each fit against the exact Fresnel, and its error in E_avg of the model's lobe:" }),
                              errorTable(body));
+      errors.dataset.material = slug;
     } catch (e) {
-      status.textContent = `material: ${e.message}`;
+      status.textContent = `Material: ${e.message}`;
+      status.classList.add("failed");
     }
-  });
-  return [source, el("div", { class: "shader-row" }, el("label", { for: "shader-material", text: "Material " }), select),
-          el("div", { style: "display: flex; flex-wrap: wrap; gap: 1em; align-items: flex-start;" },
-             el("div", { style: "flex: 1 1 520px; min-width: 0;" }, plot), sphere), errors];
+  };
+  select.addEventListener("change", show);
+  if (initial && [...select.options].some((o) => o.value === initial)) select.value = initial;
+  plot.hidden = sphere.hidden = true;
+  const section = card("materials", "Measured materials",
+    "The exact RGB Fresnel of a measured metal or dielectric, and how closely the artists' fits (Schlick, F82-tint, "
+    + "Gulbrandsen) follow it. In the explorer, choose the material in the Model menu to draw every panel with it.",
+    el("div", { class: "tools-row" }, el("label", { for: "shader-material", text: "Material" }), select), status,
+    el("div", { class: "tools-figures" }, plot, sphere), errors);
+  return { section, show };
 }
 
-function conventionsBlock() {
+/** One roughness r: the α each ecosystem means, with its lobe, and the table of them. */
+export function conventionsSection() {
   const slider = el("input", { type: "range", id: "conventions-roughness", min: "0", max: "1", step: "0.01", value: "0.5",
-                               "aria-label": "roughness" });
+                               "aria-label": "roughness r" });
   const value = el("output", { for: "conventions-roughness", text: "0.50" });
-  const plot = el("div", { id: "conventions-plot" });
-  const table = el("table", { class: "shader-table", id: "conventions-table",
-                              style: "border-collapse: collapse; font-size: 0.9em;" });
-  let timer = null;
+  const plot = el("div", { id: "conventions-plot", class: "tools-plot tall" });
+  const table = el("table", { class: "tools-table", id: "conventions-table" });
+  let timer = 0;
   const draw = async () => {
     const r = slider.value;
     value.textContent = Number(r).toFixed(2);
-    const [fig, rows] = await Promise.all([getJson(`${API}/conventions/figure?roughness=${r}`),
-                                           getJson(`${API}/conventions?roughness=${r}`)]);
-    await window.Plotly.react(plot, fig.data, fig.layout, { displaylogo: false, responsive: true });
+    const [fig, rows] = await Promise.all([getJSON(`/conventions/figure?roughness=${r}`), getJSON(`/conventions?roughness=${r}`)]);
+    await Plotly.react(plot, fig.data, { ...fig.layout, height: undefined, autosize: true }, PLOT_CONFIG);
     table.replaceChildren(el("tr", {}, el("th", { text: "ecosystem" }), el("th", { text: "α" }), el("th", { text: "k (G)" }),
-                             el("th", { text: "note" })));
-    for (const row of rows) {
-      table.append(el("tr", {}, el("td", { text: row.ecosystem }), el("td", { text: row.alpha.toPrecision(4) }),
-                      el("td", { text: row.k === undefined ? "" : row.k.toPrecision(4) }), el("td", { text: row.note })));
-    }
+                             el("th", { text: "note" })),
+      ...rows.map((row) => el("tr", {}, el("td", { text: row.ecosystem }), el("td", { text: row.alpha.toPrecision(4) }),
+                              el("td", { text: row.k === undefined ? "" : row.k.toPrecision(4) }),
+                              el("td", { class: "note", text: row.note }))));
+    plot.dataset.roughness = r;
   };
   slider.addEventListener("input", () => { clearTimeout(timer); timer = setTimeout(draw, 120); });
-  return { nodes: [el("div", { class: "shader-row" }, el("label", { for: "conventions-roughness", text: "Roughness r " }), slider, value),
-                   plot, table], draw };
+  const section = card("conventions", "Which roughness? α per ecosystem",
+    "The same roughness slider value means a different α in each engine and paper: the α each one takes, and the lobe it draws.",
+    el("div", { class: "tools-row" }, el("label", { for: "conventions-roughness", text: "Roughness r" }), slider, value),
+    plot, table);
+  return { section, draw };
 }
-
-async function mount() {
-  // Closed, it is one line under the figures (the column is the window's height and the
-  // panels take the rest); open, its body scrolls within 70 % of the window.
-  const main = document.querySelector("main");
-  const section = el("details", { id: "shader-tools", class: "shader-tools", "aria-label": "For shader writers",
-                                  style: "flex: none; padding: 0.3em 1em; border-top: 1px solid #ddd;" });
-  const body = el("div", { style: "max-height: 70vh; overflow: auto; padding-bottom: 1em;" });
-  section.append(el("summary", { text: "For shader writers: the model as code, measured materials, roughness conventions",
-                                 style: "cursor: pointer; font-weight: 600;" }), body);
-  const status = el("p", { class: "shader-status", role: "status", text: "" });
-  body.append(...codeBlock(section, status), status);
-  body.append(el("h3", { text: "Measured materials" }), ...(await materialBlock(section, status)));
-  const conventions = conventionsBlock();
-  body.append(el("h3", { text: "Which roughness? α per ecosystem" }), ...conventions.nodes);
-  if (main) main.after(section); else document.body.append(section);
-  // Plotly sizes a plot by its container: draw once the section is open, not while hidden
-  section.addEventListener("toggle", async () => {
-    if (section.open && !section.dataset.ready) {
-      await conventions.draw();
-      section.dataset.ready = "1";
-    }
-  });
-}
-
-mount();

@@ -6,8 +6,9 @@
 import { el, $, richText, setIf } from "./dom.js";
 import { paramControl } from "./sliders.js";
 import { reg, subOptions, choiceOf, sameSpec, switchChoice, fixApplicability, appliesTo, whyNot,
-         subApplies, activeParams, anisoAllowed, isAnisotropic, isPerceptual, secondLobeAllowed } from "./model.js";
-import { ctx } from "./state.js";
+         subApplies, activeParams, anisoAllowed, isAnisotropic, isPerceptual, secondLobeAllowed,
+         materialIn, MATERIAL_REPLACES } from "./model.js";
+import { ctx } from "./ctx.js";
 import { MODELS, MICROFACET, principledAvailable, fixPrincipled } from "./principled.js";
 import { principledSections, syncPrincipledForm } from "./principledform.js";
 
@@ -21,22 +22,46 @@ function section(title, ...kids) {
   return el("fieldset", { class: "group" }, el("legend", { text: title }), ...kids);
 }
 
-/** Microfacet | principled, at the top: the rest of the sidebar follows the choice. */
+// A measured material in the model menu: the microfacet model with material=<slug>
+const MATERIAL_PREFIX = "material:";
+const MATERIAL_GROUPS = { conductor: "Measured metals (RGB n, k)", dielectric: "Measured dielectrics (index n)" };
+
+/** The model menu, at the top: microfacet | principled | a measured material (the
+ * microfacet model whose Fresnel is the material's); the rest of the sidebar follows. */
 function modelSelect(on) {
   const sel = el("select", { id: "model", name: "model" });
-  for (const m of MODELS) sel.append(el("option", { value: m.name, text: m.label, title: m.description }));
+  for (const m of MODELS) {
+    if (m.name === MICROFACET || principledAvailable()) sel.append(el("option", { value: m.name, text: m.label, title: m.description }));
+  }
+  for (const [kind, label] of Object.entries(MATERIAL_GROUPS)) {
+    const list = reg.materials.filter((m) => m.kind === kind);
+    if (!list.length) continue;
+    sel.append(el("optgroup", { label }, ...list.map((m) => el("option", { value: MATERIAL_PREFIX + m.slug, text: m.name }))));
+  }
   sel.addEventListener("change", () => {
     const s = ctx.state;
-    s.model = sel.value;
+    const slug = sel.value.startsWith(MATERIAL_PREFIX) ? sel.value.slice(MATERIAL_PREFIX.length) : "";
+    s.model = slug ? MICROFACET : sel.value;
+    s.material = slug;
     on.notices(s.model === MICROFACET ? [] : fixPrincipled(s.principled));
     syncSidebar();
     on.change();
   });
   const f = section("Model", el("div", { class: "choice" },
-    el("label", { for: "model", class: "sr-only", text: "BRDF model" }), sel,
+    el("label", { for: "model", class: "sr-only", text: "BRDF model or measured material" }), sel,
     el("p", { class: "choice-info", id: "model-info" })));
   f.classList.add("model-group");
   return f;
+}
+
+/** What the model menu's choice is, in a sentence. */
+function modelInfo(s) {
+  const m = materialIn(s);
+  if (!m) return MODELS.find((x) => x.name === s.model)?.description || "";
+  const what = m.kind === "conductor" ? "a metal: its measured complex index n, k per RGB channel"
+    : "a dielectric: its measured index n";
+  return `${m.name}, ${what}, sets the microfacet model's Fresnel (physicallybased.info, CC0). `
+    + "Choose “Microfacet” to pick a Fresnel yourself.";
 }
 
 const microfacet = (fieldset) => { fieldset.dataset.model = MICROFACET; return fieldset; };
@@ -126,7 +151,7 @@ export function buildSidebar(on) {
       surface.push(subSelect({ name: "aniso_map", ...reg.models.sub_options.aniso_map }));
     }
   }
-  if (principledAvailable()) form.append(modelSelect(on));
+  if (principledAvailable() || reg.materials.length) form.append(modelSelect(on));
   form.append(microfacet(section("Surface", ...surface)));
   const [principled, implementations] = principledSections(on);
   if (principled) form.append(principled);
@@ -153,8 +178,10 @@ function syncModel() {
   const s = ctx.state;
   const sel = $("#model");
   if (!sel) return;
-  sel.value = s.model;
-  $("#model-info").textContent = MODELS.find((m) => m.name === s.model)?.description || "";
+  const m = materialIn(s);
+  sel.value = m ? MATERIAL_PREFIX + m.slug : s.model;
+  $("#model-info").textContent = modelInfo(s);
+  $("#model-info").title = m ? reg.materialSource : "";
   for (const f of document.querySelectorAll("#controls-form fieldset[data-model]")) f.hidden = f.dataset.model !== s.model;
   syncPrincipledForm();
 }
@@ -173,18 +200,27 @@ export function syncActiveRows() {
 /** Menus <- state: the selected choice, which choices apply, the choice's note. */
 export function syncChoices() {
   const s = ctx.state;
+  const material = materialIn(s);
   for (const g of reg.groups) {
     const sel = document.getElementById(g.name);
-    sel.value = s[g.name];
+    const byMaterial = !!material && g.name === MATERIAL_REPLACES;
+    sel.value = byMaterial ? material.kind : s[g.name];
+    setIf(sel, "disabled", byMaterial);
     for (const opt of sel.options) {
       const c = choiceOf(g.name, opt.value);
       opt.disabled = !appliesTo(c, s);
       opt.title = opt.disabled ? `Not available: ${whyNot(c, s)}` : (c.description || "");
     }
     const info = document.getElementById(`${g.name}-info`);
-    if (info.dataset.choice === s[g.name]) continue;
-    info.dataset.choice = s[g.name];
+    const shown = byMaterial ? MATERIAL_PREFIX + material.slug : s[g.name];
+    if (info.dataset.choice === shown) continue;
+    info.dataset.choice = shown;
     info.textContent = "";
+    if (byMaterial) {
+      info.append(el("span", { text: `Set by the material ${material.name} (Model menu above): its measured RGB index.` }));
+      info.hidden = false;
+      continue;
+    }
     const c = choiceOf(g.name, s[g.name]);
     if (c?.description) info.append(el("span", {}, richText(c.description)));
     if (c?.reference) info.append(el("span", { class: "ref", text: c.reference }));

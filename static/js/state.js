@@ -4,21 +4,14 @@
  * know are flagged, as the API flags them. `model=principled` carries the principled
  * model's values instead of the microfacet model's (principled.js).
  */
-import { reg, subOptions, paramFor, choiceDefaults, activeParams, subApplies, fixApplicability,
-         perceptualAllowed, secondLobeAllowed, PRESENCE } from "./model.js";
+import { reg, subOptions, paramFor, choiceDefaults, activeParams, activeGroups, subApplies, fixApplicability,
+         perceptualAllowed, secondLobeAllowed, materialIn, materialOf, PRESENCE, MATERIAL_REPLACES } from "./model.js";
 import { inRange, rangeText, clampParam } from "./sliders.js";
 import { isPrincipled, writePrincipled, readPrincipled, fixPrincipled, principledNames, principledAvailable,
          PRINCIPLED, MICROFACET } from "./principled.js";
-import * as pinsModule from "./pins.js";   // a cycle (pins read ctx): used in functions only
+import { ctx } from "./ctx.js";
+import { encodePin, decodePin, samePin, MAX_PINS } from "./pins.js";
 
-export const ctx = {
-  state: {},             // THE state
-  defaultState: {},
-  views: [],             // GET /api/v1/views, in panel order
-  locals: new Map(),     // state key -> {view, field, input} of the panels' own fields
-  embed: new URLSearchParams(location.search).get("embed") === "1",
-  extraKeys: new Set(),  // query parameters another module declared (state.extra)
-};
 
 export const TRUE_WORDS = new Set(["1", "true", "yes", "on"]);
 // Page parameters that are not the API's: which panels, a comparison, pins, embedding.
@@ -30,7 +23,8 @@ export function stateToSearch(s) {
   const q = new URLSearchParams();
   if (isPrincipled(s)) writePrincipled(s.principled, q);
   else {
-    for (const g of reg.groups) if (s[g.name] !== g.default) q.set(g.name, s[g.name]);
+    for (const g of activeGroups(s)) if (s[g.name] !== g.default) q.set(g.name, s[g.name]);
+    if (materialIn(s)) q.set("material", s.material);
     for (const g of subOptions()) if (subApplies(g.name, s) && s[g.name] !== g.default) q.set(g.name, s[g.name]);
     for (const p of activeParams(s)) if (PRESENCE.has(p.name) || s[p.name] !== p.default) q.set(p.name, String(s[p.name]));
   }
@@ -42,7 +36,7 @@ export function stateToSearch(s) {
     q.set("vary", s.vary);
     q.set("values", s.values);
   }
-  for (const pin of s.pins) q.append("pin", pinsModule.encodePin(pin));
+  for (const pin of s.pins) q.append("pin", encodePin(pin));
   for (const [k, v] of Object.entries(s.extra || {})) q.set(k, v);
   if (ctx.embed) q.set("embed", "1");
   // ':', ',' and '/' may stand as they are in a query (RFC 3986 3.4): readable pins and lists
@@ -88,6 +82,24 @@ function readMicrofacet(s, q, named, notes) {
   s.anisotropic = reg.params.has("alpha_y") && q.has("alpha_y");
   s.perceptual = perceptualAllowed() && q.has("roughness");
   s.secondLobe = secondLobeAllowed() && q.has("alpha2");
+  readMaterial(s, q, notes);
+}
+
+/** material=<slug> (GET /api/v1/materials): it sets the Fresnel, so a Fresnel named beside
+ * it is left out, as the API would refuse the pair. */
+function readMaterial(s, q, notes) {
+  const slug = q.get("material");
+  if (slug === null || slug === "") return;
+  if (!materialOf(slug)) {
+    const near = reg.materials.filter((m) => m.slug.startsWith(slug.toLowerCase().slice(0, 3))).map((m) => m.slug);
+    notes.push(`material=${slug} is not a measured material${near.length ? ` (did you mean ${near.slice(0, 4).join(", ")}?)` : ""}; `
+               + "using the Fresnel menu.");
+    return;
+  }
+  s.material = slug;
+  const replaced = reg.groups.find((g) => g.name === MATERIAL_REPLACES);
+  const given = [MATERIAL_REPLACES, ...replaced.choices.flatMap((c) => (c.params || []).map((p) => p.name))].filter((k) => q.has(k));
+  if (given.length) notes.push(`${[...new Set(given)].join(", ")}: set by material=${slug}; ignored.`);
 }
 
 /** The principled model's values and the geometry from a link; the microfacet model's
@@ -96,7 +108,7 @@ function readPrincipledLink(s, q, named, principled, notes) {
   notes.push(...readPrincipled(s.principled, (k) => q.get(k)), ...fixPrincipled(s.principled));
   const geometry = reg.models.geometry;
   for (const p of geometry) readParam(s, p, q.get(p.name), notes);
-  const alien = [...named.map((g) => g.name), ...reg.params.keys()]
+  const alien = [...named.map((g) => g.name), ...reg.params.keys(), "material"]
     .filter((k) => q.has(k) && !principled.has(k) && !geometry.some((p) => p.name === k));
   if (alien.length) notes.push(`${alien.join(", ")}: microfacet model only; ignored with model=principled.`);
 }
@@ -141,14 +153,14 @@ export function stateFromSearch(search) {
   notes.push(...fixApplicability(s));
   s.pins = [];
   for (const raw of q.getAll("pin")) {
-    const { pin, note } = pinsModule.decodePin(raw);
+    const { pin, note } = decodePin(raw);
     if (note) notes.push(note);
-    if (pin && !s.pins.some((x) => pinsModule.samePin(x, pin)) && s.pins.length < pinsModule.MAX_PINS) s.pins.push(pin);
+    if (pin && !s.pins.some((x) => samePin(x, pin)) && s.pins.length < MAX_PINS) s.pins.push(pin);
   }
   s.extra = {};
   for (const k of ctx.extraKeys) if (q.has(k)) s.extra[k] = q.get(k);
   const known = new Set([...named.map((g) => g.name), ...reg.params.keys(), ...ctx.locals.keys(), ...PAGE_PARAMS,
-                         ...ctx.extraKeys, ...principled, "model"]);
+                         ...ctx.extraKeys, ...principled, "model", "material"]);
   const unknown = [...new Set(q.keys())].filter((k) => !known.has(k));
   if (unknown.length) {
     notes.push(`Unknown parameter${unknown.length > 1 ? "s" : ""} ${unknown.map((k) => `“${k}”`).join(", ")}: `
@@ -169,6 +181,7 @@ function writeUrl() {
   urlTimer = 0;
   const search = stateToSearch(ctx.state);
   if (search !== location.search) history.replaceState(null, "", location.pathname + search);
+  for (const a of document.querySelectorAll("a[data-query]")) a.search = search;   // links that carry the state
 }
 export function scheduleUrlWrite() {
   if (ctx.held) urlAfterHold = true;

@@ -1,7 +1,7 @@
 /* What the page adds to GET /api/v1/views: presentation only (order, size, which
  * panels open by default, one sentence of what each shows). Titles and field roles
- * come from the API when it declares them ("title", field "role"); the table here is
- * the fallback for a server that does not.
+ * are the API's ("title", field "role"); whether a view is heavy or overlayable is the
+ * API's when it declares it ("heavy", "overlayable"), this table's until then.
  *   shown: open by default; slice: its phi_deg follows the plane of incidence when
  *   anisotropic; keys: URL names of its toggles that predate generic panels; wide /
  *   short: layout; pin: made of curves, so POST /figures/{name} can overlay pinned
@@ -9,33 +9,33 @@
  *   lightDrag: a sphere whose light is dragged on it (spheredrag.js).
  */
 export const HINTS = {
-  lobe: { title: "BRDF lobe", shown: true, pin: true, keys: { log: "log", cosine: "cosine" },
+  lobe: { shown: true, pin: true, keys: { log: "log", cosine: "cosine" },
           caption: "f(l, v) in the plane of incidence: the light from θ_i sent towards each θ_o." },
-  ndf: { title: "Normal distribution D", shown: true, slice: true, pin: true, tails: true,
+  ndf: { shown: true, slice: true, pin: true, tails: true,
          caption: "D(θ_m): how the microfacet normals are spread around the surface normal." },
-  g1: { title: "Smith masking Λ and G_1", shown: true, slice: true, pin: true,
+  g1: { shown: true, slice: true, pin: true,
         caption: "The fraction of microfacets seen from a direction, G₁ = 1/(1 + Λ), against its angle." },
-  albedo: { title: "Directional albedo E(μ)", shown: true, slice: true, pin: true, fields: ["tol"],
+  albedo: { shown: true, slice: true, pin: true, fields: ["tol"],
             caption: "The share of light the surface reflects for each incidence μ = cos θ, with its error." },
-  lobe3d: { title: "3-D lobe", wide: true, heavy: true,
+  lobe3d: { wide: true, heavy: true,
             caption: "f over the whole hemisphere of outgoing directions, for the light at (θ_i, φ_i)." },
-  g2: { title: "Masking-shadowing G_2",
+  g2: {
         caption: "G₂(θ_l, θ_v): the microfacets seen from both the light and the viewer." },
-  fresnel: { title: "Fresnel F", pin: true,
+  fresnel: { pin: true,
              caption: "F(θ_d): the share reflected by one microfacet against the angle to its normal." },
-  sphere: { title: "Lit sphere", heavy: true, lightDrag: true,
+  sphere: { heavy: true, lightDrag: true,
             caption: "A sphere of this material under one directional light at (θ_i, φ_i); drag on it to move the light." },
   sphere_env: { heavy: true, lightDrag: true,
                 caption: "A sphere of this material in an environment or under a point light; drag on it to move the light." },
-  slice: { title: "θ_h / θ_d slice", heavy: true,
+  slice: { heavy: true,
            caption: "f over half-vector and difference angles, the image slice of Disney's BRDF explorer." },
-  samples: { title: "Importance sampling", heavy: true,
+  samples: { heavy: true,
              caption: "Directions drawn by the sampler for one view, against the density they should follow." },
-  checks: { title: "Identity checks", wide: true, short: true,
+  checks: { wide: true,
             caption: "Identities the model must satisfy, each computed next to the value it must have." },
-  tradeoff: { title: "Speed against accuracy", wide: true,
+  tradeoff: { wide: true,
               caption: "The albedo's error against its cost, for each integration method." },
-  advise: { title: "Model only what the scene needs", wide: true, short: true, fields: ["tol"],
+  advise: { wide: true, short: true, fields: ["tol"],
             caption: "Cheaper choices of the model, their largest error over the scene and their cost." },
 };
 export const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
@@ -54,12 +54,16 @@ export const VIEW_FIELD_LABELS = {
   ndf: { cosine: "× cos θ_m" },
   slice: { cosine: "× cos θ_l" },
 };
-const FALLBACK_ROLES = { n: "resolution", n_theta: "resolution", n_phi: "resolution", mu: "resolution",
-                         tol: "resolution", order: "resolution" };
 
 export const hintOf = (name) => HINTS[name] || {};
-export const viewTitle = (view) => view.title || hintOf(view.name).title || view.name;
-export const fieldRole = (f) => f.role || FALLBACK_ROLES[f.name] || (f.type === "boolean" ? "display" : "shape");
+export const viewTitle = (view) => view.title || view.name;
+export const fieldRole = (f) => f.role || (f.type === "boolean" ? "display" : "shape");
+/** A heavy image (fetched coarser while a slider is held): the server's `heavy` flag on the
+ * view (GET /api/v1/views), else this page's table until every server declares it. */
+export const isHeavy = (view) => view.heavy ?? !!hintOf(view.name).heavy;
+/** Whether a view overlays models or values (pins, vary): the server's `overlayable`, or
+ * null when it does not say (the page then learns it from the refusal). */
+export const overlayable = (view) => (typeof view.overlayable === "boolean" ? view.overlayable : null);
 
 /** A panel field's state key and element id ("view.field" cannot collide with a model
  * parameter: those have no dots). */

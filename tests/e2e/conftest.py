@@ -140,3 +140,15 @@ def page_log(page, live_server):
     page.on("request", on_request)
     page.on("response", on_response)
     return log
+
+
+@pytest.fixture(scope="session")
+def shots(tmp_path_factory) -> Path:
+    """Where the screenshots the tests take go: a temporary directory, never the checkout.
+    bench/screenshots.py points BRDF_SCREENSHOT_DIR at docs/ to refresh the README's images
+    from the same tests."""
+    chosen = os.environ.get("BRDF_SCREENSHOT_DIR")
+    if chosen:
+        Path(chosen).mkdir(parents=True, exist_ok=True)
+        return Path(chosen)
+    return tmp_path_factory.mktemp("screenshots")

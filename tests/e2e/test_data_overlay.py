@@ -2,17 +2,18 @@
 model, the difference toggle shows its largest error where the bug predicts; a
 measured-looking MERL file opened, fitted, and its fit loaded into the controls.
 
-Writes docs/screenshot-data.png: the measured-looking data beside its fitted model.
+Takes screenshot-data.png (into the `shots` directory): the measured-looking data beside its fitted model.
 """
 from __future__ import annotations
 
 import json
 import math
+import re
 import urllib.request
-from pathlib import Path
 
 import numpy as np
 import pytest
+from playwright.sync_api import expect
 
 from test_page import wait_quiet   # tests/e2e is not a package
 
@@ -20,7 +21,6 @@ from tests.datasets import known
 
 pytestmark = pytest.mark.e2e
 
-DOCS = Path(__file__).resolve().parents[2] / "docs"
 OVERLAID = "(id) => document.getElementById(id)?.dataset.overlay === 'data'"
 DIFFERENCE = "(id) => document.getElementById(id)?.dataset.overlay === 'difference'"
 
@@ -69,7 +69,7 @@ def test_a_dropped_dump_shows_on_the_lobe_and_its_error_where_the_bug_predicts(p
     assert not [p for p in page_log.problems() if "/datasets" in p], page_log.problems()
 
 
-def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_path):
+def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_path, shots):
     path = tmp_path / "coppery.binary"
     path.write_bytes(known.measured_style_bytes())
     page.goto("/?show=lobe,slice&theta_i_deg=30")
@@ -88,6 +88,57 @@ def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_pa
     fitted_alpha = page.evaluate("() => window.__brdf.state.alpha")
     assert 0.07 < fitted_alpha < 0.1              # one GGX lobe through the two (0.06, 0.3)
     page.wait_for_function("() => window.__brdf.pending() === 0")
-    page.screenshot(path=str(DOCS / "screenshot-data.png"), full_page=False)
+    page.screenshot(path=str(shots / "screenshot-data.png"), full_page=False)
     assert "data (r)" in plot(page, "lobe")["names"]
+    assert not [p for p in page_log.problems() if "/datasets" in p or "/fit" in p], page_log.problems()
+
+
+def conductor_bytes() -> bytes:
+    """A MERL file of GGX α = 0.2 with a conductor's Fresnel η = 0.5, κ = 2.5 and kd = 0.05,
+    the same in each channel."""
+    from app.datasets import merl, tabulate
+    from app.model import make_spec
+    brdf = make_spec(**CONDUCTOR).brdf()
+    return merl.write(tabulate.merl_table([brdf] * 3))
+
+
+CONDUCTOR = {"ndf": "ggx", "alpha": 0.2, "fresnel": "conductor", "ior": 0.5, "k": 2.5, "kd": 0.05}
+
+
+def test_a_channel_change_replaces_the_data_label(page, page_log, tmp_path):
+    path = tmp_path / "coppery.binary"
+    path.write_bytes(known.measured_style_bytes())
+    page.goto("/?show=lobe&theta_i_deg=30")
+    wait_quiet(page, ids=("plot-lobe",))
+    page.set_input_files("#data-file", str(path))
+    page.wait_for_function(OVERLAID, arg="plot-lobe", timeout=60_000)
+    labels = page.locator("#plot-lobe .annotation-text")
+    expect(labels).to_have_text(["data (luminance)"])
+    page.select_option("#data-channel", "r")
+    page.wait_for_function("() => [...document.querySelectorAll('#plot-lobe .legendtext')]"
+                           ".some((t) => t.textContent === 'data (r)')", timeout=60_000)
+    expect(labels).to_have_text(["data (r)"])           # the luminance's label is gone
+    legend = page.locator("#plot-lobe .legendtext").all_text_contents()
+    assert "data (luminance)" not in legend
+    assert not [p for p in page_log.problems() if "/datasets" in p], page_log.problems()
+
+
+def test_a_conductor_fit_frees_eta_and_kappa_and_says_what_it_held(page, page_log, tmp_path):
+    path = tmp_path / "conductor.binary"
+    path.write_bytes(conductor_bytes())
+    fits = []
+    page.on("request", lambda r: fits.append(json.loads(r.post_data)) if r.url.endswith("/api/v1/fit") else None)
+    page.goto("/?show=lobe&fresnel=conductor")
+    wait_quiet(page, ids=("plot-lobe",))
+    page.set_input_files("#data-file", str(path))
+    page.wait_for_function(OVERLAID, arg="plot-lobe", timeout=60_000)
+    expect(page.locator("#data-fit")).to_have_text("Fit α, k_d, η, κ")
+    page.click("#data-fit")
+    page.wait_for_selector("#data-fit-use", timeout=60_000)
+    assert set(fits[-1]["free"]) == {"alpha", "kd", "ior", "k"}
+    fitted = dict(re.findall(r"(\w+) = ([0-9.e+-]+) ±", page.text_content("#data-fit-params")))
+    for name in ("alpha", "kd", "ior", "k"):      # the parameters the file was made with
+        assert float(fitted[name]) == pytest.approx(CONDUCTOR[name], rel=1e-3), name
+    held = page.text_content("#data-fit-held")
+    assert "ndf=ggx" in held and "fresnel=conductor" in held and "ior" not in held
     assert not [p for p in page_log.problems() if "/datasets" in p or "/fit" in p], page_log.problems()

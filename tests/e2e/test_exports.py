@@ -15,9 +15,6 @@ from test_page import PANELS, api_requests, wait_quiet   # tests/e2e is not a pa
 
 pytestmark = pytest.mark.e2e
 
-ROOT = Path(__file__).resolve().parents[2]
-GALLERY_SHOT = ROOT / "docs" / "screenshot-gallery.png"
-PHONE_SHOT = ROOT / "docs" / "screenshot-phone.png"
 # What the pages must work under: no inline script, no eval, nothing from other origins
 # (Plotly needs inline styles and data:/blob: images for its modebar and downloads).
 STRICT_CSP = ("default-src 'self'; script-src 'self'; style-src 'self' 'unsafe-inline'; "
@@ -184,7 +181,7 @@ def test_every_control_is_labelled_and_keyboard_operable(page, page_log):
     assert page_log.problems() == []
 
 
-def test_gallery_renders_and_every_link_opens_its_state(page, page_log):
+def test_gallery_renders_and_every_link_opens_its_state(page, page_log, shots):
     strict_csp(page)
     page.goto("/gallery")
     page.wait_for_function("() => document.querySelectorAll('.gallery-card').length >= 8")
@@ -196,7 +193,7 @@ def test_gallery_renders_and_every_link_opens_its_state(page, page_log):
     assert page.evaluate("() => window.__gallery.failed()") == 0
     assert page.evaluate("() => window.__gallery.done()") == count
     page.evaluate("() => window.scrollTo(0, 0)")
-    page.screenshot(path=str(GALLERY_SHOT))
+    page.screenshot(path=str(shots / "screenshot-gallery.png"))
     links = page.eval_on_selector_all(".gallery-card a.open", "(as) => as.map((a) => a.href)")
     assert len(links) == count
     for link in links:
@@ -216,7 +213,7 @@ def test_gallery_renders_and_every_link_opens_its_state(page, page_log):
 
 
 @pytest.mark.parametrize("path", ["/", "/gallery", "/embed/lobe?controls=1"])
-def test_phone_portrait_has_no_sideways_scroll(page, page_log, path):
+def test_phone_portrait_has_no_sideways_scroll(page, page_log, path, shots):
     page.set_viewport_size(PHONE)
     page.goto(path)
     if path == "/":
@@ -231,5 +228,5 @@ def test_phone_portrait_has_no_sideways_scroll(page, page_log, path):
         assert all(b["width"] >= 340 and b["height"] >= 250 for b in boxes)
         assert page.locator(".topbar").bounding_box()["height"] <= 90      # the bar does not swallow the page
         page.locator('[data-panel="lobe"]').scroll_into_view_if_needed()
-        page.screenshot(path=str(PHONE_SHOT), full_page=False)
+        page.screenshot(path=str(shots / "screenshot-phone.png"), full_page=False)
     assert page_log.problems() == []

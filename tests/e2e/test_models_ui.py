@@ -6,7 +6,6 @@ the registry is exercised by these tests without a change to them.
 from __future__ import annotations
 
 import json
-from pathlib import Path
 from urllib.parse import parse_qs, urlparse
 
 import httpx
@@ -16,8 +15,6 @@ import test_page   # tests/e2e is not a package
 
 pytestmark = pytest.mark.e2e
 
-ROOT = Path(__file__).resolve().parents[2]
-SCREENSHOT = ROOT / "docs" / "screenshot-compare.png"
 PANELS = ("plot-lobe", "plot-ndf", "plot-g1", "plot-albedo")
 
 
@@ -221,7 +218,7 @@ def test_pins_overlay_persist_and_clear(page, page_log):
     assert not page_log.problems(), page_log.problems()
 
 
-def test_compare_tails_and_screenshot(page, page_log):
+def test_compare_tails_and_screenshot(page, page_log, shots):
     shown = ("plot-lobe", "plot-ndf", "plot-g1", "plot-fresnel")
     page.goto("/?alpha=0.25&show=lobe,ndf,g1,fresnel")
     wait_quiet(page, shown)
@@ -235,8 +232,7 @@ def test_compare_tails_and_screenshot(page, page_log):
     assert "(now)" in names[0]
     select(page, "ndf", "student_t", shown)
     assert len(ndf_names(page)) == 4
-    SCREENSHOT.parent.mkdir(parents=True, exist_ok=True)
-    page.screenshot(path=str(SCREENSHOT))
+    page.screenshot(path=str(shots / "screenshot-compare.png"))
     assert not page_log.problems(), page_log.problems()
 
 

@@ -2,8 +2,8 @@
 their frame, slide-size exports, a page a newcomer can read (headings, captions, the
 panel list at the top, the phone layout, unknown parameters flagged).
 
-Screenshots of the page, the phone, an embed and a panel's PNG export are written to
-docs/ (the README shows docs/screenshot-page.png).
+Screenshots of the page, the phone, an embed and a panel's PNG export go to the `shots`
+directory (a temporary one; bench/screenshots.py refreshes docs/ from them).
 """
 from __future__ import annotations
 
@@ -19,7 +19,6 @@ from test_page import PANELS, wait_quiet   # tests/e2e is not a package
 pytestmark = pytest.mark.e2e
 
 ROOT = Path(__file__).resolve().parents[2]
-DOCS = ROOT / "docs"
 EMBED_QUIET = "() => window.__embed && window.__embed.pending() === 0 && window.__embed.drawn()"
 
 
@@ -253,7 +252,7 @@ def test_panel_list_is_at_the_top(page, page_log):
     assert page_log.problems() == []
 
 
-def test_phone_shows_plots_above_their_controls(page, page_log):
+def test_phone_shows_plots_above_their_controls(page, page_log, shots):
     page.set_viewport_size({"width": 390, "height": 844})
     page.goto("/")
     wait_quiet(page, ids=("plot-lobe",))
@@ -265,13 +264,13 @@ def test_phone_shows_plots_above_their_controls(page, page_log):
     assert rect(page, "#alpha-slider")["top"] > plot["bottom"] - 80
     assert inside_viewport(page, "#panel-bar")
     assert page.evaluate("() => document.documentElement.scrollWidth <= window.innerWidth")
-    page.screenshot(path=str(DOCS / "screenshot-phone.png"))
+    page.screenshot(path=str(shots / "screenshot-phone.png"))
     assert page_log.problems() == []
 
 
 # ---------------------------------------------------------------- exports and embeds
 
-def test_panel_png_is_slide_sized_and_named_after_its_parameters(page, page_log):
+def test_panel_png_is_slide_sized_and_named_after_its_parameters(page, page_log, shots):
     page.goto("/?alpha=0.2&g2=separable&fresnel=dielectric&ior=1.7&theta_i_deg=60")
     wait_quiet(page)
     lobe = page.locator('[data-panel="lobe"]')
@@ -282,7 +281,7 @@ def test_panel_png_is_slide_sized_and_named_after_its_parameters(page, page_log)
     name = dl.value.suggested_filename
     for part in ("alpha=0.2", "g2=separable", "fresnel=dielectric", "ior=1.7", "theta_i_deg=60"):
         assert part in name, name
-    (DOCS / "export-lobe.png").write_bytes(data)
+    (shots / "export-lobe.png").write_bytes(data)
     with page.expect_download(timeout=30_000) as dl:
         page.locator('[data-panel="ndf"] button[data-format="csv"]').click()
     assert "g2=separable" in dl.value.suggested_filename and "theta_i_deg" not in dl.value.suggested_filename
@@ -290,7 +289,7 @@ def test_panel_png_is_slide_sized_and_named_after_its_parameters(page, page_log)
 
 
 @pytest.mark.parametrize("size", [(640, 440), (320, 240)])
-def test_embed_with_controls_fits_its_frame(page, page_log, size):
+def test_embed_with_controls_fits_its_frame(page, page_log, size, shots):
     width, height = size
     page.set_viewport_size({"width": width, "height": height})
     page.goto("/embed/g1?controls=1&alpha=0.2")
@@ -306,16 +305,16 @@ def test_embed_with_controls_fits_its_frame(page, page_log, size):
     assert abs(drawn - plot["height"]) <= 2
     if width >= 640:
         assert inside_viewport(page, "#plot .legend")
-        page.screenshot(path=str(DOCS / "screenshot-embed.png"))
+        page.screenshot(path=str(shots / "screenshot-embed.png"))
     assert page_log.problems() == []
 
 
-def test_page_screenshot(page, page_log):
+def test_page_screenshot(page, page_log, shots):
     page.set_viewport_size({"width": 1400, "height": 900})
     page.goto("/?alpha=0.2&theta_i_deg=50")
     wait_quiet(page)
     page.wait_for_timeout(200)
-    page.screenshot(path=str(DOCS / "screenshot-page.png"))
+    page.screenshot(path=str(shots / "screenshot-page.png"))
     assert parse_qs(urlparse(page.url).query)["alpha"] == ["0.2"]
     assert page_log.problems() == []
 
@@ -325,6 +324,3 @@ def test_static_files_cite_nothing_users_do_not_have():
         if path.is_file() and path.suffix in (".js", ".html", ".css"):
             text = path.read_text(encoding="utf-8")
             assert "MATH" + ".md" not in text and "seed 0" not in text, path
-    big = [p for p in (ROOT / "static").rglob("*") if p.is_file() and p.suffix in (".js", ".html", ".css")
-           and len(p.read_text(encoding="utf-8").splitlines()) > 400]
-    assert big == []

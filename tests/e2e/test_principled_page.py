@@ -14,7 +14,6 @@ from test_page import api_requests, move_slider, query, wait_quiet   # tests/e2e
 
 pytestmark = pytest.mark.e2e
 
-SCREENSHOT = "/tmp/principled-page.png"
 LOBE_R_JS = "() => JSON.stringify(document.getElementById('plot-lobe').data[0].r)"
 SOURCE_JS = "() => document.getElementById('plot-sphere_env').data[0].source"
 #: Sidebar controls of the microfacet model alone (the API refuses them with model=principled).
@@ -187,11 +186,11 @@ def test_an_embed_of_the_principled_model_moves_its_roughness(page, page_log):
     assert page_log.problems() == []
 
 
-def test_screenshot_of_the_principled_page(page, page_log):
+def test_screenshot_of_the_principled_page(page, page_log, shots):
     page.goto("/?model=principled&metallic=0.6&roughness=0.35&sheen=0.5&show=lobe,ndf,sphere_env,principled_albedo")
     wait_quiet(page, ids=("plot-lobe", "plot-ndf", "plot-sphere_env", "plot-principled_albedo"), timeout=120_000)
     assert page.input_value("#model") == "principled" and page.is_visible("#principled-metallic")
     assert api_requests(page_log, "principled_albedo")[-1]["model"] == "principled"
     page.evaluate("() => document.getElementById('panels').scrollTo(0, 0)")
-    page.screenshot(path=SCREENSHOT)
+    page.screenshot(path=str(shots / "screenshot-principled.png"))
     assert page_log.problems() == []
