@@ -10,6 +10,7 @@ its API route calls, or the route's own function.
 """
 from __future__ import annotations
 
+import os
 import sys
 from dataclasses import dataclass
 from typing import Callable
@@ -77,3 +78,8 @@ def main(argv: list[str] | None = None) -> int:
     except UsageError as e:
         print(f"brdf-explorer {name}: {e}", file=sys.stderr)
         return 2
+    except BrokenPipeError:
+        # the reader stopped early (``| head``): what it read is what it wanted. Standard
+        # output goes to /dev/null so that the interpreter's last flush does not fail too.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 0
