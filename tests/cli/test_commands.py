@@ -173,3 +173,11 @@ def test_model_csv_round_trips_through_datasets(tmp_path, capsys):
     assert rows[0][:4] == ["theta_i_deg", "phi_i_deg", "theta_o_deg", "phi_o_deg"]
     assert main(["datasets", str(out)]) == 0
     assert json.loads(capsys.readouterr().out)["format"] == "samples_csv"
+
+
+def test_a_reader_that_stops_early_is_no_error():
+    """``brdf-explorer figures | head -1`` exits 0 with no traceback (a closed pipe)."""
+    run = subprocess.run(["bash", "-o", "pipefail", "-c", f"'{sys.executable}' -m app.cli figures | head -c 10"],
+                         cwd=ROOT, capture_output=True, text=True, timeout=300)
+    assert run.returncode == 0 and "Traceback" not in run.stderr, run.stderr
+    assert len(run.stdout) == 10
