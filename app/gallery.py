@@ -107,6 +107,35 @@ ENTRIES: tuple[Entry, ...] = (
           "and so likely hidden from the other too.",
           "g2", ({"alpha": 0.5, "phi_deg": 180},),
           "Heitz 2014, sec. 6"),
+    # the newer capabilities, one card each (the principled model, environments,
+    # measured materials, the tables shaders ship)
+    Entry("principled-metallic", "The principled BRDF: dielectric and metal",
+          "One base colour at metallic = 0 and at metallic = 1, lit at 60°. As a dielectric "
+          "the colour goes into the diffuse lobe under a weak white specular one; as a metal "
+          "it tints a much stronger specular lobe and the diffuse lobe is gone.",
+          "lobe", ({"model": "principled", "base_color": "0.9,0.6,0.2", "roughness": 0.3,
+                    "theta_i_deg": 60, "log": True, "vary": "metallic", "values": "0,1"},),
+          "Burley 2012, sec. 5.1; docs/principled.md"),
+    Entry("environment-sphere", "A gold-coloured metal in a studio",
+          "The principled model on a sphere in colour, lit by a procedural studio environment "
+          "and rendered with importance sampling of the light and the BRDF. The caption of "
+          "the figure states the noise that is left.",
+          "sphere_env", ({"model": "principled", "base_color": "0.9,0.6,0.2", "metallic": 1,
+                          "roughness": 0.3, "environment": "studio"},),
+          "Veach 1997, ch. 9 (multiple importance sampling); Burley 2012"),
+    Entry("material-copper", "Measured copper's Fresnel",
+          "The reflectance of copper from its measured complex index of refraction per "
+          "linear-sRGB channel, drawn as their luminance. Like every conductor's it stays "
+          "high at every angle and rises to 1 at grazing incidence.",
+          "fresnel", ({"material": "copper"},),
+          "physicallybased.info (CC0); Born & Wolf sec. 13.2"),
+    Entry("table-albedo", "A tabulated albedo against the quadrature",
+          "The E(μ, α) table that energy compensation and shaders look up, drawn over the "
+          "adaptive quadrature it was built from. The two curves agree within the bound the "
+          "table reports, which /api/v1/lut states for the tables a shader ships.",
+          "albedo", ({"alpha": 0.5, "fresnel": "none", "vary": "method",
+                      "values": "quadrature,table"},),
+          "Kulla & Conty 2017; Karis 2013 (split sum); docs/tables.md"),
 )
 
 

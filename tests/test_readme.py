@@ -1,10 +1,11 @@
-"""Every snippet of the README runs: each fenced block is extracted and run against a live
-server started from this checkout (its URLs pointed at that server's port). Python blocks
-run as scripts, bash blocks in a shell (``brdf-explorer`` is this checkout's CLI), a
-``text`` block right after a bash block is output that must appear, in order, in what the
-block printed (``...`` skips lines), and an iframe's ``src`` must answer 200. The two
-commands at the top install things: the second must be what .ci/run runs, the first is
-the wheel install that tests/packaging/test_wheel.py performs."""
+"""Every snippet of the README (and of the docs it sends a reader to for the details) runs:
+each fenced block is extracted and run against a live server started from this checkout
+(its URLs pointed at that server's port). Python blocks run as scripts, bash blocks in a
+shell (``brdf-explorer`` is this checkout's CLI), a ``text`` block right after a bash
+block is output that must appear, in order, in what the block printed (``...`` skips
+lines), and an iframe's ``src`` must answer 200. Two commands install things and are
+not run: the first block (the wheel install tests/packaging/test_wheel.py performs) and
+the one under "Development", which must be what .ci/run runs."""
 import os
 import re
 import stat
@@ -19,22 +20,61 @@ from tests.live import free_port, stop, wait_until_up
 
 ROOT = Path(__file__).resolve().parents[1]
 README = (ROOT / "README.md").read_text(encoding="utf-8")
-BLOCKS = re.findall(r"^```(\w+)\n(.*?)^```$", README, flags=re.S | re.M)
+#: the docs whose examples the README leaves out and links to instead
+DETAIL_DOCS = ("docs/accuracy.md", "docs/teaching.md")
+FENCE = re.compile(r"^```(\w+)\n(.*?)^```$", flags=re.S | re.M)
+BLOCKS = FENCE.findall(README)
 DOCUMENTED = "http://127.0.0.1:8000"
+CI = (ROOT / ".ci" / "run").read_text().strip().splitlines()[-1]
+INSTALL = "pip install . && brdf-explorer serve\n"
 #: Seconds the server may take to start (numba compiles or loads its kernels first) and
 #: a block may run (a deck of exports starts Chromium).
 START_SECONDS, BLOCK_SECONDS = 240, 600
+#: the API's parts the README must show (issue 34: the newer half was out of sight)
+API_PARTS = ("/datasets", "/fit", "/code", "/lut", "/conventions", "/materials", "/principled",
+             "sphere_env", "/batch", "/eval", "/albedo", "/figures/", "/embed/")
+#: what a user wants to do, each with a heading of its own
+TASKS = ("See a BRDF", "Compare models", "Bring your data", "Take the code", "Teach with it")
 
 
-def test_readme_opens_with_one_sentence_and_the_two_commands():
+def _section(heading: str) -> str:
+    found = re.search(rf"^## {re.escape(heading)}\n(.*?)(?=^## |\Z)", README, flags=re.S | re.M)
+    assert found, f"README has no '## {heading}' section"
+    return found.group(1)
+
+
+def test_readme_opens_with_one_sentence_and_the_start_command():
     title, rest = README.split("\n", 1)
     assert title.startswith("# ")
     first = rest.strip().split("\n\n")[0]
     assert first.count(". ") == 0 and first.endswith(".")            # one sentence
-    assert BLOCKS[0] == ("bash", "pip install . && brdf-explorer serve\n")
-    ci = (ROOT / ".ci" / "run").read_text().strip().splitlines()[-1]
-    assert BLOCKS[1][0] == "bash" and BLOCKS[1][1].strip() == ci
+    assert BLOCKS[0] == ("bash", INSTALL)
+    assert "127.0.0.1:8000" in rest.strip().split("\n\n")[2]          # where it starts, said next
     assert "MATH.md" not in README and not re.search(r"seed \d{3}|\(\d-\d+\)", README)
+
+
+def test_the_test_command_is_ci_s_under_development():
+    development = FENCE.findall(_section("Development"))
+    assert ("bash", CI + "\n") in development
+    assert CI not in README.split("## ", 1)[0]                         # not beside the start command
+
+
+def test_readme_is_organised_by_task_and_shows_the_whole_api():
+    for task in TASKS:
+        assert FENCE.search(_section(task)), f"'{task}' has no example"
+        assert re.search(r"\]\((docs/[\w-]+\.md)\)", _section(task)), f"'{task}' links no doc"
+    for part in API_PARTS:
+        assert part in README, part
+    for doc in ("docs/datasets.md", "docs/shaders.md", "docs/principled.md"):
+        assert f"]({doc})" in README
+    assert len(README.splitlines()) < 362                             # shorter than it was
+
+
+@pytest.mark.parametrize("path", ["README.md", *DETAIL_DOCS])
+def test_relative_links_lead_to_files(path):
+    text = (ROOT / path).read_text(encoding="utf-8")
+    for target in re.findall(r"\]\(([^)#:]+)(?:#[^)]*)?\)", text):
+        assert (ROOT / path).parent.joinpath(target).resolve().exists(), f"{path}: {target}"
 
 
 @pytest.fixture(scope="module")
@@ -72,11 +112,20 @@ def _expect_in_order(expected: str, output: str) -> None:
         at += 1
 
 
-RUNNABLE = [(k, lang, body) for k, (lang, body) in enumerate(BLOCKS) if k >= 2 and lang in ("python", "bash", "html")]
+def _runnable(path: str):
+    blocks = FENCE.findall((ROOT / path).read_text(encoding="utf-8"))
+    for k, (lang, body) in enumerate(blocks):
+        if lang in ("python", "bash", "html") and body not in (INSTALL, CI + "\n"):
+            following = blocks[k + 1] if k + 1 < len(blocks) else None
+            yield pytest.param(lang, body, following if following and following[0] == "text" else None,
+                               id=f"{path}-block{k}-{lang}")
 
 
-@pytest.mark.parametrize("k, lang, body", RUNNABLE, ids=[f"block{k}-{lang}" for k, lang, _ in RUNNABLE])
-def test_snippet_runs(k, lang, body, server, tmp_path):
+RUNNABLE = [p for path in ("README.md", *DETAIL_DOCS) for p in _runnable(path)]
+
+
+@pytest.mark.parametrize("lang, body, expected", RUNNABLE)
+def test_snippet_runs(lang, body, expected, server, tmp_path):
     code = body.replace(DOCUMENTED, server)
     env = _shell_env(tmp_path, server)
     if lang == "html":
@@ -85,7 +134,6 @@ def test_snippet_runs(k, lang, body, server, tmp_path):
         return
     cmd = [sys.executable, "-c", code] if lang == "python" else ["bash", "-euo", "pipefail", "-c", code]
     run = subprocess.run(cmd, cwd=tmp_path, env=env, capture_output=True, text=True, timeout=BLOCK_SECONDS)
-    assert run.returncode == 0, f"README block {k} failed:\n{body}\n{run.stdout}\n{run.stderr}"
-    following = BLOCKS[k + 1] if k + 1 < len(BLOCKS) else None
-    if following is not None and following[0] == "text":
-        _expect_in_order(following[1], run.stdout)
+    assert run.returncode == 0, f"block failed:\n{body}\n{run.stdout}\n{run.stderr}"
+    if expected is not None:
+        _expect_in_order(expected[1], run.stdout)

@@ -51,3 +51,22 @@ def test_pages_are_served(client):
         assert r.status_code == 200 and r.headers["content-type"].startswith("text/html")
     r = client.get("/embed/no_such_view")
     assert r.status_code == 404 and "one of" in r.json()["detail"][0]["msg"]
+
+
+def test_a_card_for_each_newer_capability(client):
+    """The principled model, an environment, a measured material and a table each have a
+    card, and each card's figure draws what it says (issue 34: the gallery showed none)."""
+    items = client.get("/api/v1/gallery").json()
+    principled = [i for i in items if i["state"].get("model") == "principled"]
+    assert {"lobe", "sphere_env"} <= {i["kind"] for i in principled}
+    assert any(i["state"].get("material") for i in items)
+    table = next(i for i in items if "table" in str(i["state"].get("values", "")))
+    assert client.get(table["figure"]).status_code == 200
+    # the table's curve lies on the quadrature's within the table's own stated bound
+    data = client.get("/api/v1/albedo", params={"alpha": 0.5, "fresnel": "none", "method": "table"}).json()
+    exact = client.get("/api/v1/albedo", params={"alpha": 0.5, "fresnel": "none", "mu": ",".join(map(str, data["mu"]))}).json()
+    for e_table, e_exact, bound, qerr in zip(data["E"], exact["E"], data["E_error"], exact["E_error"]):
+        assert abs(e_table - e_exact) <= bound + qerr
+    copper = next(i for i in items if i["state"].get("material") == "copper")
+    F = client.get("/api/v1/fresnel", params=copper["state"]).json()["F"]
+    assert F[0] > 0.5 and abs(F[-1] - 1.0) < 1e-9       # a conductor: high at 0°, 1 at grazing
