@@ -82,6 +82,17 @@ class Settings:
     #: directory of the generated and compiled loops, shared by processes: BRDF_KERNEL_DIR
     #: (empty: app/kernels/_generated, else a temporary directory)
     kernel_dir: str = ""
+    #: other origins whose pages may write (POST, PUT, PATCH, DELETE) besides the
+    #: server's own: BRDF_ALLOWED_ORIGINS, comma-separated (empty: only the page itself)
+    allowed_origins: tuple[str, ...] = ()
+    #: seconds a request body may go without a byte before it is answered 408:
+    #: BRDF_BODY_IDLE_SECONDS. A 36 MB upload at 1 Mbit/s sends a TCP segment every few
+    #: ms; 15 s of silence is a stalled or hostile client.
+    body_idle_seconds: float = 15.0
+    #: worker processes of the heavy-work pool (app/work): BRDF_HEAVY_WORKERS
+    heavy_workers: int = 1
+    #: jobs that may wait for a heavy worker before a 503: BRDF_HEAVY_QUEUE
+    heavy_queue: int = 4
     #: the user's cache root, under which the tables go when cache_dir is empty:
     #: XDG_CACHE_HOME (empty: ~/.cache)
     xdg_cache_home: str = ""
@@ -144,6 +155,17 @@ def _non_negative(env: str, cast):
     return parse
 
 
+def _positive(env: str, cast):
+    """A parser for a duration that must be above zero (a zero timeout answers at once)."""
+    def parse(raw: str):
+        value = _non_negative(env, cast)(raw)
+        if not value > 0:
+            raise ValueError(f"{env}={raw!r}: must be positive")
+        return value
+    return parse
+
+
 #: how each setting that is not a non-negative number is read from its variable
 _PARSERS = {"cache_dir": _text, "static_dir": _text, "chromium": _text, "kernel_dir": _text,
-            "xdg_cache_home": _text, "fast": _switch, "cors_origins": _origins}
+            "xdg_cache_home": _text, "fast": _switch, "cors_origins": _origins,
+            "allowed_origins": _origins, "body_idle_seconds": _positive}

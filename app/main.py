@@ -82,10 +82,14 @@ def with_head(router: APIRouter) -> APIRouter:
     """HEAD answered wherever GET is (RFC 9110 9.3.2: the GET's status and headers, no
     body; the server drops the body): a twin of each GET route taking HEAD, left out of
     the OpenAPI document (FastAPI's routes take only the methods they list)."""
+    existing = {getattr(route, "name", None) for route in router.routes}
     twins = [type(route)(route.path, route.endpoint, methods=["HEAD"], include_in_schema=False,
                          name=f"{route.name}_head", response_class=route.response_class,
                          dependency_overrides_provider=route.dependency_overrides_provider)
-             for route in router.routes if isinstance(route, APIRoute) and "GET" in route.methods]
+             for route in router.routes if isinstance(route, APIRoute) and "GET" in route.methods
+             and f"{route.name}_head" not in existing]
+    # the routers are module-level: a second create_app (tests build many) must not add
+    # a second twin of each route
     router.routes.extend(twins)
     return router
 

@@ -20,7 +20,7 @@ APP = Path(__file__).resolve().parents[1] / "app"
 #: The ranks, top to bottom: a module may import its own rank and those below it.
 RANKS = [
     ("wiring", ("app.main", "app.cli")),
-    ("api", ("app.api", "app.server")),
+    ("api", ("app.api", "app.server", "app.work")),
     ("export", ("app.export", "app.gallery")),
     ("views", ("app.views",)),
     ("analysis", ("app.analysis", "app.environment")),
@@ -48,8 +48,6 @@ KNOWN = {
     "app.shader.generate imports app.integrate": "31: shader is dispatch only; spellings with the physics",
     "app.shader.generate imports app.model": "31: shader is dispatch only; spellings with the physics",
     # circles, each as its sorted modules
-    "circle app.physics.smith_integral, app.physics.smith_table": "31 (tables)",
-    "circle app.integrate.startup, app.integrate.table_store, app.integrate.tables": "31 (tables)",
     "circle app.principled.albedo, app.principled.material": "31 (views)",
 }
 

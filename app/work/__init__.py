@@ -7,19 +7,10 @@ its ``yield``: every worker killed, so shutdown never waits for a running job.
 """
 from __future__ import annotations
 
-import os
-
-from .pool import DEFAULT_QUEUE, DEFAULT_WORKERS, QUEUE_ENV, WORKERS_ENV, HeavyPool
+from ..config import environment
+from .pool import HeavyPool
 
 _POOL: HeavyPool | None = None
-
-
-def _setting(name: str, default: int) -> int:
-    raw = os.environ.get(name)
-    try:
-        return default if raw is None else int(raw)
-    except ValueError:
-        raise ValueError(f"{name}={raw!r}: expected a whole number") from None
 
 
 def pool() -> HeavyPool:
@@ -27,8 +18,8 @@ def pool() -> HeavyPool:
     BRDF_MAX_SECONDS)."""
     global _POOL
     if _POOL is None:
-        _POOL = HeavyPool(_setting(WORKERS_ENV, DEFAULT_WORKERS), _setting(QUEUE_ENV, DEFAULT_QUEUE),
-                          float(os.environ.get("BRDF_MAX_SECONDS", "10")))
+        s = environment()
+        _POOL = HeavyPool(s.heavy_workers, s.heavy_queue, s.max_seconds)
     return _POOL
 
 

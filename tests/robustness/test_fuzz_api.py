@@ -57,6 +57,7 @@ from fastapi.routing import APIRoute
 from schemathesis.config import SchemathesisConfig
 
 import app.api
+import app.api.routes
 from app.views import schemas
 from tests.finite import finite_json as parse_finite
 from app.errors import ParameterError
@@ -253,9 +254,9 @@ def _view_refusal(view, model):
     return refusal
 
 
-#: every route of the API's routers (app.api's modules each hold one ``router``)
-_API_ROUTES = [r for name in pkgutil.iter_modules(app.api.__path__)
-               for router in [getattr(importlib.import_module(f"app.api.{name.name}"), "router", None)]
+#: every route of the API's routers (app.api.routes' modules each hold one ``router``)
+_API_ROUTES = [r for name in pkgutil.iter_modules(app.api.routes.__path__)
+               for router in [getattr(importlib.import_module(f"app.api.routes.{name.name}"), "router", None)]
                if isinstance(router, APIRouter) for r in router.routes if isinstance(r, APIRoute)]
 
 

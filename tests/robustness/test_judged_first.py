@@ -100,10 +100,10 @@ def test_lists_above_the_batch_are_counted_off_the_event_loop_before_validation(
 def test_eight_surfaces_are_refused_before_they_are_computed(client, monkeypatch):
     """POST /figures/lobe3d with eight 500×500 models computed them all (34 s) before
     answering that surfaces cannot be overlaid: now one 5×5 probe decides."""
-    from app.api import routes
+    from app import quantities
     computed = []
-    real_compute = routes.quantities.lobe_grid
-    monkeypatch.setattr(routes.quantities, "lobe_grid",
+    real_compute = quantities.lobe_grid
+    monkeypatch.setattr(quantities, "lobe_grid",
                         lambda *a, **k: computed.append(a[-2] * a[-1]) or real_compute(*a, **k))
     models = [{"ndf": n, "alpha": 0.2} for n in ["ggx", "beckmann"] * 4]
     r = client.post("/api/v1/figures/lobe3d",

@@ -18,6 +18,7 @@ with warnings.catch_warnings():
     from fastapi.testclient import TestClient
 
 from app.api.http import origin
+from app.config import Settings
 from app.main import create_app
 from tests.budget import settings_for_tests
 
@@ -126,7 +127,7 @@ def test_the_own_origin_behind_a_proxy_and_on_another_port():
 
 def test_allowed_origins_may_write(monkeypatch):
     monkeypatch.setenv(origin.ALLOWED_ORIGINS_ENV, "https://tools.example.org, http://localhost:5173/")
-    client = TestClient(create_app(settings_for_tests()))
+    client = TestClient(create_app(Settings.from_env()))
     for allowed in ("https://tools.example.org", "http://localhost:5173"):
         r = client.post("/api/v1/datasets", content=CSV, headers={"origin": allowed, "content-type": "text/csv"})
         assert r.status_code == 201, r.text

@@ -10,6 +10,8 @@ from concurrent.futures import ThreadPoolExecutor
 
 import pytest
 
+from app.config import Settings
+
 from app.api.http import guard
 from app.main import create_app
 from tests.budget import settings_for_tests
@@ -19,12 +21,8 @@ IDLE = 0.3
 
 @pytest.fixture(scope="module")
 def app():
-    mp = pytest.MonkeyPatch()
-    mp.setenv(guard.BODY_IDLE_ENV, str(IDLE))
-    try:
-        yield create_app(settings_for_tests())
-    finally:
-        mp.undo()
+    import dataclasses
+    return create_app(dataclasses.replace(settings_for_tests(), body_idle_seconds=IDLE))
 
 
 def _stalled_post(app, path: str, headers: list, first: bytes):
@@ -69,4 +67,4 @@ def test_a_stalled_body_is_408_after_the_idle_time(app, path, headers):
 def test_the_setting_is_checked_at_start(monkeypatch):
     monkeypatch.setenv(guard.BODY_IDLE_ENV, "soon")
     with pytest.raises(ValueError, match=guard.BODY_IDLE_ENV):
-        guard.body_idle_seconds()
+        Settings.from_env()

@@ -61,7 +61,7 @@ def _outer_layers(settings: Settings, static_dir: Path) -> list:
         (HttpCache, {"max_age": settings.cache_max_age}),
         (CORSMiddleware, {"allow_origins": list(settings.cors_origins),
                           "allow_methods": ["GET"], "allow_headers": []}),
-        (SameOriginWrites, {}),
+        (SameOriginWrites, {"allowed": settings.allowed_origins}),
         (SecurityHeaders, {"csp": content_security_policy(inline_script_hashes(static_dir))}),
     ]
 

@@ -7,7 +7,6 @@ from __future__ import annotations
 
 import asyncio
 import json
-import os
 from collections import Counter, deque
 from urllib.parse import parse_qsl
 
@@ -27,22 +26,8 @@ from . import content_types, strict
 INLINE_JSON_BYTES = 8 * 1024
 
 
-#: seconds a request body may go without a byte before it is answered 408: setting
-#: BRDF_BODY_IDLE_SECONDS (read here until app/config.py holds it). A 36 MB upload at
-#: 1 Mbit/s sends a TCP segment every few ms; 15 s of silence is a stalled or hostile client.
+#: the setting of the seconds a request body may go without a byte (Settings.body_idle_seconds)
 BODY_IDLE_ENV = "BRDF_BODY_IDLE_SECONDS"
-BODY_IDLE_SECONDS = 15.0
-
-
-def body_idle_seconds(environ=os.environ) -> float:
-    raw = environ.get(BODY_IDLE_ENV)
-    try:
-        value = BODY_IDLE_SECONDS if raw is None else float(raw)
-    except ValueError:
-        raise ValueError(f"{BODY_IDLE_ENV}={raw!r}: expected a number of seconds") from None
-    if not value > 0:
-        raise ValueError(f"{BODY_IDLE_ENV}={raw!r}: must be positive")
-    return value
 
 
 def json_error(status: int, loc: list, msg: str, kind: str) -> tuple[dict, bytes]:
@@ -142,7 +127,7 @@ class RequestGuard:
         self.fastapi_app = fastapi_app
         self.settings = settings
         self._numeric_names: frozenset[str] | None = None
-        self.body_idle_seconds = body_idle_seconds()
+        self.body_idle_seconds = settings.body_idle_seconds
 
     def _operation(self, scope) -> dict | None:
         return operations(self.fastapi_app).operation(scope["path"], scope["method"])

@@ -22,7 +22,6 @@ host is the same operator's.
 from __future__ import annotations
 
 import json
-import os
 from urllib.parse import urlsplit
 
 from starlette.datastructures import Headers, MutableHeaders
@@ -36,12 +35,11 @@ ALLOWED_ORIGINS_ENV = "BRDF_ALLOWED_ORIGINS"
 _DEFAULT_PORTS = {"http": "80", "https": "443"}
 
 
-def allowed_origins(environ=os.environ) -> frozenset[str]:
+def allowed_origins(given) -> frozenset[str]:
     """The origins besides the server's own that may write: ``BRDF_ALLOWED_ORIGINS``,
     comma-separated (``https://tools.example.org,http://localhost:5173``), each normalised
     as :func:`origin_authority` compares them. Empty by default."""
-    raw = environ.get(ALLOWED_ORIGINS_ENV, "")
-    return frozenset(o.strip().rstrip("/").lower() for o in raw.split(",") if o.strip())
+    return frozenset(o.strip().rstrip("/").lower() for o in given if o.strip())
 
 
 def _strip_default_port(authority: str, scheme: str) -> str:
@@ -104,7 +102,7 @@ class SameOriginWrites:
 
     def __init__(self, app, allowed: frozenset[str] | None = None):
         self.app = app
-        self.allowed = allowed_origins() if allowed is None else frozenset(allowed)
+        self.allowed = allowed_origins(allowed or ())
 
     async def __call__(self, scope, receive, send):
         if scope["type"] != "http":

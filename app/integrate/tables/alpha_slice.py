@@ -30,7 +30,7 @@ from scipy.interpolate import CubicSpline
 from ...physics.gauss import gauss_legendre_01
 from ..albedo import albedo
 from ..cache import complete_only
-from .table import E_AVG_NODES_PER_CELL, Y_GRADING, _lobe_at, mu_from_y, y_from_mu
+from .table import E_AVG_NODES_PER_CELL, Y_GRADING, lobe_at, mu_from_y, y_from_mu
 
 #: Largest reported error a slice is refined to: below the 1e-4 the API promises for
 #: compensation (issue 37).
@@ -104,7 +104,7 @@ def _E_avg(y_nodes: np.ndarray, alpha: float, E) -> float:
 def build(key: tuple, alpha: float) -> ESlice:
     """Refine until every cell's bound meets GOAL (module docstring)."""
     t0 = time.perf_counter()
-    lobe = _lobe_at(key, alpha)
+    lobe = lobe_at(key, alpha)
     known: dict[float, tuple[float, float]] = {}     # y → (E, its quadrature error)
     evaluations = 0
 

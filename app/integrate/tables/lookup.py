@@ -13,7 +13,7 @@ from ...errors import Busy
 from ...physics.brdf import BRDF
 from . import alpha_slice, store
 from .alpha_slice import ESlice
-from .table import ETable, _lobe_at, compiled, table_key
+from .table import ETable, lobe_at, compiled, table_key
 
 
 def table_for_key(key: tuple) -> ETable:
@@ -74,5 +74,5 @@ def compensation_table(lobe: BRDF) -> ETable | ESlice:
     whole = store.table_if_ready(key)
     if whole is not None and whole.error <= alpha_slice.GOAL:
         return whole
-    compiled(_lobe_at(key, lobe.ndf.alpha_x))      # waits a moment for the compiled loops
+    compiled(lobe_at(key, lobe.ndf.alpha_x))      # waits a moment for the compiled loops
     return alpha_slice.slice_for_key(key, float(lobe.ndf.alpha_x))

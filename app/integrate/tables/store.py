@@ -371,11 +371,6 @@ def stop() -> None:
     _state["directory"], _state["accepting"] = None, False
 
 
-def default_directory() -> Path:
-    """``$XDG_CACHE_HOME/brdf-explorer`` (``~/.cache/brdf-explorer`` when unset)."""
-    return Path(os.environ.get("XDG_CACHE_HOME") or Path.home() / ".cache") / "brdf-explorer"
-
-
 def wait(timeout: float | None = None) -> bool:
     """Block until the background builder has nothing left (tests, the CLI); False on timeout."""
     end = None if timeout is None else time.monotonic() + timeout

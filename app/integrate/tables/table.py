@@ -197,7 +197,7 @@ def _basis_fresnel(basis_p):
     return FRESNELS["schlick"](f0=0.0, f90=1.0, fresnel_p=basis_p)
 
 
-def _lobe_at(key: tuple, alpha: float) -> BRDF:
+def lobe_at(key: tuple, alpha: float) -> BRDF:
     ndf_class, shape, masking, g2, lambda_phi, basis_p = key
     return BRDF(ndf_class(alpha, None, **dict(shape)), masking, g2, _basis_fresnel(basis_p),
                 lambda_phi=lambda_phi)
@@ -247,7 +247,7 @@ def _nodes(key: tuple, r: np.ndarray, y: np.ndarray, tol: float, base: ETable | 
             _refuse_if_too_slow(key, (time.perf_counter() - t0) * (r.size + CHECK_R + 1))
         alpha = ri * ri
         mu = mu_from_y(y, alpha)
-        res = albedo(_lobe_at(key, alpha), mu, tol=tol)
+        res = albedo(lobe_at(key, alpha), mu, tol=tol)
         evaluations += res.evaluations
         node_error = max(node_error, float(np.max(res.E_error)))
         if base is None:
@@ -289,7 +289,7 @@ def build(key: tuple, n_y: int = TABLE_N_Y, n_r: int = TABLE_N_R, tol: float = B
     for rc in r_check:
         y_check = y[:-1] + (0.5 + rng.uniform(-0.4, 0.4, n_y - 1)) * np.diff(y)
         mu = mu_from_y(y_check, rc * rc)
-        res = albedo(_lobe_at(key, rc * rc), mu, tol=tol)
+        res = albedo(lobe_at(key, rc * rc), mu, tol=tol)
         evaluations += res.evaluations
         node_error = max(node_error, float(np.max(res.E_error)))
         measured = max(measured, float(np.max(np.abs(table.E(mu, rc * rc) - res.E))))
@@ -322,7 +322,7 @@ def predict_build_seconds(key: tuple, alpha: float, base_ready: bool) -> float:
     GGX build. Shape-invariant NDFs: the second of two rows (the first builds what the
     whole build shares, e.g. exponential power's Λ table); the others build their Smith Λ
     table at every row, as the first row does."""
-    lobe = _lobe_at(key, alpha)
+    lobe = lobe_at(key, alpha)
     n = TABLE_N_Y if compiled(lobe) else SLOW_TABLE_N
     mu = mu_from_y(np.linspace(0.0, 1.0, n) ** Y_GRADING, alpha)
     seconds = []
@@ -338,7 +338,7 @@ def build_for_key(key: tuple, base: ETable | None = None) -> ETable:
     """The default-size table for ``key`` (``base``: the F = 1 table of the same lobe, for
     a Schlick basis). A lobe without the compiled integrand whose SLOW_TABLE_N² table the
     budget refuses gets the COARSE_TABLE_N² one if that fits (TableTooSlow otherwise)."""
-    if compiled(_lobe_at(key, 0.25)):
+    if compiled(lobe_at(key, 0.25)):
         return build(key, TABLE_N_Y, TABLE_N_R, base=base)
     try:
         return build(key, SLOW_TABLE_N, SLOW_TABLE_N, base=base)
