@@ -12,7 +12,7 @@
 from __future__ import annotations
 
 import numpy as np
-from scipy.interpolate import BSpline, PPoly
+from scipy.interpolate import CubicSpline, BSpline, PPoly
 
 from ..integrate.tables import table as etables
 from ..physics import smith_table
@@ -54,9 +54,42 @@ def lambda_table(k: int, ndf):
     return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)"
 
 
+def _slice_E(k: int, term) -> tuple[list, list, Fn]:
+    """E_k(μ) from the per-α slice (integrate/tables/alpha_slice.py): its cubic pieces at
+    adaptive breakpoints, the piece found by a branch-free binary search unrolled over the
+    padded breakpoint list (log₂ of its length steps of one ``sel`` each)."""
+    table = term.table
+    bp, coeffs = table.spline.x[:-1], table.spline.c
+    m = bp.size
+    steps = max(1, int(np.ceil(np.log2(m))))
+    padded = np.concatenate([bp, np.full((1 << steps) - m, 2.0)])   # y ≤ 1 never passes 2
+    consts = [Const(f"KC_ALPHA_{k}", float(term.alpha), f"α of lobe {k}, the slice's own")]
+    doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017), from the project's E(μ) slice at\n"
+           f"α = {term.alpha:g} ({m} cubic pieces in y, reported error {table.error:.1e}):"
+           " y = √a/(1 + √a), a = μ/(α sinθ).")
+    tabs = [Table(f"KC_BP_{k}", padded.tolist(), f"breakpoints in y of E_{k}'s cubic pieces (padded with 2)")]
+    for j in range(4):
+        tabs.append(Table(f"KC_C{j}_{k}", coeffs[j].tolist(),
+                          f"coefficient of d^{3 - j} of each piece, d = y − KC_BP_{k}[j]"))
+    body = [("float", "m", "clamp(mu, 0.0, 1.0)"),
+            ("float", "ra", f"sqrt(m / (KC_ALPHA_{k} * sqrt((1.0 - m) * (1.0 + m))))"),
+            ("float", "y", "sel(m < 1.0, ra / (1.0 + ra), 1.0)"),
+            ("int", "j0", "0")]
+    for i in range(steps):
+        step = 1 << (steps - 1 - i)
+        body.append(("int", f"j{i + 1}", f"sel(y >= KC_BP_{k}[j{i} + {step}], j{i} + {step}, j{i})"
+                     if step < (1 << steps) else f"j{i}"))
+    body += [("int", "j", f"min(j{steps}, {m - 1})"),
+             ("float", "d", f"y - KC_BP_{k}[j]"),
+             ("float", "e", f"((KC_C0_{k}[j] * d + KC_C1_{k}[j]) * d + KC_C2_{k}[j]) * d + KC_C3_{k}[j]")]
+    return consts, tabs, Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc)
+
+
 def kulla_conty_E(k: int, term) -> tuple[list, list, Fn]:
     """E_k(μ): the lobe's E(μ, α) table at its α, as the cubic pieces of its spline in y."""
     table = term.table
+    if isinstance(table.spline, CubicSpline):      # a slice at the lobe's own α
+        return _slice_E(k, term)
     spline = table.spline
     tx, ty, c = spline.tck
     kx, ky = spline.degrees
