@@ -22,12 +22,16 @@ from starlette.concurrency import run_in_threadpool
 from starlette.responses import Response
 
 from ..config import Settings
+from ..datasets.disk_store import DiskDatasetStore
 from ..datasets.store import DatasetStore
 from ..export.image import ImageRenderer, get_renderer
 from .http.query_route import QueryModelRoute, read_query
 from .openapi import Operations, operations
 
 _STORE_LOCK = threading.Lock()
+#: one client may hold this fraction of the data-set store (1/CLIENT_SHARE), so it cannot
+#: evict everyone else's data sets by uploading
+CLIENT_SHARE = 4
 
 
 def get_settings(request: Request) -> Settings:
@@ -35,12 +39,20 @@ def get_settings(request: Request) -> Settings:
     return request.app.state.settings
 
 
-def get_datasets(request: Request) -> DatasetStore:
-    """The application's data-set store, made on first use (bounded by its settings)."""
+def get_datasets(request: Request) -> DatasetStore | DiskDatasetStore:
+    """The application's data-set store, made on first use: files under the cache
+    directory's ``datasets/``, shared by every worker and kept across restarts (a quarter
+    of BRDF_MAX_DATASETS_BYTES per client); in memory where that directory cannot be
+    written (each worker then has its own)."""
     state = request.app.state
     with _STORE_LOCK:
         if not hasattr(state, "datasets"):
-            state.datasets = DatasetStore(state.settings.max_datasets_bytes)
+            s = state.settings
+            try:
+                state.datasets = DiskDatasetStore(s.cache_directory() / "datasets", s.max_datasets_bytes,
+                                                  client_bytes=s.max_datasets_bytes // CLIENT_SHARE)
+            except OSError:
+                state.datasets = DatasetStore(s.max_datasets_bytes)
         return state.datasets
 
 
@@ -58,7 +70,7 @@ def get_static_dir(request: Request) -> Path:
 
 
 SettingsDep = Annotated[Settings, Depends(get_settings)]
-DatasetsDep = Annotated[DatasetStore, Depends(get_datasets)]
+DatasetsDep = Annotated[DatasetStore | DiskDatasetStore, Depends(get_datasets)]
 OperationsDep = Annotated[Operations, Depends(get_operations)]
 StaticDirDep = Annotated[Path, Depends(get_static_dir)]
 RendererDep = Annotated[ImageRenderer, Depends(get_renderer)]

@@ -23,8 +23,6 @@ from __future__ import annotations
 
 import contextlib
 import fcntl
-import hashlib
-import hmac
 import io
 import json
 import os
@@ -33,19 +31,11 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ParameterError, TooLarge
+from ..errors import TooLarge
 from .dataset import BrdfData, TermData
-from .store import Expired, Unknown
+from .store import Expired, Forbidden, Unknown, token_hash as _hash, token_matches
 
 
-class Forbidden(ParameterError):
-    def __init__(self, data_id: str):
-        super().__init__("token", f"deleting data set {data_id} needs the token its upload "
-                                  "answered (query parameter token)", status=403, loc="query")
-
-
-def _hash(token: str) -> str:
-    return hashlib.sha256(token.encode()).hexdigest()
 
 
 def _pid_alive(pid: int) -> bool:
@@ -214,9 +204,9 @@ class DiskDatasetStore:
             meta = self._read_meta(data_id)
             if meta is None:
                 self.get(data_id, param, loc)                 # raises 410 or 404
-            if not token or not any(hmac.compare_digest(_hash(token), h) for h in meta["tokens"]):
+            if not token_matches(token, meta["tokens"]):
                 raise Forbidden(data_id)
-            self._evict(data_id, "deleted by its uploader")
+            self._evict(data_id, "deleted")
 
     @property
     def bytes(self) -> int:

@@ -34,7 +34,8 @@ def test_upload_raw_or_multipart_get_and_delete(client):
     assert "evil" not in form.text and not os.path.exists("../../etc/evil.csv")
     again = client.get(f"/api/v1/datasets/{body['id']}")
     assert again.status_code == 200 and again.json()["summary"] == body["summary"]
-    assert client.delete(f"/api/v1/datasets/{body['id']}").status_code == 204
+    assert client.delete(f"/api/v1/datasets/{body['id']}").status_code == 403
+    assert client.delete(f"/api/v1/datasets/{body['id']}", params={"token": body["token"]}).status_code == 204
     gone = client.get(f"/api/v1/datasets/{body['id']}")
     assert gone.status_code == 410 and "expired (deleted)" in detail(gone)["msg"]
     unknown = client.get("/api/v1/datasets/" + "0" * 32)
@@ -171,3 +172,21 @@ def test_export_a_model_as_merl_and_as_samples(client):
     np.testing.assert_allclose(rows[inside, 4], known.ggx_f(l[inside], v[inside]), rtol=1e-9)
     uploaded = client.post("/api/v1/datasets", content=csv.content)
     assert uploaded.status_code == 201 and uploaded.json()["summary"]["count"] == len(rows)
+
+
+def test_every_worker_and_a_restart_serve_an_upload(tmp_path):
+    """Two applications sharing a cache directory stand for two workers (or a worker and
+    its replacement after a restart): an id uploaded to one is served by the other, 100
+    of 100 times, and its delete token works on either."""
+    import dataclasses
+    settings = dataclasses.replace(SETTINGS, cache_dir=str(tmp_path))
+    first, second = TestClient(create_app(settings)), TestClient(create_app(settings))
+    body = first.post("/api/v1/datasets", content=CSV, headers={"content-type": "text/csv"}).json()
+    answers = [(first if i % 2 else second).get(f"/api/v1/datasets/{body['id']}").status_code
+               for i in range(100)]
+    assert answers == [200] * 100
+    restarted = TestClient(create_app(settings))
+    assert restarted.get(f"/api/v1/datasets/{body['id']}").json()["summary"] == body["summary"]
+    assert restarted.delete(f"/api/v1/datasets/{body['id']}", params={"token": body["token"]}).status_code == 204
+    gone = first.get(f"/api/v1/datasets/{body['id']}")
+    assert gone.status_code == 410 and "deleted" in detail(gone)["msg"]

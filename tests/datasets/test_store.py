@@ -31,8 +31,11 @@ def test_unknown_deleted_and_too_large():
     with pytest.raises(ParameterError) as info:
         store.get("x")
     assert info.value.status == 404
-    store.put("a", Blob(10), {})
-    store.delete("a")
+    token = store.put("a", Blob(10), {})
+    with pytest.raises(ParameterError) as refused:      # the id alone is public content
+        store.delete("a")
+    assert refused.value.status == 403 and refused.value.param == "token"
+    store.delete("a", token)
     with pytest.raises(ParameterError, match="deleted") as info:
         store.get("a")
     assert info.value.status == 410

@@ -84,18 +84,22 @@ _FORMAT = Literal[tuple(formats.FORMATS)]
                          "`format` insists on one: " + "; ".join(
                              f"`{k}`: {v}" for k, v in formats.FORMATS.items()) +
                          ". The id is a hash of the content: the same file gets the same id. "
-                         "Data sets are kept in memory up to BRDF_MAX_DATASETS_BYTES, the least "
-                         "recently used going first.")
+                         "Data sets are kept in files shared by every worker, up to "
+                         "BRDF_MAX_DATASETS_BYTES (a quarter of it per client), the least recently "
+                         "used going first (a later request for it: 410 with the reason). The "
+                         "answer's `token` is what DELETE needs.")
 async def upload(request: Request, settings: SettingsDep, datasets: DatasetsDep,
                  format: Annotated[Optional[_FORMAT], Query(
                      description="insist on a format instead of detecting it")] = None) -> Response:
     content = await read_upload(request, settings.max_upload_bytes)
     data = await run_in_threadpool(formats.load, content, format)
     data_id = content_id(data.format, content)
-    if data_id not in datasets:
-        datasets.put(data_id, data, await run_in_threadpool(summary.summarize, data))
-    _, info = datasets.get(data_id)
-    return json_response({"id": data_id, "format": data.format, "summary": info}, status_code=201)
+    info = datasets.get(data_id)[1] if data_id in datasets else \
+        await run_in_threadpool(summary.summarize, data)
+    client = request.client.host if request.client else ""
+    token = datasets.put(data_id, data, info, client=client)
+    return json_response({"id": data_id, "format": data.format, "summary": info, "token": token},
+                         status_code=201)
 
 
 @router.get("/datasets/{data_id}", tags=["datasets"], summary="A data set's summary",
@@ -107,10 +111,13 @@ def dataset(datasets: DatasetsDep, data_id: DataId) -> Response:
 
 
 @router.delete("/datasets/{data_id}", tags=["datasets"], status_code=204, summary="Drop a data set",
-               responses={404: {"description": "No data set has this id"},
+               responses={403: {"description": "The token is missing or is not one its upload answered"},
+                          404: {"description": "No data set has this id"},
                           410: {"description": "The data set has already expired"}})
-def delete_dataset(datasets: DatasetsDep, data_id: DataId) -> Response:
-    datasets.delete(data_id)
+def delete_dataset(datasets: DatasetsDep, data_id: DataId,
+                   token: Annotated[Optional[str], Query(
+                       max_length=64, description="the token the upload answered")] = None) -> Response:
+    datasets.delete(data_id, token)
     return Response(status_code=204)
 
 
