@@ -11,7 +11,7 @@ from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
-from . import __version__, kernels, server
+from . import __version__, kernels, server, work
 from .api import errors, http, openapi
 from .api.routes import (batch, code, conventions, datasets, eval, exports, fallback, figures, fit,
                          lut, materials, meta, pages, principled, views)
@@ -52,6 +52,7 @@ async def lifespan(app: FastAPI):
         "E(μ, α) tables: %s%s", cache or "in memory only",
         f", {len(table_store.building())} being built" if table_store.building() else "")
     yield
+    work.close()      # the heavy pool's workers killed: shutdown never waits for a job
 
 
 def default_models() -> list:

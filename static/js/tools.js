@@ -1,4 +1,4 @@
-/* The shader-tools page (/static/tools.html?<the explorer's query>): the model as code,
+/* The shader-tools page (/tools?<the explorer's query>): the model as code,
  * measured materials, roughness conventions and the LUT workbench, on a page of their own
  * so that they never cover the explorer's plots. The model is the link's: the explorer's
  * "Shader tools" link carries its state; each endpoint gets the parameters it declares

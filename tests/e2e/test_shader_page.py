@@ -28,7 +28,7 @@ UNSTYLED_BUTTON = "rgb(239, 239, 239)"
 
 def _open(page, query: str = ""):
     page.set_viewport_size(DESKTOP)
-    page.goto(f"/static/tools.html{query}")
+    page.goto(f"/tools{query}")
     page.wait_for_selector("#tools[data-ready='1']", timeout=TIMEOUT)
 
 

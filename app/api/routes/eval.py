@@ -16,20 +16,20 @@ router = APIRouter(prefix="/api/v1", tags=["data"], route_class=Route)
 DIRECTIONS = ("theta_i_deg", "phi_i_deg", "theta_o_deg", "phi_o_deg")
 
 
-def _evaluate(q: schemas.EvalQuery, limit: int, status: int, env: str):
+def _evaluate(q: schemas.EvalQuery, limit: int, status: int, env: str, loc: str = "query"):
     lists = {name: getattr(q, name) for name in DIRECTIONS}
     sizes = {name: len(v) for name, v in lists.items()}
     for name, size in sizes.items():
         if size == 0:
-            raise ParameterError(name, f"{name} is empty: give at least one value")
+            raise ParameterError(name, f"{name} is empty: give at least one value", loc=loc)
         if size > limit:
             raise ParameterError(name, f"{name} has {size} values; the limit is {limit} (setting {env})",
-                                 status=status)
+                                 status=status, loc=loc)
     n = max(sizes.values())
     for name, size in sizes.items():
         if size not in (1, n):
             raise ParameterError(name, f"{name} has {size} values but another list has {n}: "
-                                       "lists must have equal length, or one value to broadcast")
+                                       "lists must have equal length, or one value to broadcast", loc=loc)
     spec = schemas.spec_of(q)
     arrays = {k: np.asarray(v, dtype=float) for k, v in lists.items()}
     return json_response(quantities.evaluate(
@@ -49,4 +49,4 @@ def eval_post(settings: SettingsDep, q: Annotated[schemas.EvalQuery, Body(openap
         "two pairs": {"summary": "GGX α=0.2, two direction pairs",
                       "value": {"ndf": "ggx", "alpha": 0.2, "theta_i_deg": [30, 60], "phi_i_deg": [0],
                                 "theta_o_deg": [30, 60], "phi_o_deg": [180], "quantities": ["f", "D"]}}})]):
-    return _evaluate(q, settings.max_batch, 413, "BRDF_MAX_BATCH")
+    return _evaluate(q, settings.max_batch, 413, "BRDF_MAX_BATCH", loc="body")

@@ -63,3 +63,9 @@ def embed(static: StaticDirDep, kind: str):
             summary="Canonical figures with captions, each a link into the explorer")
 def gallery_page(static: StaticDirDep):
     return FileResponse(static / "gallery.html", media_type="text/html")
+
+
+@router.get("/tools", tags=["pages"], response_class=FileResponse, responses=_HTML,
+            summary="The shader tools and the LUT workbench for the explorer's model")
+def tools_page(static: StaticDirDep):
+    return FileResponse(static / "tools.html", media_type="text/html")
