@@ -153,33 +153,30 @@ def test_monte_carlo_work_limit_is_named():
 
 
 def test_a_table_too_slow_for_the_request_is_built_outside_it(monkeypatch):
-    """Kulla-Conty needs an E(μ, α) table; one predicted (from a probe of a few E(μ)) not
-    to build within the request is queued for the background builder and the request
-    answered at once with 503 + Retry-After naming the table — not a worker busy for
-    minutes (GGX with smith_numeric took 108 s before), nor a 422 for valid input. A shape
-    no other test uses, so no cached table."""
-    from app.integrate import tables
-    from app.integrate.tables import store as table_store
-    # 2 s: the build (GTR, direction-correlated: minutes on numpy) is far beyond it, and
-    # the request's wait for loops and its one-row probe fit (at 0.3 s the probe, at
-    # load, spent the budget first: a 503 that did not name the table)
+    """method=table needs the whole E(μ, α) table; one predicted (from a probe of a few
+    E(μ)) not to build within the request is queued for the background builder and the
+    request answered at once with 503 + Retry-After naming the table — not a worker busy
+    for minutes (GGX with smith_numeric took 108 s before), nor a 422 for valid input. A
+    shape no other test uses, so no cached table. (Kulla-Conty no longer waits for it: it
+    builds E(μ) at the lobe's own α in the request, tests/integrate/test_alpha_slice.py.)"""
+    from app.integrate.tables import store as table_store, table
+    # 2 s: the build (GTR, direction-correlated: minutes on numpy) is far beyond it
     tight = TestClient(create_app(Settings(max_seconds=2.0)))
     table_store.start(None, keys=[])        # the builder a served app starts, no defaults
     # the queued build itself is not this test's subject: it fails at once
-    monkeypatch.setattr(tables, "build_for_key", lambda key, base=None: 1 / 0)
+    monkeypatch.setattr(table, "build_for_key", lambda key, base=None: 1 / 0)
     # the request may probe a few E(μ) but never build this lobe's table grid (counted,
-    # not timed: the machine's load is not this test's subject; the builder's own path
-    # fails above, and another test's queued build may still run in the builder thread)
-    real_build, built_here = tables.build, []
+    # not timed: the machine's load is not this test's subject)
+    real_build, built_here = table.build, []
 
     def counted_build(key, *args, **kwargs):
         if ("gamma", 1.37) in key[1]:
             built_here.append(key)
         return real_build(key, *args, **kwargs)
 
-    monkeypatch.setattr(tables, "build", counted_build)
-    r = tight.get("/api/v1/lobe?n=5&ndf=gtr&gamma=1.37&alpha=0.4&g2=direction_correlated"
-                  "&multiscatter=kulla_conty")
+    monkeypatch.setattr(table, "build", counted_build)
+    r = tight.get("/api/v1/albedo?n=3&method=table&ndf=gtr&gamma=1.37&alpha=0.4"
+                  "&g2=direction_correlated&fresnel=none")
     assert r.status_code == 503, r.text
     assert int(r.headers["retry-after"]) >= 1
     msg = r.json()["detail"][0]["msg"]
