@@ -11,7 +11,7 @@ def run(argv: list[str]) -> int:
     parser.add_argument("--host", default="127.0.0.1")
     parser.add_argument("--port", type=int, default=8000)
     parser.add_argument("--workers", type=int, default=1,
-                        help="worker processes; the service is stateless, so N workers scale")
+                        help="worker processes (they share the cache directory, data sets included), one per core")
     parser.add_argument("--reload", action="store_true", help="restart on code changes (development)")
     args = parser.parse_args(argv)
     import uvicorn
