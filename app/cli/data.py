@@ -52,7 +52,7 @@ def datasets(argv: list[str]) -> int:
 
 def fit(argv: list[str]) -> int:
     from ..api.encode import json_response
-    from ..api.routes_data import FitBody
+    from ..api.routes.fit import FitBody
     from ..errors import ParameterError
     from ..fit import run as fitting
     from ..views.schemas import ModelQuery, model_values

@@ -7,7 +7,7 @@ change here. Exact per-choice ranges and applicability are checked by
 """
 from typing import Annotated, Literal, Optional
 
-from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
+from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
 from ..integrate.albedo import ORDER_MAX
 from ..integrate.methods import DEFAULT_SAMPLES, MC_METHODS, MC_SAMPLES_MAX, METHODS
@@ -122,7 +122,7 @@ def _model_fields() -> dict:
         fields[name] = (Optional[float], Field(
             None, ge=lo, le=hi, examples=[first.default],
             description=f"{first.description} Applies with {where}; default {first.default:g}."))
-    fields["material"] = (Optional[Annotated[str, BeforeValidator(_material_slug)]], Field(
+    fields["material"] = (Optional[Annotated[str, AfterValidator(_material_slug)]], Field(
         None, examples=["gold"], description="a measured material (GET /api/v1/materials): sets fresnel to "
         "its kind with its RGB index; /eval then answers F_rgb and f_rgb beside the luminance F, f"))
     fields.update(principled_fields())

@@ -6,7 +6,7 @@ quadrature, a Kulla-Conty table, and in a new process (where it is imported befo
 app, as a file in the package would be) ``/api/v1/models``, ``/eval``, ``/albedo`` with
 compensation, ``/code`` and, for the Fresnel model, ``/advise`` and ``method=table``.
 Each file writes its formulas once (physics/formula.py); the kernels' scalar functions
-and the shaders come from them (WebGL2: tests/shader/test_webgl_one_source.py).
+and the shaders come from them (WebGL2: tests/e2e/test_webgl_one_source.py).
 
 The NDF is Student-t at γ = 3 written from scratch as an isotropic shape — its D, its
 Smith Λ (I_x(2, ½) = 1 − √(1 − x)(1 + x/2) in closed form) and the tail mass of its
@@ -287,7 +287,7 @@ def test_new_models_through_the_api(throwaway):
     assert out.returncode == 0, out.stderr[-3000:]
     r = json.loads(out.stdout.strip().splitlines()[-1])
     assert r["listed"] == [True, True]
-    assert r["code"] == [200, 200], r["code"]      # the shader test: tests/shader/test_webgl_one_source.py
+    assert r["code"] == [200, 200], r["code"]      # the shader test: tests/e2e/test_webgl_one_source.py
     assert r["eval"][0] == 200, r["eval"]
     assert r["kc"][0] == 200 and r["kc"][1] <= 1e-3, r["kc"]
     assert np.all(np.abs(np.asarray(r["kc"][2]) - 1.0) <= 2e-3)     # F = 1: the white furnace

@@ -12,7 +12,6 @@ vectors to the shader, θ ≤ 88° (off the horizon, where a float32 rounding be
 """
 from __future__ import annotations
 
-import os
 import shutil
 import subprocess
 
@@ -24,28 +23,26 @@ from app.physics.diffuse import DIFFUSES
 from app.physics.vectors import direction_deg
 from app.shader.generate import describe, generate
 from tests.kernels.test_one_file_models import throwaway  # noqa: F401  (the fixture)
+from tests.shader.conftest import client  # noqa: F401  (the fixture: the API in process)
 from tests.shader.models import registry_models
 from tests.shader.test_code import HLSL_MAIN
 from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_BATCH_JS, VERTEX
 
-CHROMIUM = os.environ.get("BRDF_CHROMIUM", "/usr/bin/chromium")
 GLSLANG = shutil.which("glslangValidator")
 SIDE = 32                         # 1024 direction pairs per model
 REL, FLOOR = 1e-5, 1e-6
 
-pytestmark = pytest.mark.skipif(not os.path.exists(CHROMIUM), reason=f"no Chromium at {CHROMIUM}")
+pytestmark = pytest.mark.e2e
 
 
 @pytest.fixture(scope="module")
-def page():
-    from playwright.sync_api import sync_playwright
-    with sync_playwright() as p:
-        browser = p.chromium.launch(executable_path=CHROMIUM,
-                                    args=["--no-sandbox", "--disable-gpu", "--no-first-run"])
-        pg = browser.new_page()
-        pg.set_content("<html><body></body></html>")
-        yield pg
-        browser.close()
+def page(_profile):
+    """A blank page of the session's browser (tests/e2e/conftest.py): a second Playwright
+    of its own in the same worker would find the session's event loop running."""
+    pg = _profile.new_page()
+    pg.set_content("<html><body></body></html>")
+    yield pg
+    pg.close()
 
 
 @pytest.fixture(scope="module")
