@@ -54,6 +54,28 @@ def lambda_table(k: int, ndf):
     return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)"
 
 
+def _pieces(k: int, bp, coeffs, what: str) -> list:
+    """E_k's cubic pieces as tables: breakpoints in y and the four coefficients of each."""
+    tabs = [Table(f"KC_BP_{k}", list(bp), f"breakpoints in y of E_{k}'s cubic pieces{what}")]
+    for j in range(4):
+        tabs.append(Table(f"KC_C{j}_{k}", coeffs[j].tolist(),
+                          f"coefficient of d^{3 - j} of each piece, d = y − KC_BP_{k}[j]"))
+    return tabs
+
+
+def _y_of_mu(k: int) -> list:
+    """y = √a/(1 + √a), a = μ/(α sinθ): the tables' variable (1 at normal incidence)."""
+    return [("float", "m", "clamp(mu, 0.0, 1.0)"),
+            ("float", "ra", f"sqrt(m / (KC_ALPHA_{k} * sqrt((1.0 - m) * (1.0 + m))))"),
+            ("float", "y", "sel(m < 1.0, ra / (1.0 + ra), 1.0)")]
+
+
+def _piece_at_j(k: int) -> list:
+    """The cubic of piece j at y (Horner)."""
+    return [("float", "d", f"y - KC_BP_{k}[j]"),
+            ("float", "e", f"((KC_C0_{k}[j] * d + KC_C1_{k}[j]) * d + KC_C2_{k}[j]) * d + KC_C3_{k}[j]")]
+
+
 def _slice_E(k: int, term) -> tuple[list, list, Fn]:
     """E_k(μ) from the per-α slice (integrate/tables/alpha_slice.py): its cubic pieces at
     adaptive breakpoints, the piece found by a branch-free binary search unrolled over the
@@ -67,22 +89,13 @@ def _slice_E(k: int, term) -> tuple[list, list, Fn]:
     doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017), from the project's E(μ) slice at\n"
            f"α = {term.alpha:g} ({m} cubic pieces in y, reported error {table.error:.1e}):"
            " y = √a/(1 + √a), a = μ/(α sinθ).")
-    tabs = [Table(f"KC_BP_{k}", padded.tolist(), f"breakpoints in y of E_{k}'s cubic pieces (padded with 2)")]
-    for j in range(4):
-        tabs.append(Table(f"KC_C{j}_{k}", coeffs[j].tolist(),
-                          f"coefficient of d^{3 - j} of each piece, d = y − KC_BP_{k}[j]"))
-    body = [("float", "m", "clamp(mu, 0.0, 1.0)"),
-            ("float", "ra", f"sqrt(m / (KC_ALPHA_{k} * sqrt((1.0 - m) * (1.0 + m))))"),
-            ("float", "y", "sel(m < 1.0, ra / (1.0 + ra), 1.0)"),
-            ("int", "j0", "0")]
+    body = _y_of_mu(k) + [("int", "j0", "0")]
     for i in range(steps):
         step = 1 << (steps - 1 - i)
-        body.append(("int", f"j{i + 1}", f"sel(y >= KC_BP_{k}[j{i} + {step}], j{i} + {step}, j{i})"
-                     if step < (1 << steps) else f"j{i}"))
-    body += [("int", "j", f"min(j{steps}, {m - 1})"),
-             ("float", "d", f"y - KC_BP_{k}[j]"),
-             ("float", "e", f"((KC_C0_{k}[j] * d + KC_C1_{k}[j]) * d + KC_C2_{k}[j]) * d + KC_C3_{k}[j]")]
-    return consts, tabs, Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc)
+        body.append(("int", f"j{i + 1}", f"sel(y >= KC_BP_{k}[j{i} + {step}], j{i} + {step}, j{i})"))
+    body += [("int", "j", f"min(j{steps}, {m - 1})")] + _piece_at_j(k)
+    return (consts, _pieces(k, padded.tolist(), coeffs, " (padded with 2)"),
+            Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc))
 
 
 def kulla_conty_E(k: int, term) -> tuple[list, list, Fn]:
@@ -110,14 +123,7 @@ def kulla_conty_E(k: int, term) -> tuple[list, list, Fn]:
               Const("KC_INV_GRADING", 1.0 / etables.Y_GRADING, "1/1.5")]
     doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017), from the project's {table.size} E(μ, α) table\n"
            f"(bicubic spline, reported error {table.error:.1e}) at α = {term.alpha:g}: y = √a/(1 + √a), a = μ/(α sinθ).")
-    tabs = [Table(f"KC_BP_{k}", bp.tolist(), f"breakpoints in y of E_{k}'s cubic pieces")]
-    for j in range(4):
-        tabs.append(Table(f"KC_C{j}_{k}", coeffs[j].tolist(),
-                          f"coefficient of d^{3 - j} of each piece, d = y − KC_BP_{k}[j]"))
-    body = [("float", "m", "clamp(mu, 0.0, 1.0)"),
-            ("float", "ra", f"sqrt(m / (KC_ALPHA_{k} * sqrt((1.0 - m) * (1.0 + m))))"),
-            ("float", "y", "sel(m < 1.0, ra / (1.0 + ra), 1.0)"),
-            ("int", "j", f"clamp(toint(floor(KC_NM1_{k} * pow(y, KC_INV_GRADING))) - 1, 0, {m - 1})"),
-            ("float", "d", f"y - KC_BP_{k}[j]"),
-            ("float", "e", f"((KC_C0_{k}[j] * d + KC_C1_{k}[j]) * d + KC_C2_{k}[j]) * d + KC_C3_{k}[j]")]
+    tabs = _pieces(k, bp.tolist(), coeffs, "")
+    body = _y_of_mu(k) + [
+        ("int", "j", f"clamp(toint(floor(KC_NM1_{k} * pow(y, KC_INV_GRADING))) - 1, 0, {m - 1})")] + _piece_at_j(k)
     return consts, tabs, Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc)

@@ -148,3 +148,16 @@ def test_models_it_cannot_write_are_a_422(client, query, param):
     res = client.get("/api/v1/code", params={**query, "lang": "glsl"})
     assert res.status_code == 422, res.text[:300]
     assert res.json()["detail"][0]["loc"][-1] == param
+
+
+@pytest.mark.parametrize("query", ["ndf=gtr&gamma=1.5", "ndf=exp_power&p=2", "ndf=ggx"])
+def test_kulla_conty_E_in_the_code_is_the_albedo(client, query):
+    """The generated E_1(μ) (the per-α slice's cubic pieces behind a branch-free search,
+    or the whole table's at its α) against the albedo quadrature of the same lobe at F = 1
+    (an independent integration), within the goal the tables are built to (1e-4)."""
+    model = f"alpha=0.3&fresnel=none&{query}"
+    ns: dict = {}
+    exec(client.get(f"/api/v1/code?lang=python&multiscatter=kulla_conty&{model}").text, ns)
+    mu = np.linspace(0.02, 1.0, 17)
+    albedo = client.get(f"/api/v1/albedo?{model}&mu={','.join(map(str, mu))}").json()
+    assert np.max(np.abs(ns["E_1"](mu) - np.array(albedo["E"]))) < 1e-4
