@@ -59,15 +59,16 @@ CACHE_SIZE = 512
 class ESlice:
     key: tuple               # table.table_key of the lobe (F = 1)
     alpha: float             # the roughness this slice is for
-    y: np.ndarray            # nodes
+    y: np.ndarray            # nodes, in x = y^q (grazing_exponent)
     values: np.ndarray       # E at the nodes
-    spline: CubicSpline      # in y (a piecewise cubic: spline.x, spline.c)
+    spline: CubicSpline      # in x = y^q (a piecewise cubic: spline.x, spline.c)
     error: float             # bound on |Ê − E| at every μ (module docstring)
     measured: float          # largest midpoint miss of the final spline
     node_error: float
     E_avg_value: float       # 2 ∫ Ê μ dμ of the spline itself
     build_seconds: float
     build_evaluations: int
+    exponent: float = 1.0    # q of the axis x = y^q (grazing_exponent)
     base = None              # not a Schlick-basis table (compensation reads E directly)
 
     @property
@@ -79,8 +80,12 @@ class ESlice:
         clipped to [0, 1] (docs/identities.md §7)."""
         if alpha is not None and float(alpha) != self.alpha:
             raise ValueError(f"this E(μ) slice is for α = {self.alpha:g}, not {float(alpha):g}")
+        return np.clip(self.spline(self.x_from_mu(mu)), 0.0, 1.0)
+
+    def x_from_mu(self, mu) -> np.ndarray:
+        """The spline's variable x = y(μ)^q (y: table.y_from_mu at this α)."""
         y = y_from_mu(np.clip(np.asarray(mu, dtype=float), 0.0, 1.0), self.alpha)
-        return np.clip(self.spline(y), 0.0, 1.0)
+        return y if self.exponent == 1.0 else y ** self.exponent
 
     def E_avg(self, alpha: float | None = None) -> float:
         if alpha is not None and float(alpha) != self.alpha:
@@ -88,50 +93,67 @@ class ESlice:
         return self.E_avg_value
 
 
-def _E_avg(y_nodes: np.ndarray, alpha: float, E) -> float:
-    """2 ∫₀¹ E(μ) μ dμ by Gauss-Legendre in y on every cell of the nodes (E is a cubic
-    there), μ = μ(y), dμ/dy as table._E_avg."""
+def grazing_exponent(ndf) -> float:
+    """q of the slice's axis x = y^q: 1 − E(μ) ~ μ^q at grazing for a tail whose r̃ grows
+    like v^{−β} with β > ½ (``tail_beta``; Student-t at γ < 2: q = 1/β − 1 = 2γ − 3),
+    so E is smooth in x (1 − E ~ x², as in y for GGX: y² ln y); q = 1 (x = y) for every
+    tail up to GGX's. Measured (Student-t, α = 0.37): 1 − E(μ) from μ = 1e-30 to 1e-20
+    grows ×10.0 at γ = 1.55 (q = 0.1), ×40 from 1e-20 to 1e-12 at γ = 1.6 (q = 0.2)."""
+    beta = float(ndf.tail_beta)
+    return 1.0 if beta <= 0.5 else min(1.0, 1.0 / beta - 1.0)
+
+
+def _mu_from_x(x, alpha: float, q: float):
+    return mu_from_y(np.asarray(x, dtype=float) ** (1.0 / q), alpha)
+
+
+def _E_avg(x_nodes: np.ndarray, alpha: float, q: float, E) -> float:
+    """2 ∫₀¹ E(μ) μ dμ by Gauss-Legendre in x on every cell of the nodes (E is a cubic
+    there): y = x^{1/q}, μ = μ(y), dμ/dx = dμ/dy · y/(q x), dμ/dy as table._E_avg."""
     t, w = gauss_legendre_01(E_AVG_NODES_PER_CELL)
-    lo, hi = y_nodes[:-1, None], y_nodes[1:, None]
-    y = (lo + (hi - lo) * t).ravel()
-    wy = ((hi - lo) * w).ravel()
+    lo, hi = x_nodes[:-1, None], x_nodes[1:, None]
+    x = (lo + (hi - lo) * t).ravel()
+    wx = ((hi - lo) * w).ravel()
+    y = x ** (1.0 / q)
     mu = mu_from_y(y, alpha)
     a = (y / (1.0 - y)) ** 2
-    dmu = alpha / (1.0 + (a * alpha) ** 2) ** 1.5 * 2.0 * y / (1.0 - y) ** 3
-    return float(2.0 * np.sum(E(mu) * mu * dmu * wy))
+    dmu = alpha / (1.0 + (a * alpha) ** 2) ** 1.5 * 2.0 * y / (1.0 - y) ** 3 * (y / (q * x))
+    return float(2.0 * np.sum(E(mu) * mu * dmu * wx))
 
 
 def build(key: tuple, alpha: float) -> ESlice:
     """Refine until every cell's bound meets GOAL (module docstring)."""
     t0 = time.perf_counter()
     lobe = lobe_at(key, alpha)
-    known: dict[float, tuple[float, float]] = {}     # y → (E, its quadrature error)
+    q = grazing_exponent(lobe.ndf)
+    known: dict[float, tuple[float, float]] = {}     # x → (E, its quadrature error)
     evaluations = 0
 
-    def compute(ys):
+    def compute(xs):
         nonlocal evaluations
-        new = np.array(sorted({float(v) for v in ys} - known.keys()))
+        new = np.array(sorted({float(v) for v in xs} - known.keys()))
         if new.size:
-            res = albedo(lobe, mu_from_y(new, alpha), tol=NODE_TOL)
+            res = albedo(lobe, _mu_from_x(new, alpha, q), tol=NODE_TOL)
             evaluations += res.evaluations
             known.update(zip(new.tolist(), zip(res.E.tolist(), res.E_error.tolist())))
 
-    y = np.linspace(0.0, 1.0, FIRST_CELLS + 1) ** Y_GRADING
+    # the first grid: table.py's y nodes (the same μ for every q)
+    x = (np.linspace(0.0, 1.0, FIRST_CELLS + 1) ** Y_GRADING) ** q
     for _ in range(MAX_ROUNDS + 1):
-        mid = 0.5 * (y[:-1] + y[1:])
-        compute(np.concatenate([y, mid]))    # one quadrature call per round
-        values = np.array([known[v][0] for v in y.tolist()])
-        spline = CubicSpline(y, values, bc_type="not-a-knot")
+        mid = 0.5 * (x[:-1] + x[1:])
+        compute(np.concatenate([x, mid]))    # one quadrature call per round
+        values = np.array([known[v][0] for v in x.tolist()])
+        spline = CubicSpline(x, values, bc_type="not-a-knot")
         miss = np.abs(spline(mid) - np.array([known[v][0] for v in mid.tolist()]))
         node_error = max(e for _, e in known.values())
         bad = SAFETY * miss + node_error > GOAL
-        if not bad.any() or y.size + bad.sum() > MAX_NODES:
+        if not bad.any() or x.size + bad.sum() > MAX_NODES:
             break
-        y = np.sort(np.concatenate([y, mid[bad]]))
+        x = np.sort(np.concatenate([x, mid[bad]]))
     measured = float(np.max(miss))
-    E_avg = _E_avg(y, alpha, lambda m: np.clip(spline(y_from_mu(m, alpha)), 0.0, 1.0))
-    return ESlice(key, alpha, y, values, spline, SAFETY * measured + node_error, measured,
-                  node_error, E_avg, time.perf_counter() - t0, evaluations)
+    E_avg = _E_avg(x, alpha, q, lambda m: np.clip(spline(y_from_mu(m, alpha) ** q), 0.0, 1.0))
+    return ESlice(key, alpha, x, values, spline, SAFETY * measured + node_error, measured,
+                  node_error, E_avg, time.perf_counter() - t0, evaluations, q)
 
 
 @complete_only(CACHE_SIZE, complete=lambda s: s.error <= GOAL)
