@@ -1,7 +1,9 @@
 """First answer of Kulla-Conty's albedo for a shape the server has never seen (issue 37).
 
-One server per round with an empty BRDF_CACHE_DIR; for each NDF shape of issue 37's table
-(plus a γ never used before, derived from the clock), time
+One server per round with an empty BRDF_CACHE_DIR; for each NDF shape of issue 37's table,
+the ends of each declared shape range (GTR γ 0.5/10, exp_power p 0.25/0.3/3/4, Student-t
+γ 1.52 — the grid's lower end — and 1000), and values never used before (derived from the
+clock: GTR γ, Student-t γ just above 1.52, exp_power p near 0.3 and near 3), time
 ``GET /api/v1/albedo?alpha=0.37&fresnel=none&multiscatter=kulla_conty&n=9&ndf=…`` to its
 200, following each 503's Retry-After as documented; report the time, the 503s and their
 Retry-After, and the stated ``compensation_error``.
@@ -21,7 +23,17 @@ import common  # first: puts the checkout on sys.path
 
 SHAPES = ["ndf=ggx", "ndf=beckmann", "ndf=gtr&gamma=1.0", "ndf=gtr&gamma=1.05",
           "ndf=gtr&gamma=1.2", "ndf=gtr&gamma=1.5", "ndf=student_t&gamma=1.6",
-          "ndf=exp_power&p=2.0", "ndf=exp_power&p=1.763"]
+          "ndf=exp_power&p=2.0", "ndf=exp_power&p=1.763",
+          "ndf=gtr&gamma=0.5", "ndf=gtr&gamma=10", "ndf=student_t&gamma=1.52",
+          "ndf=student_t&gamma=1000", "ndf=exp_power&p=0.25", "ndf=exp_power&p=0.3",
+          "ndf=exp_power&p=3.0", "ndf=exp_power&p=4.0"]
+
+
+def fresh_shapes() -> list[str]:
+    """Shape values no earlier round (or run) asked for: from the clock's nanoseconds."""
+    f = (time.time_ns() % 997) / 997.0
+    return [f"ndf=gtr&gamma={1.0 + f:.6f}", f"ndf=student_t&gamma={1.52 + 0.01 * f:.6f}",
+            f"ndf=exp_power&p={0.3 + 0.01 * f:.6f}", f"ndf=exp_power&p={3.0 - 0.01 * f:.6f}"]
 
 
 def first_answer(url: str, query: str) -> dict:
@@ -45,10 +57,9 @@ def main() -> None:
     rounds = int(sys.argv[1]) if len(sys.argv) > 1 else 1
     base = "alpha=0.37&fresnel=none&multiscatter=kulla_conty&n=9&"
     for r in range(rounds):
-        fresh = f"ndf=gtr&gamma={1.0 + (time.time_ns() % 997) / 1000.0:.3f}"
         with tempfile.TemporaryDirectory() as cache, common.server({"BRDF_CACHE_DIR": cache}) as url:
             print(f"round {r + 1}, load {common.loadavg()}")
-            for shape in SHAPES + [fresh]:
+            for shape in SHAPES + fresh_shapes():
                 res = first_answer(url, base + shape)
                 print(f"  {shape:24s} {json.dumps(res)}", flush=True)
 
