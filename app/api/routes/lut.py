@@ -10,7 +10,7 @@ from starlette.concurrency import run_in_threadpool
 
 from ...errors import TooLarge
 from ...lut import build, check, export
-from ...lut.table import KINDS, QUANTISATIONS, make, orientation
+from ...lut.table import KINDS, QUANTISATIONS, make, model_label, orientation
 from ...model import make_spec
 from ...physics.ndf import NDFS
 from ...shader.generate import model_query
@@ -29,7 +29,8 @@ class LutQuery(schemas.ModelQuery):
     kind: Annotated[Literal[tuple(KINDS)], Field(
         description="split_sum: (scale, bias) of F0 (Karis 2013); dfg_filament: Filament's (x, y) with "
                     "multiple-scattering compensation; kc_E: E(μ, α); kc_E_avg: E_avg(α). Single "
-                    "scattering of the model's NDF, masking and G2 (exact Smith); its Fresnel is factored out")]
+                    "scattering of the model's NDF, masking and G2 (exact Smith, or the Schlick-GGX approximations "
+                    "engines ship: masking=schlick_ibl, schlick_direct); its Fresnel is factored out")]
     size: Annotated[int, Field(ge=build.SIZE_MIN, le=build.SIZE_MAX,
                                description=f"texels per axis, [{build.SIZE_MIN}, {build.SIZE_MAX}]")] = 32
     mu_axis: Annotated[Literal[build.MU_AXES], Field(
@@ -42,7 +43,7 @@ class LutQuery(schemas.ModelQuery):
 
     def check(self) -> None:
         """The rules the schema cannot state, before any work (the fuzz test's oracle calls
-        this too): an option only where it applies, exact Smith masking."""
+        this too): an option only where it applies, a masking whose Λ is the model's own."""
         schemas.applies_where_given(self)
         values = schemas.spec_of(self).values
         build.check_masking(NDFS[values["ndf"]], values["masking"])
@@ -67,7 +68,7 @@ def _lut(q: LutQuery):
 
 
 def _meta(spec, lut, q: LutQuery, errors: dict) -> dict:
-    return {"kind": q.kind, "model_query": _lobe_query(spec), "axes": lut.axes, "channels": list(lut.channels),
+    return {"kind": q.kind, "model_query": _lobe_query(spec), "model_label": model_label(spec.brdf()), "axes": lut.axes, "channels": list(lut.channels),
             "orientation": orientation(lut.dims), "usage": KINDS[q.kind][1], "quantisation": q.quantisation,
             "lookup_max": errors["lookup"]["max"].tolist()}
 
@@ -103,6 +104,7 @@ def lut(q: Annotated[LutFileQuery, Query()]) -> Response:
             entry["offsets"] = errors[part]["offsets"]
         error[part] = entry
     return json_response({**{k: v for k, v in meta.items() if k != "lookup_max"}, "model": meta["model_query"],
+                          "model_label": meta["model_label"],
                           "size": q.size, "values": errors["values"], "error": error,
                           "build": {"seconds": table.seconds, "evaluations": table.evaluations}})
 
