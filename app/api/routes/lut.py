@@ -134,6 +134,12 @@ async def lut_check(request: Request, q: Annotated[LutQuery, Query()]) -> Respon
     return json_response(await run_in_threadpool(_check, q, body, request.headers.get("content-type", "")))
 
 
+#: what an arrangement difference is called in the query's own axes (the words /lut/check
+#: used before it inferred conventions, which the tools page and users know)
+ARRANGEMENT_WORDS = {"roughness_direction": ": flipped along axes[0]", "mu_direction": ": flipped along axes[1]",
+                     "axis_order": ": transposed (axes swapped)", "channels": ": channels swapped"}
+
+
 def _expected(q: LutQuery, spec, dims: int, channels: int) -> dict:
     """The conventions the query names (this project's own: texel centres, rows roughness
     ascending, columns μ ascending, channels as named)."""
@@ -167,7 +173,8 @@ def _check(q: LutQuery, body: bytes, content_type: str) -> dict:
         "size": int(raw.shape[0]), "channels": list(KINDS[q.kind][0]), "storage": stored,
         "conventions": found, "expected": expected, "differs": differs,
         "diagnosis": None if not differs else "this table differs from the query in "
-        + "; ".join(f"{k}: {d['found']} (query: {d['expected']})" for k, d in differs.items()),
+        + "; ".join(f"{k}: {d['found']}{ARRANGEMENT_WORDS.get(k, '')} (query: {d['expected']})"
+                    for k, d in differs.items()),
         "fit": {"residual_rms": rms, "residual_max": worst,
                 "sampled_indices": infer.sample(int(raw.shape[0]), infer.SAMPLE_PER_AXIS),
                 "hypotheses": len(ranked),
