@@ -23,6 +23,7 @@ from ..integrate import budget
 from ..integrate.albedo import albedo, albedo_average
 from ..physics.brdf import BRDF
 from ..physics.fresnel import FRESNELS
+from ..physics.masking import MASKINGS, REFERENCE
 from ..physics.ndf import ALPHA
 
 #: Quadrature tolerance of each E node: below the float16 step at 1 (4.9e-4) and the
@@ -80,11 +81,16 @@ class LobeKey:
 
 
 def check_masking(ndf_class: type, masking: str) -> None:
-    """LUTs tabulate exact Smith masking (refused before any work otherwise)."""
-    if masking not in ("smith", "smith_numeric") or (masking == "smith" and not ndf_class.smith_exact):
-        raise ParameterError("masking", f"LUTs are tabulated for exact-Smith models: masking=smith "
-                             f"(with an NDF whose Λ is exact, not blinn_phong) or smith_numeric; "
-                             f"got ndf={ndf_class.name}, masking={masking}")
+    """A LUT is built for every masking whose Λ is the model's own: the exact Smith forms
+    and the approximations engines ship (Schlick-GGX with k = α/2 for image-based light
+    or k = (r + 1)²/8 for direct light, Karis 2013; Walter's fit). Refused (before any
+    work) only where the model refuses Kulla-Conty too: an NDF without an exact Λ under
+    masking=smith, which borrows another NDF's Λ (Walter's substitution for Blinn-Phong)."""
+    entry = MASKINGS[masking]
+    if entry.uses_ndf_Lambda and not ndf_class.smith_exact:
+        raise ParameterError("masking", f"ndf={ndf_class.name} has no exact Smith Λ: masking={masking} "
+                             f"substitutes another NDF's, whose albedo exceeds 1; give masking={REFERENCE} "
+                             "(the Smith integral) or an approximation that applies to it")
 
 
 @dataclass(frozen=True, eq=False)

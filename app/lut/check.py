@@ -1,11 +1,6 @@
-"""An uploaded LUT against the reference: its error map, and whether it looks flipped,
-transposed, channel-swapped or stored 0–255.
-
-The upload is compared with the reference as given and under each rearrangement a
-shader bug would cause (flip of either axis, transpose, both, channels swapped). If one
-of those fits at least DIAGNOSIS_RATIO times better than the table as given, the answer
-names it.
-"""
+"""An uploaded LUT read: a PNG or JSON body to unit-range floats of the kind's shape,
+refused (422 naming the body) when it is not one. What the table's conventions are is
+inferred in infer.py."""
 from __future__ import annotations
 
 import json
@@ -16,8 +11,6 @@ from ..errors import ParameterError
 from . import png
 from .build import SIZE_MAX, SIZE_MIN
 
-#: a rearrangement is reported when its max error is this many times below the as-given one
-DIAGNOSIS_RATIO = 4.0
 #: JSON nesting accepted: an object holding [i][j][c] is 4 deep; deeper is refused before
 #: parsing (a recursive parser would otherwise exhaust its stack on "[[[[…")
 MAX_JSON_DEPTH = 8
@@ -32,9 +25,11 @@ def json_depth(body: bytes) -> int:
     return int(np.cumsum(step).max(initial=0))
 
 
-def parse(body: bytes, content_type: str, channels: int, dims: int) -> np.ndarray:
-    """The uploaded values as floats [rows][columns][channels] (or [rows][channels]): a
-    PNG (8 or 16 bits; RG tables in R and G) or JSON ``{"values": [i][j][c]}``."""
+def parse(body: bytes, content_type: str, channels: int, dims: int) -> tuple[np.ndarray, int | None]:
+    """The uploaded values as floats [rows][columns][channels] (or [rows][channels]) and
+    the PNG's bit depth (None for JSON): a PNG (8 or 16 bits, divided by 2^bits − 1; RG
+    tables in R and G) or JSON ``{"values": [i][j][c]}`` (as written)."""
+    bits = None
     if body.startswith(png.SIGNATURE) or content_type.startswith("image/png"):
         try:
             samples, bits = png.read(body, max_side=SIZE_MAX)
@@ -71,36 +66,4 @@ def parse(body: bytes, content_type: str, channels: int, dims: int) -> np.ndarra
                                      "([rows][columns][channels])", loc="body")
     if not np.all(np.isfinite(values)):
         raise ParameterError("body", "the uploaded LUT holds non-finite values", loc="body")
-    return values
-
-
-def _candidates(values: np.ndarray, dims: int) -> dict[str, np.ndarray]:
-    out = {"as given": values}
-    if dims == 2:
-        out.update({"flipped along axes[0] (upside down)": values[::-1],
-                    "flipped along axes[1]": values[:, ::-1],
-                    "transposed (axes swapped)": values.transpose(1, 0, 2),
-                    "transposed and flipped": values.transpose(1, 0, 2)[::-1],
-                    "rotated by 180°": values[::-1, ::-1]})
-    else:
-        out["reversed"] = values[::-1]
-    if values.shape[-1] == 2:
-        out.update({f"{k}, channels swapped" if k != "as given" else "channels swapped": v[..., ::-1]
-                    for k, v in list(out.items())})
-    if values.max() > 1.5:
-        out["stored 0–255"] = values / 255.0
-    return out
-
-
-def compare(values: np.ndarray, reference: np.ndarray, bound: np.ndarray, dims: int) -> dict:
-    """Error map of the upload (as given) and the best-fitting rearrangement."""
-    fits = {name: float(np.max(np.abs(v - reference))) for name, v in _candidates(values, dims).items()}
-    best = min(fits, key=fits.get)
-    given = fits["as given"]
-    diagnosis = None
-    if best != "as given" and fits[best] * DIAGNOSIS_RATIO < given:
-        diagnosis = f"this looks {best}: max error {fits[best]:.3g} that way, {given:.3g} as given"
-    err = np.abs(values - reference)
-    return {"error": {"per_texel": err, "max": err.max(axis=tuple(range(dims))),
-                      "reference_bound": bound.max(axis=tuple(range(dims)))},
-            "diagnosis": diagnosis, "fits": fits}
+    return values, bits

@@ -25,6 +25,7 @@ def describe(meta: dict) -> list[str]:
     axes = "; ".join(f"axes[{k}] = {a['name']} ({len(a['values'])} texel centres (i + 0.5)/n)"
                      for k, a in enumerate(meta["axes"]))
     return [f"BRDF Lobe Explorer LUT: kind={meta['kind']}, model {meta['model_query']}",
+            f"built for: {meta['model_label']}",
             f"{axes}; channels {', '.join(meta['channels'])}; quantisation {meta['quantisation']}",
             meta["orientation"], f"usage: {meta['usage']}",
             f"max error after quantisation and bilinear lookup: "
@@ -60,14 +61,16 @@ def render(fmt: str, values: np.ndarray, meta: dict) -> bytes:
         grid = _integers(_grid(values), q)
         if grid.shape[-1] == 2:                                   # RG in an RGB image, B = 0
             grid = np.concatenate([grid, np.zeros(grid.shape[:-1] + (1,), np.int64)], axis=-1)
-        return png.write(grid, 8 if q == "unorm8" else 16)
+        return png.write(grid, 8 if q == "unorm8" else 16,
+                         text={"Title": f"BRDF Lobe Explorer LUT {meta['kind']}", "Description": "\n".join(lines),
+                               "BRDF-model": meta["model_query"], "BRDF-model-label": meta["model_label"]})
     if fmt == "csv":
         return _csv(values, meta, lines).encode()
     if fmt in ("c", "glsl", "hlsl"):
         return _source(fmt, values, meta, lines).encode()
     if fmt == "f16":
         buf = io.BytesIO()
-        side = {k: meta[k] for k in ("kind", "model_query", "channels", "orientation", "usage")}
+        side = {k: meta[k] for k in ("kind", "model_query", "model_label", "channels", "orientation", "usage")}
         side.update({"dtype": "float16", "byte_order": "little", "shape": list(values.shape),
                      "layout": "row-major, axes[0] slowest, channel fastest",
                      "axes": [{"name": a["name"], "values": list(map(float, a["values"]))} for a in meta["axes"]]})

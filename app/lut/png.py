@@ -24,15 +24,42 @@ def _chunk(kind: bytes, data: bytes) -> bytes:
     return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data) & 0xFFFFFFFF)
 
 
-def write(samples: np.ndarray, bits: int) -> bytes:
-    """``samples`` (rows, columns, 1 or 3) of integers in [0, 2^bits − 1]."""
+def text_chunk(keyword: str, text: str) -> bytes:
+    """An iTXt chunk (ISO/IEC 15948 §11.3.4.5): keyword (Latin-1, 1–79 bytes), then
+    uncompressed UTF-8 text with no language tag; image viewers and ``exiftool`` show it."""
+    key = keyword.encode("latin-1")
+    if not 1 <= len(key) <= 79:
+        raise ValueError(f"a PNG text keyword has 1-79 bytes; got {keyword!r}")
+    return _chunk(b"iTXt", key + b"\x00\x00\x00" + b"\x00" + b"\x00" + text.encode("utf-8"))
+
+
+def texts(data: bytes) -> dict[str, str]:
+    """The iTXt chunks of ``data`` (uncompressed ones) as {keyword: text}."""
+    out, pos = {}, len(SIGNATURE)
+    while pos + 8 <= len(data):
+        length, kind = struct.unpack(">I4s", data[pos:pos + 8])
+        body = data[pos + 8:pos + 8 + length]
+        if kind == b"iTXt":
+            key, _, rest = body.partition(b"\x00")
+            if rest[:1] == b"\x00":                      # not compressed
+                _, _, rest = rest[2:].partition(b"\x00")  # language tag
+                _, _, text = rest.partition(b"\x00")      # translated keyword
+                out[key.decode("latin-1")] = text.decode("utf-8", "replace")
+        pos += 12 + length
+    return out
+
+
+def write(samples: np.ndarray, bits: int, text: dict[str, str] | None = None) -> bytes:
+    """``samples`` (rows, columns, 1 or 3) of integers in [0, 2^bits − 1]; ``text``:
+    {keyword: text} written as iTXt chunks before the image data."""
     rows, cols, channels = samples.shape
     colour = {1: 0, 3: 2}[channels]
     dtype = ">u2" if bits == 16 else "u1"
     raw = np.ascontiguousarray(samples.astype(dtype)).reshape(rows, -1).view(np.uint8)
     lines = np.concatenate([np.zeros((rows, 1), np.uint8), raw], axis=1)   # filter 0 (None)
     header = struct.pack(">IIBBBBB", cols, rows, bits, colour, 0, 0, 0)
-    return (SIGNATURE + _chunk(b"IHDR", header) + _chunk(b"IDAT", zlib.compress(lines.tobytes(), 9))
+    notes = b"".join(text_chunk(k, v) for k, v in (text or {}).items())
+    return (SIGNATURE + _chunk(b"IHDR", header) + notes + _chunk(b"IDAT", zlib.compress(lines.tobytes(), 9))
             + _chunk(b"IEND", b""))
 
 

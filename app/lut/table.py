@@ -132,3 +132,10 @@ def orientation(dims: int) -> str:
     return ("values[i][j][c]: i along axes[0] (rows), j along axes[1] (columns), texel centres (k + 0.5)/n "
             "on both. Images: row 0 is the first row of the file (the top); uploaded as is with "
             "glTexImage2D it is t = 0.5/n, so sample at (u, v) = (axes[1] value, axes[0] value).")
+
+
+def model_label(brdf) -> str:
+    """The model a LUT was built for, in words from the registry entries' labels: NDF,
+    masking (with its description, which states k for Schlick-GGX), G2 form."""
+    return (f"{type(brdf.ndf).label}; masking {brdf.masking.name}: {brdf.masking.label} "
+            f"({brdf.masking.description}); G2 {brdf.g2.name}: {brdf.g2.label}")

@@ -1,8 +1,9 @@
 /* The LUT workbench (the tools page): the lookup tables users ship (split sum, Filament's
  * DFG, Kulla-Conty's E and E_avg) for the explorer's model, drawn with the error GET
  * /api/v1/lut states for each (of the table, after quantisation, after bilinear lookup),
- * downloadable in every format it offers; and a user's own table checked against it
- * (POST /api/v1/lut/check names a flip, transpose or channel swap that fits better).
+ * downloadable in every format it offers; and a user's own table read (POST
+ * /api/v1/lut/check infers its conventions — α map, G2, texel placement, axis order,
+ * orientation, split form, channels — with each one's margin, and its lookup error).
  * The options are the ones /openapi.json declares for GET /api/v1/lut.
  */
 import { API, el, apiMessage } from "./dom.js";
@@ -129,11 +130,24 @@ export async function lutSection(modelFor, spec) {
       return;
     }
     const max = body.channels.map((c, k) => `${c} ${fmt(body.error.max[k])}`).join(", ");
+    const margin = (name) => {
+      const m = body.fit.margins[name];
+      return m ? ` (next: ${m.runner_up}, ${m.ratio === null ? "exact fit" : `×${m.ratio.toPrecision(3)} worse`})` : "";
+    };
+    const found = el("table", { class: "tools-table", id: "lut-conventions" },
+      el("tr", {}, el("th", { text: "convention" }), el("th", { text: "inferred" }), el("th", { text: "query" })),
+      ...Object.entries(body.conventions).map(([name, value]) => el("tr", {},
+        el("td", { text: name.replace(/_/g, " ") }), el("td", { text: value + margin(name) }),
+        el("td", { text: body.expected[name] ?? "" }))));
     checked.replaceChildren(
-      el("p", { text: `${file.name}: ${body.size} texels per axis; largest error ${max} (the reference's own bound `
+      el("p", { text: `${file.name}: ${body.size} texels per axis, ${body.storage}; best of ${body.fit.hypotheses} `
+                      + `hypotheses, residual ${fmt(body.fit.residual_rms)} RMS (runner-up ×`
+                      + `${body.fit.runner_up.ratio === null ? "∞" : body.fit.runner_up.ratio.toPrecision(3)}). `
+                      + `Bilinear lookup error ${max} (the reference's own bound `
                       + `${body.channels.map((c, k) => fmt(body.error.reference_bound[k])).join(", ")}).` }),
+      found,
       el("p", { class: body.diagnosis ? "tools-status failed" : "tools-status",
-                text: body.diagnosis ? `Diagnosis: ${body.diagnosis}.` : "No flip, transpose or channel swap fits better." }));
+                text: body.diagnosis ? `Diagnosis: ${body.diagnosis}.` : "The table follows the query's conventions." }));
   });
   options();
   return card("lut", "Lookup tables",

@@ -9,8 +9,8 @@ from pydantic import Field
 from starlette.concurrency import run_in_threadpool
 
 from ...errors import TooLarge
-from ...lut import build, check, export
-from ...lut.table import KINDS, QUANTISATIONS, make, orientation
+from ...lut import build, check, export, infer
+from ...lut.table import KINDS, QUANTISATIONS, make, model_label, orientation
 from ...model import make_spec
 from ...physics.ndf import NDFS
 from ...shader.generate import model_query
@@ -29,7 +29,8 @@ class LutQuery(schemas.ModelQuery):
     kind: Annotated[Literal[tuple(KINDS)], Field(
         description="split_sum: (scale, bias) of F0 (Karis 2013); dfg_filament: Filament's (x, y) with "
                     "multiple-scattering compensation; kc_E: E(μ, α); kc_E_avg: E_avg(α). Single "
-                    "scattering of the model's NDF, masking and G2 (exact Smith); its Fresnel is factored out")]
+                    "scattering of the model's NDF, masking and G2 (exact Smith, or the Schlick-GGX approximations "
+                    "engines ship: masking=schlick_ibl, schlick_direct); its Fresnel is factored out")]
     size: Annotated[int, Field(ge=build.SIZE_MIN, le=build.SIZE_MAX,
                                description=f"texels per axis, [{build.SIZE_MIN}, {build.SIZE_MAX}]")] = 32
     mu_axis: Annotated[Literal[build.MU_AXES], Field(
@@ -42,7 +43,7 @@ class LutQuery(schemas.ModelQuery):
 
     def check(self) -> None:
         """The rules the schema cannot state, before any work (the fuzz test's oracle calls
-        this too): an option only where it applies, exact Smith masking."""
+        this too): an option only where it applies, a masking whose Λ is the model's own."""
         schemas.applies_where_given(self)
         values = schemas.spec_of(self).values
         build.check_masking(NDFS[values["ndf"]], values["masking"])
@@ -67,7 +68,7 @@ def _lut(q: LutQuery):
 
 
 def _meta(spec, lut, q: LutQuery, errors: dict) -> dict:
-    return {"kind": q.kind, "model_query": _lobe_query(spec), "axes": lut.axes, "channels": list(lut.channels),
+    return {"kind": q.kind, "model_query": _lobe_query(spec), "model_label": model_label(spec.brdf()), "axes": lut.axes, "channels": list(lut.channels),
             "orientation": orientation(lut.dims), "usage": KINDS[q.kind][1], "quantisation": q.quantisation,
             "lookup_max": errors["lookup"]["max"].tolist()}
 
@@ -103,28 +104,83 @@ def lut(q: Annotated[LutFileQuery, Query()]) -> Response:
             entry["offsets"] = errors[part]["offsets"]
         error[part] = entry
     return json_response({**{k: v for k, v in meta.items() if k != "lookup_max"}, "model": meta["model_query"],
+                          "model_label": meta["model_label"],
                           "size": q.size, "values": errors["values"], "error": error,
                           "build": {"seconds": table.seconds, "evaluations": table.evaluations}})
 
 
-@router.post("/lut/check", tags=["code"], summary="An uploaded LUT against the reference: error map, flips",
-             description=f"Body: a PNG (8/16-bit; RG tables in R, G) or JSON {{\"values\": [i][j][c]}}, at most "
-                         f"{UPLOAD_MAX_BYTES} bytes; its size is read from it. The query says what it should be "
-                         "(kind, axes, model). The answer names a flip, transpose, channel swap or 0–255 "
-                         "storage that fits much better than the table as given.")
+CHECK_DESCRIPTION = (
+    f"Body: a PNG (8/16-bit; RG tables in R, G) or JSON {{\"values\": [i][j][c]}}, at most {UPLOAD_MAX_BYTES} "
+    "bytes, n × n texels (kc_E_avg: n) with n ≥ 4; its size is read from it. The query says what it should be "
+    "(kind, axes, model). Every combination of α = r² or r, μ = x or x², texel centres or edges per axis, "
+    "G2 separable or height-correlated (or the query's), split form (scale/bias or DFG), axis order, "
+    "orientation and channel order is built at the upload's resolution and fitted; the answer names the best, "
+    "its residual, each convention's runner-up and margin, what differs from the query, and the error map of "
+    "the upload read with bilinear filtering against the integral at the inferred positions.")
+CHECK_BODY = {"required": True, "description": "the table: a PNG, or JSON {\"values\": [i][j][c]}", "content": {
+    "image/png": {"schema": {"type": "string", "format": "binary"}},
+    "application/json": {"schema": {"type": "object", "required": ["values"], "properties": {"values": {
+        "type": "array", "description": "[rows][columns][channels] numbers (0–1, or 0–255 / 0–65535 integers)",
+        "items": {"type": "array", "items": {"type": "array", "items": {"type": "number"}}}}}}}}}
+
+
+@router.post("/lut/check", tags=["code"], summary="An uploaded LUT: its conventions inferred, its error map",
+             description=CHECK_DESCRIPTION, openapi_extra={"requestBody": CHECK_BODY})
 async def lut_check(request: Request, q: Annotated[LutQuery, Query()]) -> Response:
     q.check()
     body = await request.body()
     if len(body) > UPLOAD_MAX_BYTES:
         raise TooLarge("body", f"the upload has {len(body)} bytes; the limit is {UPLOAD_MAX_BYTES}", loc="body")
+    return json_response(await run_in_threadpool(_check, q, body, request.headers.get("content-type", "")))
 
-    def work():
-        dims = 1 if q.kind == "kc_E_avg" else 2
-        values = check.parse(body, request.headers.get("content-type", ""), len(KINDS[q.kind][0]), dims)
-        q.size = values.shape[0]
-        spec, table = _lut(q)
-        result = check.compare(values, table.table, table.bound[(slice(None, None, 2),) * dims], dims)
-        return {"kind": q.kind, "model": _lobe_query(spec), "size": q.size, "axes": table.axes,
-                "channels": list(table.channels), "orientation": orientation(dims), **result}
 
-    return json_response(await run_in_threadpool(work))
+#: what an arrangement difference is called in the query's own axes (the words /lut/check
+#: used before it inferred conventions, which the tools page and users know)
+ARRANGEMENT_WORDS = {"roughness_direction": ": flipped along axes[0]", "mu_direction": ": flipped along axes[1]",
+                     "axis_order": ": transposed (axes swapped)", "channels": ": channels swapped"}
+
+
+def _expected(q: LutQuery, spec, dims: int, channels: int) -> dict:
+    """The conventions the query names (this project's own: texel centres, rows roughness
+    ascending, columns μ ascending, channels as named)."""
+    model = infer.Model(spec.brdf().g2.name, q.roughness_axis, q.mu_axis if dims == 2 else None, "centres",
+                        "centres" if dims == 2 else None, q.kind if channels == 2 else None)
+    return infer.describe(model, infer.Arrangement("roughness", True, True, False))
+
+
+def _check(q: LutQuery, body: bytes, content_type: str) -> dict:
+    dims, channels = (1 if q.kind == "kc_E_avg" else 2), len(KINDS[q.kind][0])
+    raw, bits = check.parse(body, content_type, channels, dims)
+    infer.check_size(raw.shape[0])
+    values, stored = infer.storage(raw, bits)
+    given = schemas.model_values(q)
+    specs = {g2: make_spec(**{**given, "g2": g2}) for g2 in infer.G2_CANDIDATES}
+    spec = make_spec(**given)
+    specs.setdefault(spec.brdf().g2.name, spec)
+    keys = {g2: build.LobeKey.of(s.brdf()) for g2, s in specs.items()}
+    ranked = infer.fit(values, keys, dims)
+    rms, worst, model, arrangement = ranked[0]
+    found = infer.describe(model, arrangement)
+    expected = _expected(q, spec, dims, channels)
+    differs = {k: {"found": v, "expected": expected[k]} for k, v in found.items() if expected.get(k) != v}
+    if "0–" in stored:
+        differs["storage"] = {"found": stored, "expected": "unit values"}
+    runner = ranked[1]
+    runner_found = infer.describe(runner[2], runner[3])
+    errors = infer.error_map(arrangement.canonical(values, dims), keys[model.g2], model, dims)
+    return {
+        "kind": q.kind, "model": _lobe_query(specs[model.g2]), "model_label": model_label(specs[model.g2].brdf()),
+        "size": int(raw.shape[0]), "channels": list(KINDS[q.kind][0]), "storage": stored,
+        "conventions": found, "expected": expected, "differs": differs,
+        "diagnosis": None if not differs else "this table differs from the query in "
+        + "; ".join(f"{k}: {d['found']}{ARRANGEMENT_WORDS.get(k, '')} (query: {d['expected']})"
+                    for k, d in differs.items()),
+        "fit": {"residual_rms": rms, "residual_max": worst,
+                "sampled_indices": infer.sample(int(raw.shape[0]), infer.SAMPLE_PER_AXIS),
+                "hypotheses": len(ranked),
+                "runner_up": {"residual_rms": runner[0], "ratio": infer.ratio(runner[0], rms),
+                              "differs_in": {k: v for k, v in runner_found.items() if found.get(k) != v}},
+                "margins": infer.margins(ranked)},
+        "error": {**errors, "note": "after bilinear filtering at the upload's own resolution, in the inferred "
+                                    "conventions (the upload rearranged to rows roughness, columns μ)"},
+    }
