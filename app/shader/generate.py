@@ -99,8 +99,10 @@ def _assemble(spec: ModelSpec, form: str):
         t.add(ml)
         t.add(terms.visibility(k, g2, lobe.ndf, g2.needs_phi))
     if ms is not None:
+        offset = 0                  # each lobe's pieces follow the previous lobe's
         for k, term in enumerate(ms.lobes, start=1):
-            c, tab, f = embed.kulla_conty_E(k, term)
+            c, tab, f = embed.kulla_conty_E(k, term, offset)
+            offset += len(tab[0].values)
             t.consts.extend(c)
             t.tables.extend(tab)
             t.fns.append(f)

@@ -19,9 +19,9 @@ from .dsl import Const, Fn, Table
 
 PIECES, DEGREE = 16, 16
 #: Coefficients below TRIM × |c_0| of their piece are written as 0 (shorter code): all
-#: of them together change h by < DEGREE × TRIM relative, far below float32's 6e-8; the
+#: of them together change h by < DEGREE × TRIM relative, below float32's 6e-8; the
 #: stated error is measured on the trimmed series.
-TRIM = 1e-10
+TRIM = 1e-9
 #: Points in x at which the fit is checked against the table (uniform, both ends).
 FIT_CHECK = 20001
 

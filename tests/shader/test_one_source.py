@@ -13,6 +13,7 @@ from app.physics.fresnel import FRESNELS
 from app.physics.fresnel.base import Fresnel
 from app.physics.ndf import NDFS
 from app.shader.generate import describe, generate
+from tests.shader.models import registry_models
 
 
 @pytest.fixture
@@ -79,3 +80,16 @@ def test_the_kernels_scalar_functions_are_the_formulas():
 def test_line_counts_are_reported():
     d = describe(make_spec(ndf="ggx", alpha=0.3), "glsl", "const")
     assert d["lines"] == len(d["code"].splitlines()) and d["lines"] <= 300
+
+
+def test_no_shader_of_the_registry_exceeds_300_lines():
+    """Every registry model (two-lobe fits and Kulla-Conty included), GLSL and HLSL, both forms."""
+    long = []
+    for params in registry_models():
+        spec = make_spec(**params)
+        for lang in ("glsl", "hlsl"):
+            for form in ("const", "uniform"):
+                n = len(generate(spec, lang, form).splitlines())
+                if n > 300:
+                    long.append((n, lang, form, params))
+    assert not long, long[:3]
