@@ -93,3 +93,18 @@ def test_no_shader_of_the_registry_exceeds_300_lines():
                 if n > 300:
                     long.append((n, lang, form, params))
     assert not long, long[:3]
+
+
+@pytest.mark.parametrize("alpha", [1e-3, 3e-3, 0.01, 0.3])
+def test_the_half_precision_notes_are_true(alpha):
+    """The precision notes' half claims, measured in numpy float16 (IEEE half, what
+    mediump may be): D's peak 1/(π α²) of GGX and q² = m_x²/α² at grazing overflow half
+    exactly when the note says so; where it says nothing of overflow, half is finite."""
+    notes = " ".join(describe(make_spec(ndf="ggx", alpha=alpha), "glsl")["precision"])
+    with np.errstate(all="ignore"):
+        a = np.float16(alpha)
+        peak16 = np.float16(1.0) / (np.float16(np.pi) * a * a)
+        q2_16 = np.float16(1.0) / (a * a)
+    assert ("D's peak" in notes and "overflows half" in notes) == bool(np.isinf(peak16)), (notes, peak16)
+    assert ("q² = m_x²/α²" in notes) == bool(np.isinf(q2_16)), (notes, q2_16)
+    assert "float32 (highp) suffices" in notes
