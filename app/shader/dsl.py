@@ -39,11 +39,13 @@ class Const:
 
 @dataclass
 class Table:
-    """A constant array; ``kind`` "float" or "int"."""
+    """A constant array; ``kind`` "float" or "int". Tables of one name (one per lobe)
+    are written as one array, each part at its ``offset``."""
     name: str
     values: list
     comment: str
     kind: str = "float"
+    offset: int = 0
 
 
 @dataclass

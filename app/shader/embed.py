@@ -54,12 +54,13 @@ def lambda_table(k: int, ndf):
     return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)"
 
 
-def _pieces(k: int, bp, coeffs, what: str) -> list:
-    """E_k's cubic pieces as tables: breakpoints in y and the four coefficients of each."""
-    tabs = [Table(f"KC_BP_{k}", list(bp), f"breakpoints in y of E_{k}'s cubic pieces{what}")]
+def _pieces(bp, coeffs, what: str, offset: int) -> list:
+    """A lobe's cubic pieces of E as its part (from ``offset``) of the tables every lobe
+    shares: breakpoints in y and the four coefficients of each piece."""
+    tabs = [Table("KC_BP", list(bp), f"breakpoints in y of each lobe's cubic pieces of E{what}", offset=offset)]
     for j in range(4):
-        tabs.append(Table(f"KC_C{j}_{k}", coeffs[j].tolist(),
-                          f"coefficient of d^{3 - j} of each piece, d = y − KC_BP_{k}[j]"))
+        tabs.append(Table(f"KC_C{j}", coeffs[j].tolist(),
+                          f"coefficient of d^{3 - j} of each piece, d = y − KC_BP[j]", offset=offset))
     return tabs
 
 
@@ -70,13 +71,13 @@ def _y_of_mu(k: int) -> list:
             ("float", "y", "sel(m < 1.0, ra / (1.0 + ra), 1.0)")]
 
 
-def _piece_at_j(k: int) -> list:
-    """The cubic of piece j at y (Horner)."""
-    return [("float", "d", f"y - KC_BP_{k}[j]"),
-            ("float", "e", f"((KC_C0_{k}[j] * d + KC_C1_{k}[j]) * d + KC_C2_{k}[j]) * d + KC_C3_{k}[j]")]
+def _piece_at_j() -> list:
+    """The cubic of piece j (an index into the shared tables) at y (Horner)."""
+    return [("float", "d", "y - KC_BP[j]"),
+            ("float", "e", "((KC_C0[j] * d + KC_C1[j]) * d + KC_C2[j]) * d + KC_C3[j]")]
 
 
-def _slice_E(k: int, term) -> tuple[list, list, Fn]:
+def _slice_E(k: int, term, offset: int) -> tuple[list, list, Fn]:
     """E_k(μ) from the per-α slice (integrate/tables/alpha_slice.py): its cubic pieces at
     adaptive breakpoints, the piece found by a branch-free binary search unrolled over the
     padded breakpoint list (log₂ of its length steps of one ``sel`` each)."""
@@ -89,20 +90,22 @@ def _slice_E(k: int, term) -> tuple[list, list, Fn]:
     doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017), from the project's E(μ) slice at\n"
            f"α = {term.alpha:g} ({m} cubic pieces in y, reported error {table.error:.1e}):"
            " y = √a/(1 + √a), a = μ/(α sinθ).")
-    body = _y_of_mu(k) + [("int", "j0", "0")]
+    body = _y_of_mu(k) + [("int", "j0", f"{offset}")]
     for i in range(steps):
         step = 1 << (steps - 1 - i)
-        body.append(("int", f"j{i + 1}", f"sel(y >= KC_BP_{k}[j{i} + {step}], j{i} + {step}, j{i})"))
-    body += [("int", "j", f"min(j{steps}, {m - 1})")] + _piece_at_j(k)
-    return (consts, _pieces(k, padded.tolist(), coeffs, " (padded with 2)"),
+        body.append(("int", f"j{i + 1}", f"sel(y >= KC_BP[j{i} + {step}], j{i} + {step}, j{i})"))
+    body += [("int", "j", f"min(j{steps}, {offset + m - 1})")] + _piece_at_j()
+    coeffs = np.concatenate([coeffs, np.zeros((4, padded.size - m))], axis=1)   # the padding's pieces
+    return (consts, _pieces(padded.tolist(), coeffs, " (a slice's padded with 2)", offset),
             Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc))
 
 
-def kulla_conty_E(k: int, term) -> tuple[list, list, Fn]:
-    """E_k(μ): the lobe's E(μ, α) table at its α, as the cubic pieces of its spline in y."""
+def kulla_conty_E(k: int, term, offset: int = 0) -> tuple[list, list, Fn]:
+    """E_k(μ): the lobe's E(μ, α) table at its α, as the cubic pieces of its spline in y,
+    from ``offset`` in the tables the lobes share (the previous lobes' parts before it)."""
     table = term.table
     if isinstance(table.spline, CubicSpline):      # a slice at the lobe's own α
-        return _slice_E(k, term)
+        return _slice_E(k, term, offset)
     spline = table.spline
     tx, ty, c = spline.tck
     kx, ky = spline.degrees
@@ -123,7 +126,8 @@ def kulla_conty_E(k: int, term) -> tuple[list, list, Fn]:
               Const("KC_INV_GRADING", 1.0 / etables.Y_GRADING, "1/1.5")]
     doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017), from the project's {table.size} E(μ, α) table\n"
            f"(bicubic spline, reported error {table.error:.1e}) at α = {term.alpha:g}: y = √a/(1 + √a), a = μ/(α sinθ).")
-    tabs = _pieces(k, bp.tolist(), coeffs, "")
+    tabs = _pieces(bp.tolist(), coeffs, "", offset)
     body = _y_of_mu(k) + [
-        ("int", "j", f"clamp(toint(floor(KC_NM1_{k} * pow(y, KC_INV_GRADING))) - 1, 0, {m - 1})")] + _piece_at_j(k)
+        ("int", "j", f"{offset} + clamp(toint(floor(KC_NM1_{k} * pow(y, KC_INV_GRADING))) - 1, 0, {m - 1})")
+    ] + _piece_at_j()
     return consts, tabs, Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc)

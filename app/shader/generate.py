@@ -20,7 +20,7 @@ from ..physics.diffuse.lambert import Lambert
 from ..physics.formula import tokens
 from ..physics.g2 import lambda_phi_entry
 from . import embed, terms
-from .dsl import Const, Fn, Program
+from .dsl import Const, Fn, Program, Table
 from .emit import write
 from .library import ERFCX_MAX_RELATIVE_ERROR, LIBRARY
 
@@ -99,8 +99,10 @@ def _assemble(spec: ModelSpec, form: str):
         t.add(ml)
         t.add(terms.visibility(k, g2, lobe.ndf, g2.needs_phi))
     if ms is not None:
+        offset = 0                  # each lobe's pieces follow the previous lobe's
         for k, term in enumerate(ms.lobes, start=1):
-            c, tab, f = embed.kulla_conty_E(k, term)
+            c, tab, f = embed.kulla_conty_E(k, term, offset)
+            offset += len(tab[0].values)
             t.consts.extend(c)
             t.tables.extend(tab)
             t.fns.append(f)
@@ -117,7 +119,7 @@ def _assemble(spec: ModelSpec, form: str):
     info = {"uniforms": {c.name: c.value for c in consts if c.uniform},
             "baked": {k: v for k, v in sorted(baked.items())} if form == "uniform" else {},
             "tabulated": t.tabulated}
-    return Program(_header(spec, brdf, ms), consts, t.tables, _unique_fns(fns)), info
+    return Program(_header(spec, brdf, ms), consts, _merged(t.tables), _unique_fns(fns)), info
 
 
 def _library(fns: list[Fn]) -> list[Fn]:
@@ -127,6 +129,23 @@ def _library(fns: list[Fn]) -> list[Fn]:
         for expr in [fn.result, *(e for _, _, e in fn.body)]:
             used |= set(tokens(expr)) & set(LIBRARY)
     return [LIBRARY[name] for name in sorted(used)]
+
+
+def _merged(tables: list[Table]) -> list[Table]:
+    """Tables of one name (a lobe's part each, read through one shared helper) as one
+    array, each part at its declared offset."""
+    out: dict[str, Table] = {}
+    for tab in tables:
+        if tab.name not in out:
+            if tab.offset != 0:
+                raise ValueError(f"table {tab.name}: its first part starts at {tab.offset}, not 0")
+            out[tab.name] = replace(tab, values=list(tab.values))
+            continue
+        whole = out[tab.name]
+        if tab.offset != len(whole.values):
+            raise ValueError(f"table {tab.name}: part at {tab.offset}, expected {len(whole.values)}")
+        whole.values += list(tab.values)
+    return list(out.values())
 
 
 def _unique_fns(fns: list[Fn]) -> list[Fn]:

@@ -15,9 +15,13 @@ from __future__ import annotations
 import numpy as np
 
 from ..physics import smith_table
-from .dsl import Const, Table
+from .dsl import Const, Fn, Table
 
 PIECES, DEGREE = 16, 16
+#: Coefficients below TRIM × |c_0| of their piece are written as 0 (shorter code): all
+#: of them together change h by < DEGREE × TRIM relative, below float32's 6e-8; the
+#: stated error is measured on the trimmed series.
+TRIM = 1e-9
 #: Points in x at which the fit is checked against the table (uniform, both ends).
 FIT_CHECK = 20001
 
@@ -32,7 +36,7 @@ def fit(ndf):
         lo = x0 + i * width
         series = np.polynomial.chebyshev.Chebyshev.interpolate(
             lambda x: table.h(np.exp(x)), DEGREE, domain=[lo, lo + width])
-        coef[i] = series.coef
+        coef[i] = np.where(np.abs(series.coef) < TRIM * abs(series.coef[0]), 0.0, series.coef)
     x = np.linspace(x0, x1, FIT_CHECK)
     a = np.exp(x)
     i = np.clip(np.floor((x - x0) / width), 0, PIECES - 1).astype(int)
@@ -48,30 +52,44 @@ def lambda_fit(k: int, ndf):
     the returned error (last) state its largest |ΔG1| against the table."""
     table, coef, x0, width, error = fit(ndf)
     total = error + smith_table.TABLE_G1_ERROR
-    consts = [Const(f"LAM_X0_{k}", x0, f"ln a of the fit's start (a = {table.a_min:g})"),
-              Const(f"LAM_W_{k}", width, f"width in ln a of each of the {PIECES} pieces"),
-              Const(f"LAM_A_MIN_{k}", table.a_min, "below: linear to the exact grazing value h(0)"),
-              Const(f"LAM_A_MAX_{k}", table.a_max, "above: h(A_MAX) A_MAX/a (the tail law)"),
-              Const(f"LAM_H0_{k}", table.h0, "h(0), the grazing limit of μΛ/s"),
-              Const(f"LAM_HMIN_{k}", table.h_min, "h(A_MIN)")]
+    # the fit's range is the table's, the same for every lobe: one set of constants
+    consts = [Const("LAM_X0", x0, f"ln a of the fit's start (a = {table.a_min:g})"),
+              Const("LAM_W", width, f"width in ln a of each of the {PIECES} pieces"),
+              Const("LAM_A_MIN", table.a_min, "below: linear to the exact grazing value h(0)"),
+              Const("LAM_A_MAX", table.a_max, "above: h(A_MAX) A_MAX/a (the tail law)"),
+              Const(f"LAM_H0_{k}", table.h0, f"h(0) of lobe {k}, the grazing limit of μΛ/s"),
+              Const(f"LAM_HMIN_{k}", table.h_min, f"h(A_MIN) of lobe {k}")]
     n = DEGREE + 1
-    tables = [Table(f"LAM_C_{k}", coef.ravel().tolist(),
-                    f"h(a) = μΛ/s of {ndf.name}: Chebyshev coefficients c_0..c_{DEGREE} of each of {PIECES} pieces "
-                    f"in x = ln a (piece i: {n} entries from {n}·i), t = 2(x − X0 − i W)/W − 1.")]
+    base = (k - 1) * PIECES * n
+    tables = [Table("LAM_C", coef.ravel().tolist(),
+                    f"h(a) = μΛ/s: Chebyshev coefficients c_0..c_{DEGREE} of each of {PIECES} pieces in x = ln a "
+                    f"(lobe k, piece i: {n} entries from {PIECES * n}(k − 1) + {n} i), t = 2(x − X0 − i W)/W − 1.",
+                    offset=base)]
     doc = (f"μΛ = s h(a), a = μ/s, h of the general Smith integral (Heitz 2014, eq. 43) by {PIECES} Chebyshev\n"
            f"pieces of degree {DEGREE} in ln a: |ΔG1| ≤ {total:.1e} against the integral (fit {error:.1e}).")
     body = [("float", "a", "mu / max(s, 1e-30)"),
-            ("float", "u", f"log(clamp(a, LAM_A_MIN_{k}, LAM_A_MAX_{k})) - LAM_X0_{k}"),
-            ("int", "i", f"clamp(toint(floor(u / LAM_W_{k})), 0, {PIECES - 1})"),
-            ("int", "o", f"i * {n}"),
-            ("float", "t", f"2.0 * (u - tofloat(i) * LAM_W_{k}) / LAM_W_{k} - 1.0"),
+            ("float", "h", f"smith_fit_h(a, {base}, LAM_X0, LAM_W, LAM_A_MIN, LAM_A_MAX, LAM_H0_{k}, LAM_HMIN_{k})")]
+    return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)", total, clenshaw()
+
+
+def clenshaw() -> Fn:
+    """h(a) from the pieces of one lobe (from ``base`` in LAM_C), shared by both lobes:
+    Clenshaw's recurrence b_j = c_j + 2t b_{j+1} − b_{j+2}, h = c_0 + t b_1 − b_2; the
+    table's end laws outside [A_MIN, A_MAX]."""
+    n = DEGREE + 1
+    body = [("float", "u", "log(clamp(a, a_min, a_max)) - x0"),
+            ("int", "i", f"clamp(toint(floor(u / w)), 0, {PIECES - 1})"),
+            ("int", "o", f"toint(base) + i * {n}"),   # toint: the Python form passes floats
+            ("float", "t", "2.0 * (u - tofloat(i) * w) / w - 1.0"),
             ("float", "t2", "2.0 * t")]
-    # Clenshaw: b_j = c_j + 2t b_{j+1} − b_{j+2}, h = c_0 + t b_1 − b_2
     prev, prev2 = "0.0", "0.0"
     for j in range(DEGREE, 0, -1):
-        body.append(("float", f"b{j}", f"LAM_C_{k}[o + {j}] + t2 * {prev} - {prev2}"))
+        body.append(("float", f"b{j}", f"LAM_C[o + {j}] + t2 * {prev} - {prev2}"))
         prev2, prev = prev, f"b{j}"
-    body += [("float", "h_in", f"LAM_C_{k}[o] + t * b1 - {prev2}"),
-             ("float", "h", f"sel(a < LAM_A_MIN_{k}, LAM_H0_{k} + (LAM_HMIN_{k} - LAM_H0_{k}) * (a / LAM_A_MIN_{k}),"
-                            f" sel(a > LAM_A_MAX_{k}, h_in * (LAM_A_MAX_{k} / a), h_in))")]
-    return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)", total
+    body.append(("float", "h_in", f"LAM_C[o] + t * b1 - {prev2}"))
+    return Fn("smith_fit_h", "float",
+              [("float", "a"), ("int", "base"), ("float", "x0"), ("float", "w"), ("float", "a_min"),
+               ("float", "a_max"), ("float", "h0"), ("float", "h_min")], body,
+              "sel(a < a_min, h0 + (h_min - h0) * (a / a_min), sel(a > a_max, h_in * (a_max / a), h_in))",
+              f"h(a) = μΛ/s by {PIECES} Chebyshev pieces of degree {DEGREE} in x = ln a (one lobe's, from base in\n"
+              "LAM_C); below A_MIN linear to the grazing limit h(0), above A_MAX the tail law h(A_MAX) A_MAX/a.")

@@ -112,9 +112,10 @@ def mu_Lambda(k: int, ndf, masking) -> Terms:
         t.add(with_params(ndf_formula, f"NDF{k}", ndf.kernel_params(), f"the NDF of lobe {k}"))
         result, doc = call(ndf_formula, ["mu", "s"], f"NDF{k}"), f"μΛ of lobe {k}: the NDF's Smith Λ times μ."
     elif masking.uses_ndf_Lambda or exact:
-        consts, tables, doc, fit_body, result, error = lambda_fit(k, ndf)
+        consts, tables, doc, fit_body, result, error, helper = lambda_fit(k, ndf)
         t.consts += consts
         t.tables += tables
+        t.fns.append(helper)
         body += fit_body
         t.tabulated.append((f"muLambda_{k}", f"{ndf.name}'s Smith Λ has no closed form in a shading language: "
                                              f"{PIECES} Chebyshev pieces of degree {DEGREE} in ln a fitted to the "

@@ -18,6 +18,7 @@ import subprocess
 import numpy as np
 import pytest
 
+from app.errors import ParameterError
 from app.model import make_spec
 from app.physics.diffuse import DIFFUSES
 from app.physics.vectors import direction_deg
@@ -162,3 +163,49 @@ def test_one_file_models_in_webgl2_and_glslang(throwaway, page, pairs, tmp_path)
         assert not isinstance(r, dict), r
         ref = spec.brdf().evaluate(l, v, ("f",))["f"][:, None]
         assert _error(r[0], ref) <= REL
+
+
+def _grazing_rgba():
+    """1024 direction pairs in the closed upper hemisphere, in float32 as the shader gets
+    them: θ up to exactly 90° (z = 0, both or one direction on the horizon), 16 azimuths."""
+    thetas = np.radians([0.0, 30.0, 60.0, 85.0, 89.0, 89.99, 89.9999, 90.0])
+    phis = np.radians(np.linspace(-180.0, 180.0, 16, endpoint=False) + 0.5)
+    ti, to, p = (a.ravel() for a in np.meshgrid(thetas, thetas, phis, indexing="ij"))
+    l = np.stack([np.sin(ti), np.zeros_like(ti), np.cos(ti)], axis=-1)
+    v = np.stack([np.sin(to) * np.cos(p), np.sin(to) * np.sin(p), np.cos(to)], axis=-1)
+    for d, t in ((l, ti), (v, to)):
+        d[t == np.radians(90.0), 2] = 0.0          # exactly on the horizon
+    assert len(l) == SIDE * SIDE
+    return [np.concatenate([d, np.zeros((len(d), 1))], axis=1).astype(np.float32).ravel().tolist() for d in (l, v)]
+
+
+def test_no_nan_or_inf_in_webgl2_at_grazing_and_tiny_alpha(page):
+    """Float32 itself (not the float64 Python form): every registry model at α = 1e-4 and
+    α = 1, every diffuse model, on the closed upper hemisphere up to the horizon — f is
+    finite and ≥ 0 everywhere (F_MAX where both directions lie on the horizon)."""
+    models = []
+    for m in registry_models():
+        if "alpha" in m and "alpha2" not in m:
+            for alpha in (1e-4, 1.0):
+                models.append({**m, "alpha": alpha, **({"alpha_y": alpha} if "alpha_y" in m else {})})
+    models += [{"ndf": "ggx", "alpha": 1e-4, "kd": 0.5, "diffuse": d} for d in DIFFUSES]
+    specs = []
+    for m in models:
+        try:
+            specs.append((m, make_spec(**m)))
+        except ParameterError:
+            pass                                    # e.g. a shape the model refuses at α = 1e-4
+    assert len(specs) >= 0.9 * len(models), "most combinations must be accepted at α = 1e-4"
+    L, V = _grazing_rgba()
+    out = page.evaluate(RUN_BATCH_JS, [VERTEX, [{"fs": _fs(generate(s, "glsl")), "uniforms": [{}]}
+                                                for _, s in specs], SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
+    assert "error" not in out, out.get("error")
+    bad = []
+    for (m, _), r in zip(specs, out["results"]):
+        if isinstance(r, dict):
+            bad.append((m, r["error"][:200]))
+            continue
+        f = np.array([np.nan if x is None else x for x in r[0]], dtype=float).reshape(-1, 4)[:, :3]
+        if not (np.isfinite(f).all() and (f >= 0).all()):
+            bad.append((m, f"{int((~np.isfinite(f)).sum())} non-finite, min {np.nanmin(f):.3g}"))
+    assert not bad, bad[:5]

@@ -13,6 +13,7 @@ from app.physics.fresnel import FRESNELS
 from app.physics.fresnel.base import Fresnel
 from app.physics.ndf import NDFS
 from app.shader.generate import describe, generate
+from tests.shader.models import registry_models
 
 
 @pytest.fixture
@@ -79,3 +80,31 @@ def test_the_kernels_scalar_functions_are_the_formulas():
 def test_line_counts_are_reported():
     d = describe(make_spec(ndf="ggx", alpha=0.3), "glsl", "const")
     assert d["lines"] == len(d["code"].splitlines()) and d["lines"] <= 300
+
+
+def test_no_shader_of_the_registry_exceeds_300_lines():
+    """Every registry model (two-lobe fits and Kulla-Conty included), GLSL and HLSL, both forms."""
+    long = []
+    for params in registry_models():
+        spec = make_spec(**params)
+        for lang in ("glsl", "hlsl"):
+            for form in ("const", "uniform"):
+                n = len(generate(spec, lang, form).splitlines())
+                if n > 300:
+                    long.append((n, lang, form, params))
+    assert not long, long[:3]
+
+
+@pytest.mark.parametrize("alpha", [1e-3, 3e-3, 0.01, 0.3])
+def test_the_half_precision_notes_are_true(alpha):
+    """The precision notes' half claims, measured in numpy float16 (IEEE half, what
+    mediump may be): D's peak 1/(π α²) of GGX and q² = m_x²/α² at grazing overflow half
+    exactly when the note says so; where it says nothing of overflow, half is finite."""
+    notes = " ".join(describe(make_spec(ndf="ggx", alpha=alpha), "glsl")["precision"])
+    with np.errstate(all="ignore"):
+        a = np.float16(alpha)
+        peak16 = np.float16(1.0) / (np.float16(np.pi) * a * a)
+        q2_16 = np.float16(1.0) / (a * a)
+    assert ("D's peak" in notes and "overflows half" in notes) == bool(np.isinf(peak16)), (notes, peak16)
+    assert ("q² = m_x²/α²" in notes) == bool(np.isinf(q2_16)), (notes, q2_16)
+    assert "float32 (highp) suffices" in notes
