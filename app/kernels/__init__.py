@@ -25,6 +25,7 @@ import numpy as np
 
 from ..config import environment
 from ..physics.brdf import BRDF, CompensatedBRDF, blend_lobes
+from ..physics.diffuse.lambert import Lambert
 from ..physics.g2 import lambda_phi_entry
 from ..physics import smith_table
 from ..physics.ndf import SlopeSpaceNDF
@@ -53,8 +54,8 @@ _compiler = Client()
 
 def components(brdf: BRDF) -> Components | None:
     """The components that fix a model's loops, or None if they cannot be compiled."""
-    if getattr(brdf, "diffuse", None) is not None or getattr(brdf, "numpy_only", False):
-        return None          # a diffuse model other than kd/π, or the principled BRDF: numpy
+    if getattr(brdf, "numpy_only", False):
+        return None          # the principled BRDF: numpy
     ndf = brdf.ndf
     if not isinstance(ndf, SlopeSpaceNDF):
         return None
@@ -63,7 +64,8 @@ def components(brdf: BRDF) -> Components | None:
     lp = lambda_phi_entry(brdf.lambda_phi) if brdf.g2.needs_phi else None
     if brdf.g2.needs_phi and lp is None:
         return None          # a λ(φ) that is not registered (no scalar formula)
-    c = Components(type(ndf), brdf.masking, brdf.g2, type(brdf.fresnel), lp)
+    diffuse = Lambert if brdf.diffuse is None else type(brdf.diffuse)
+    c = Components(type(ndf), brdf.masking, brdf.g2, type(brdf.fresnel), lp, diffuse)
     return c if c.complete() else None
 
 
