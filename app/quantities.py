@@ -42,6 +42,10 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
     cost.require_evaluations(brdf, count, count * len(want) * BYTES_PER_VALUE
                              + min(count, EVAL_CHUNK) * BYTES_PER_PAIR, param,
                              f"{count} BRDF evaluations")
+    if tuple(want) == ("f",) and getattr(brdf.fresnel, "channels", None) is None:
+        f = _f_fused(brdf, shape, count, (theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg))
+        if f is not None:
+            return {"f": f}
     l = direction_deg(theta_i_deg, phi_i_deg)
     v = direction_deg(theta_o_deg, phi_o_deg)
     l, v = np.broadcast_arrays(l, v)
@@ -63,6 +67,39 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
                 out[name] = np.empty((count,) + np.shape(value)[1:], dtype=np.result_type(value, float))
             out[name][part] = value
     return {name: value.reshape(shape + value.shape[1:]) for name, value in out.items()}
+
+
+def _f_fused(brdf: BRDF, shape: tuple, count: int, angles: tuple) -> np.ndarray | None:
+    """f by the model's compiled loop with degrees in (the directions built inside it),
+    in chunks of FUSED_CHUNK pairs with the deadline checked between them; None when
+    the model has no ready loop (the caller takes the directions path)."""
+    if count <= FUSED_CHUNK:
+        return kernels.f_deg(brdf, *angles)
+    flat = [np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1) for a in angles]
+    out = np.empty(count)
+    for start in range(0, count, FUSED_CHUNK):
+        if start:
+            cost.check_deadline(f"{count} BRDF evaluations")
+        part = slice(start, start + FUSED_CHUNK)
+        f = kernels.f_deg(brdf, *(a[part] for a in flat))
+        if f is None:
+            return None if not start else _finish_numpy(brdf, flat, out, start).reshape(shape)
+        out[part] = f
+    return out.reshape(shape)
+
+
+def _finish_numpy(brdf: BRDF, flat: list, out: np.ndarray, start: int) -> np.ndarray:
+    """The rest of a fused evaluation by numpy (the compiled loops were switched off
+    between two chunks: kernels.disabled)."""
+    l = direction_deg(flat[0][start:], flat[1][start:])
+    v = direction_deg(flat[2][start:], flat[3][start:])
+    out[start:] = kernels.f(brdf, l, v)
+    return out
+
+
+#: Pairs per call of the fused loop: ~5 ms of work at 50 M/s, so the deadline is checked
+#: often; its temporaries are the four angle arrays of a chunk (8 MB).
+FUSED_CHUNK = 1 << 18
 
 
 def _width_deg(brdf: BRDF) -> float:

@@ -8,7 +8,16 @@ directions → BRDF.evaluate, as GET/POST /eval do). Side by side in one run:
 * ``fast``        app.kernels.f: the model's compiled loop (app/kernels), one block per core
 * ``fast_serial`` the same loop on one thread (what each core does)
 * ``numpy``       BRDF.evaluate, the reference numpy path
-* ``quantities``  app.quantities.evaluate, degrees in (compiled path)
+* ``quantities``  app.quantities.evaluate, degrees in: the compiled loop that builds the
+                  directions itself (f_deg_loop, app/kernels/compose.py), one block per core
+* ``mitsuba``     Mitsuba 3's LLVM backend (optional, float32, all cores) on the same pairs:
+                  ``roughconductor``, GGX, no preset material (F = 1), its separable Smith
+                  G2 = G1(l) G1(v); it returns f·cos θ_l. Timed against our compiled loop on the
+                  same model (GGX, smith, separable, fresnel=none; float64) as ``fast_mitsuba_model``.
+                  Set up:  pip install mitsuba  (3.9.1 here), and Debian's libLLVM 19 unpacked:
+                  ``cd /tmp && apt-get download libllvm19 && dpkg-deb -x libllvm19_*.deb /tmp/llvm19``,
+                  then run with ``DRJIT_LIBLLVM_PATH=/tmp/llvm19/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1``.
+                  Without it the report says "not measured" and why.
 
 Run it as installed by the README's first command (numba is a regular dependency); the
 compiled loop is loaded (or compiled) before the timings.
@@ -53,12 +62,18 @@ def run(quick: bool = False) -> dict:
         finally:
             kernel_module.PARALLEL_MIN = saved
 
+    same = make_spec(ndf="ggx", masking="smith", g2="separable", fresnel="none").brdf()
+    kernels.compile_now(same)
+    mitsuba, why = mitsuba_eval(l, v, same.ndf.alpha_x)
     functions = {
         "fast": lambda: kernels.f(brdf, l, v),
         "fast_serial": serial,
         "numpy": numpy_path,
         "quantities": lambda: quantities.evaluate(brdf, theta[0], phi[0], theta[1], phi[1], ("f",)),
+        "fast_mitsuba_model": lambda: kernels.f(same, l, v),
     }
+    if mitsuba is not None:
+        functions["mitsuba"] = mitsuba
     if not have_fast:
         common.log("  (numba not installed or BRDF_FAST=0: 'fast' is the numpy path)")
     common.log(f"  {n:,} pairs, {repeat} interleaved rounds ...")
@@ -77,8 +92,36 @@ def run(quick: bool = False) -> dict:
     finite = np.isfinite(ref) & (ref > 0)
     out["throughput_max_rel_diff"] = float(np.max(np.abs(got[finite] - ref[finite]) / ref[finite]))
     out["throughput_speedup"] = out["evals_per_s"] / out["evals_per_s_numpy"]
+    out["quantities_over_fast"] = out["evals_per_s_quantities"] / out["evals_per_s"]
+    if mitsuba is not None:
+        out["ours_over_mitsuba"] = out["evals_per_s_fast_mitsuba_model"] / out["evals_per_s_mitsuba"]
+    else:
+        out["mitsuba_not_measured"] = why
     out.update(albedo_latency(brdf, repeat=repeat))
     return out
+
+
+def mitsuba_eval(l, v, alpha: float):
+    """(a function evaluating Mitsuba 3's roughconductor on the pairs, None) or (None,
+    why it cannot): Mitsuba is optional, never a dependency of the app or its tests."""
+    try:
+        import drjit as dr
+        import mitsuba as mi
+        mi.set_variant("llvm_ad_rgb")
+    except Exception as exc:     # not installed, or no libLLVM for its LLVM backend
+        return None, f"{type(exc).__name__}: {exc}".splitlines()[0]
+    bsdf = mi.load_dict({"type": "roughconductor", "distribution": "ggx", "alpha": alpha})
+    si = dr.zeros(mi.SurfaceInteraction3f)
+    si.wi = mi.Vector3f(np.ascontiguousarray(v.T, dtype=np.float32))
+    wo = mi.Vector3f(np.ascontiguousarray(l.T, dtype=np.float32))
+    dr.eval(si.wi, wo)
+    ctx = mi.BSDFContext()
+
+    def run():
+        value = bsdf.eval(ctx, si, wo)
+        dr.eval(value)
+        dr.sync_thread()
+    return run, None
 
 
 def albedo_latency(brdf, repeat: int) -> dict:
@@ -114,6 +157,10 @@ def report(r: dict) -> list[str]:
         f"{r['evals_per_cpu_s_numpy'] / 1e6:8.1f} M/s",
         f"  quantities.evaluate (degrees in)   : {r['evals_per_s_quantities'] / 1e6:8.1f} M/s  "
         f"{r['evals_per_cpu_s_quantities'] / 1e6:8.1f} M/s",
+        f"  quantities / kernels.f             : {r['quantities_over_fast']:8.2f}",
+        (f"  GGX separable F=1: ours {r['evals_per_s_fast_mitsuba_model'] / 1e6:.1f} M/s (float64), Mitsuba 3 LLVM "
+         f"{r['evals_per_s_mitsuba'] / 1e6:.1f} M/s (float32): ratio {r['ours_over_mitsuba']:.2f}"
+         if "ours_over_mitsuba" in r else f"  Mitsuba 3: not measured ({r['mitsuba_not_measured']})"),
         f"  speed-up {r['throughput_speedup']:.1f}x; max relative difference to numpy "
         f"{r['throughput_max_rel_diff']:.1e}",
         f"albedo, n = 17 + E_avg, tol 1e-5: compiled p50 {r['albedo17_compiled_ms_p50']:.1f} ms "

@@ -25,6 +25,7 @@ import numpy as np
 
 from ..config import environment
 from ..physics.brdf import BRDF, CompensatedBRDF, blend_lobes
+from ..physics.diffuse.lambert import Lambert
 from ..physics.g2 import lambda_phi_entry
 from ..physics import smith_table
 from ..physics.ndf import SlopeSpaceNDF
@@ -53,8 +54,8 @@ _compiler = Client()
 
 def components(brdf: BRDF) -> Components | None:
     """The components that fix a model's loops, or None if they cannot be compiled."""
-    if getattr(brdf, "diffuse", None) is not None or getattr(brdf, "numpy_only", False):
-        return None          # a diffuse model other than kd/π, or the principled BRDF: numpy
+    if getattr(brdf, "numpy_only", False):
+        return None          # the principled BRDF: numpy
     ndf = brdf.ndf
     if not isinstance(ndf, SlopeSpaceNDF):
         return None
@@ -63,7 +64,8 @@ def components(brdf: BRDF) -> Components | None:
     lp = lambda_phi_entry(brdf.lambda_phi) if brdf.g2.needs_phi else None
     if brdf.g2.needs_phi and lp is None:
         return None          # a λ(φ) that is not registered (no scalar formula)
-    c = Components(type(ndf), brdf.masking, brdf.g2, type(brdf.fresnel), lp)
+    diffuse = Lambert if brdf.diffuse is None else type(brdf.diffuse)
+    c = Components(type(ndf), brdf.masking, brdf.g2, type(brdf.fresnel), lp, diffuse)
     return c if c.complete() else None
 
 
@@ -151,6 +153,23 @@ def f(brdf: BRDF, l, v) -> np.ndarray:
     return out
 
 
+def f_deg(brdf: BRDF, theta_l, phi_l, theta_v, phi_v) -> np.ndarray | None:
+    """f at angles in degrees (l at θ_l, φ_l; v at θ_v, φ_v; broadcast together) by the
+    model's compiled loop, the directions built inside it; None when the model has no
+    ready loops or is compensated (the caller builds directions and calls :func:`f`)."""
+    if isinstance(brdf, CompensatedBRDF):
+        return None           # its multiple-scattering term takes directions
+    kernel = lookup(brdf)
+    if kernel is None:
+        return None
+    first = replace(brdf, lobe2=None, lobe_mix=0.0)
+    out = kernel.f_deg(first, theta_l, phi_l, theta_v, phi_v)
+    if brdf.lobe2 is not None and brdf.lobe_mix > 0:
+        second = kernel.f_deg(replace(first, ndf=brdf.lobe2), theta_l, phi_l, theta_v, phi_v)
+        out = blend_lobes(brdf.lobe_mix, out, second)
+    return out
+
+
 def _enqueue(cs: list[Components], front: bool = False) -> None:
     global _worker
     with _cv:
@@ -224,7 +243,7 @@ def _build(c: Components, note: str = "") -> Kernel | None:
                 _cv.notify_all()
             log.warning("no compiled loops for %s (numpy serves it): %s", c.label, _failed[c])
             return None
-        loops = (module.f_loop, module.albedo_rows, module.smith_h)
+        loops = (module.f_loop, module.f_deg_loop, module.albedo_rows, module.smith_h)
         hits = sum(sum(k.stats.cache_hits.values()) for k in loops)
         how = "loaded from numba's cache" if hits == len(loops) else "compiled"
         log.info("compiled loops ready for %s: %s%s in %.1f s", c.label, note, how,

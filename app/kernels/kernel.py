@@ -65,6 +65,7 @@ class Kernel:
     def __init__(self, components: Components, module):
         self.components = components
         self._f_loop = module.f_loop
+        self._f_deg_loop = module.f_deg_loop
         self._albedo_rows = module.albedo_rows
         self._smith_h = module.smith_h
 
@@ -75,6 +76,11 @@ class Kernel:
         return inputs(ndf.kernel_params(), lobe.masking.kernel_params(ndf),
                       lobe.g2.kernel_params(ndf), lobe.fresnel.kernel_params())
 
+    @staticmethod
+    def diffuse_params(lobe) -> np.ndarray:
+        """p_diffuse of a BRDF: its diffuse model's kernel_params() (none for Lambert)."""
+        return inputs(lobe.diffuse.kernel_params() if lobe.diffuse is not None else ())[0]
+
     def f(self, lobe, l, v) -> np.ndarray:
         """f(l, v) of a single-lobe BRDF (no second lobe, no compensation) for l, v
         broadcastable (..., 3)."""
@@ -84,7 +90,22 @@ class Kernel:
         out = np.empty(l2.shape[0])
         ndf = lobe.ndf
         _split(self._f_loop, out.size, out.size, (l2, v2, out),
-               (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd) / np.pi, *self.params(lobe)))
+               (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd), *self.params(lobe),
+                self.diffuse_params(lobe)))
+        return out.reshape(shape)
+
+    def f_deg(self, lobe, theta_l, phi_l, theta_v, phi_v) -> np.ndarray:
+        """f of a single-lobe BRDF at angles in degrees (l at θ_l, φ_l; v at θ_v, φ_v),
+        broadcast together: the directions are built inside the loop, as
+        physics/vectors.direction_deg builds them."""
+        shape = np.broadcast_shapes(*(np.shape(a) for a in (theta_l, phi_l, theta_v, phi_v)))
+        angles = inputs(*(np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1)
+                          for a in (theta_l, phi_l, theta_v, phi_v)))
+        out = np.empty(angles[0].size)
+        ndf = lobe.ndf
+        _split(self._f_deg_loop, out.size, out.size, (*angles, out),
+               (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd), *self.params(lobe),
+                self.diffuse_params(lobe)))
         return out.reshape(shape)
 
     def albedo_rows(self, lobe, v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log) -> np.ndarray:
@@ -113,11 +134,12 @@ class Kernel:
         return h, slope, curvature
 
     def warm(self) -> None:
-        """Compile (or load from numba's cache) the three loops, on one point each (none
+        """Compile (or load from numba's cache) the four loops, on one point each (none
         for smith_h), with the argument types the calls above use."""
         l, = inputs([[0.0, 0.0, 1.0]])
         p, = inputs(np.zeros(1))
-        self._f_loop(l, l, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p)
+        self._f_loop(l, l, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
+        self._f_deg_loop(p, p, p, p, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
         node, = inputs([[0.5]])
         rule, = inputs([0.5])
         self._albedo_rows(l, node, node, node, node, rule, rule, rule, rule, rule, False,

@@ -20,6 +20,7 @@ import os
 import subprocess
 import sys
 import textwrap
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -209,26 +210,24 @@ def test_new_ndf_and_fresnel_in_the_compiled_loops(throwaway):
 
 
 @pytest.mark.skipif(not kernels.ENABLED, reason="numba absent or BRDF_FAST=0")
-def test_new_diffuse_model_compiles_from_its_formula(throwaway):
-    """The diffuse file's one formula, compiled as the kernels compile a scalar formula,
-    agrees with its numpy f to 1e-12 (the kernels' loops do not take a diffuse model yet)."""
-    from app.kernels.special import device, register_scalars
-    import numba
-    register_scalars()
+def test_new_diffuse_model_in_the_compiled_loops(throwaway):
+    """The diffuse file's one formula reaches the compiled loops (directions and degrees
+    in) and agrees with its numpy f to 1e-12."""
     model = DIFFUSES["minnaert_throwaway"](minnaert_k=1.25)
-    f_scalar = device(type(model).f_scalar)
-    p = np.asarray(model.kernel_params(), dtype=float)
-
-    @numba.njit
-    def loop(mu_l, mu_v, l_dot_v, p, out):
-        for i in range(mu_l.size):
-            out[i] = f_scalar(0.6, mu_l[i], mu_v[i], l_dot_v[i], p)
-
-    rng = np.random.default_rng(2)
-    mu_l, mu_v, ldv = rng.uniform(0, 1, 500), rng.uniform(0, 1, 500), rng.uniform(-1, 1, 500)
-    out = np.empty(500)
-    loop(mu_l, mu_v, ldv, p, out)
-    np.testing.assert_allclose(out, model.f(0.6, mu_l, mu_v, ldv), rtol=1e-12, atol=0)
+    l, v = _directions()
+    for brdf in (_lobe(NDFS["ggx"](0.3)), _lobe(NDFS["t3_throwaway"](0.2, 0.4))):
+        brdf = replace(brdf, kd=0.6, diffuse=model)
+        kernel = kernels.compile_now(brdf)
+        assert kernel is not None
+        _assert_close(kernel.f(brdf, l, v), brdf.evaluate(l, v, ("f",))["f"])
+    theta = np.linspace(0.0, 90.0, 37)
+    got = kernels.f_deg(brdf, theta[:, None], 0.0, theta[None, :], 180.0)
+    mu = np.sin(np.deg2rad(90.0 - theta))
+    sin = np.sin(np.deg2rad(theta))
+    l = np.stack([sin, np.zeros_like(sin), mu], axis=-1)
+    v = np.stack([sin * np.cos(np.pi), sin * np.sin(np.pi), mu], axis=-1)
+    L, V = np.broadcast_arrays(l[:, None, :], v[None, :, :])
+    _assert_close(got.ravel(), brdf.evaluate(L, V, ("f",))["f"].ravel())
 
 
 def test_new_ndf_in_the_albedo_quadrature_and_a_table(throwaway):
