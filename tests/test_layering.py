@@ -45,7 +45,6 @@ KNOWN = {
     "app.shader.generate imports app.integrate": "31: shader is dispatch only; spellings with the physics",
     "app.shader.generate imports app.model": "31: shader is dispatch only; spellings with the physics",
     # circles, each as its sorted modules
-    "circle app.principled.albedo, app.principled.material": "31 (views)",
 }
 
 

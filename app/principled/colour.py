@@ -4,7 +4,10 @@ from __future__ import annotations
 
 import math
 
+import numpy as np
+
 from ..errors import ParameterError
+from .params import LUMINANCE
 
 
 def _srgb_decode(c: float) -> float:
@@ -57,3 +60,10 @@ def parse_color(text) -> tuple[float, float, float]:
     if len(rgb) != 3 or not all(math.isfinite(c) and 0.0 <= c <= 1.0 for c in rgb):
         raise ParameterError("base_color", f"base_color must be three numbers r,g,b in [0, 1]; got {text!r}")
     return rgb
+
+
+def channel(rgb: np.ndarray, name: str) -> np.ndarray:
+    """One channel of (..., 3), or its Rec. 709 luminance."""
+    if name == "luminance":
+        return rgb @ np.asarray(LUMINANCE)
+    return rgb[..., "rgb".index(name)]
