@@ -48,21 +48,36 @@ def query_fields() -> dict:
     return fields
 
 
+#: The parameter whose value > 0 makes the roughness anisotropic (the page: which
+#: choices apply, at which azimuth the curves are taken).
+ANISOTROPY_PARAM = "anisotropic"
+#: What is drawn (changed while looking) before what changes the model.
+SHOWN = ("lobe", "channel")
+
+
 def _choice(option: str, c) -> dict:
     out = {"name": c.name, "label": c.label, "description": c.description}
     if (option, c.name) in ISOTROPIC_ONLY:
         out["isotropic_only"] = True
+        out["requires_zero"] = ANISOTROPY_PARAM
     return out
 
 
 def catalogue() -> dict:
-    """The parameters (base_color a colour), ranges, defaults and options."""
+    """The parameters (base_color a colour), ranges, defaults and options, the roughness
+    and anisotropy parameters by name, and the sidebar's sections (names in order)."""
+    params = [spec.ROUGHNESS, *PARAMS]
     return {"colors": [{"name": "base_color", "label": "base colour", "default": list(BASE_COLOR_DEFAULT),
-                        "lo": 0.0, "hi": 1.0}],
-            "params": [spec.ROUGHNESS.as_dict()] + [p.as_dict() for p in PARAMS],
+                        "lo": 0.0, "hi": 1.0, "description": "Base colour r,g,b in [0, 1] (linear, or "
+                        "decoded as sRGB-like: see its encoding below)"}],
+            "params": [p.as_dict() for p in params],
             "options": {name: {"label": label, "default": default,
                                "choices": [_choice(name, c) for c in choices.values()]}
-                        for name, (label, choices, default) in OPTIONS.items()}}
+                        for name, (label, choices, default) in OPTIONS.items()},
+            "roughness_param": spec.ROUGHNESS.name, "anisotropy_param": ANISOTROPY_PARAM,
+            "sections": [{"title": "Principled BRDF", "names": [*SHOWN, "base_color", *(p.name for p in params)]},
+                         {"title": "Where implementations differ",
+                          "names": [name for name in OPTIONS if name not in SHOWN]}]}
 
 
 def lobe_albedo(model, mu) -> dict:
