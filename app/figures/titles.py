@@ -138,7 +138,7 @@ def microfacet_title(values: dict, material_name: str | None = None) -> str:
             groups.append(["F", material_name or value])
         elif name in ("kd", "alpha2"):
             groups.append([f"{_symbol(name)}={number(value)}"])
-        elif name in {p.name for p in choice_params("diffuse", values["diffuse"])}:
+        elif name in {p.name for p in choice_params("diffuse", values.get("diffuse", _defaults()["diffuse"]))}:
             groups[-1].append(f"{_symbol(name)}={number(value)}")
         else:
             if name in {p.name for p in choice_params("fresnel", values["fresnel"])} \
