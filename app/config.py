@@ -96,6 +96,9 @@ class Settings:
     #: the user's cache root, under which the tables go when cache_dir is empty:
     #: XDG_CACHE_HOME (empty: ~/.cache)
     xdg_cache_home: str = ""
+    #: directories of model families added without editing the application (a package
+    #: with family.py each, app/model/registry.py): BRDF_MODEL_DIRS, os.pathsep-separated
+    model_dirs: str = ""
 
     @classmethod
     def from_env(cls) -> "Settings":
@@ -167,5 +170,5 @@ def _positive(env: str, cast):
 
 #: how each setting that is not a non-negative number is read from its variable
 _PARSERS = {"cache_dir": _text, "static_dir": _text, "chromium": _text, "kernel_dir": _text,
-            "xdg_cache_home": _text, "fast": _switch, "cors_origins": _origins,
+            "xdg_cache_home": _text, "model_dirs": _text, "fast": _switch, "cors_origins": _origins,
             "allowed_origins": _origins, "body_idle_seconds": _positive}

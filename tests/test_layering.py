@@ -25,11 +25,12 @@ RANKS = [
     ("views", ("app.views",)),
     ("analysis", ("app.analysis", "app.environment")),
     ("data", ("app.datasets", "app.fit", "app.lut")),
-    ("model", ("app.model", "app.quantities", "app.adaptive", "app.materials")),
+    # a model family's package (app/model/registry.py finds it) ranks with the registry
+    ("model", ("app.model", "app.principled", "app.quantities", "app.adaptive", "app.materials")),
     ("integrate", ("app.integrate",)),
     ("kernels", ("app.kernels",)),
     ("shader", ("app.shader",)),
-    ("physics", ("app.physics", "app.principled", "app.figures")),
+    ("physics", ("app.physics", "app.figures")),
     ("base", ("app.config", "app.errors", "app.resources", "app")),
 ]
 
@@ -38,17 +39,12 @@ RANKS = [
 KNOWN = {
     # upward: "importer imports imported"
     "app.figures.titles imports app.model": "31: figures read the model registry's labels; pass them in",
-    "app.principled.albedo imports app.integrate": "31: principled's albedo through integrate's methods",
-    "app.principled.compensation imports app.integrate": "31: principled's compensation through integrate",
-    "app.principled.lobes imports app.kernels": "31: principled/lobes.py imports kernels",
-    "app.principled.material imports app.integrate": "31: principled's albedo through integrate's methods",
     "app.shader.conventions imports app.integrate": "31: the conventions' check a view on integrate",
     "app.shader.conventions_figure imports app.model": "31: the conventions' figure built in figures/",
     "app.shader.embed imports app.integrate": "31: shader is dispatch only; tables embedded from below",
     "app.shader.generate imports app.integrate": "31: shader is dispatch only; spellings with the physics",
     "app.shader.generate imports app.model": "31: shader is dispatch only; spellings with the physics",
     # circles, each as its sorted modules
-    "circle app.principled.albedo, app.principled.material": "31 (views)",
 }
 
 

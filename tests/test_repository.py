@@ -76,7 +76,6 @@ KNOWN_PRIVATE_IMPORTS = {
     "app/physics/fresnel/conductor.py imports _cos from .base": "31: a public cos helper in physics",
     "app/physics/fresnel/dielectric.py imports _cos from .base": "31: a public cos helper in physics",
     "app/materials.py imports _cos from .physics.fresnel.base": "31: a public cos helper in physics",
-    "app/principled/albedo.py imports _albedo_at_order from ..physics.diffuse.base": "31 (views)",
     "app/analysis/advise.py imports _affords from .albedo_grid": "31: budget helpers public",
     "app/analysis/advise.py imports _cut from .albedo_grid": "31: budget helpers public",
     "app/analysis/pointwise.py imports _affords from .albedo_grid": "31: budget helpers public",

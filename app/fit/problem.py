@@ -87,8 +87,8 @@ def make_problem(model: dict, free: list[str], measure: str, **points) -> Proble
         base = make_spec(**model)
     except ParameterError as exc:
         raise ParameterError(f"model.{exc.param}", exc.message, loc="body") from None
-    family = base.values.get("model", "microfacet")
-    if family != "microfacet":
+    family = base.family.name
+    if "alpha" not in base.family.own_names():     # a fit frees α, F₀, k_d…: the microfacet parameters
         raise ParameterError("model.model", f"fits are offered for the microfacet model only; "
                                             f"model={family} cannot be fitted (its parameters are "
                                             "not the microfacet ones a fit would free)", loc="body")

@@ -1,6 +1,8 @@
 """Directional albedo of the principled BRDF, lobe by lobe and channel by channel:
 E_lobe,c(μ) = ∫ f_lobe,c(l, v) μ_l dω_l, so a stacked chart shows how much each lobe
-reflects. Each lobe by the rule that suits it, each with its error:
+reflects (:func:`albedo`), and what integrate/'s quadrature does not integrate itself
+(:func:`rest_albedo`: it takes the specular lobes from PrincipledBRDF.lobes()). Each
+lobe by the rule that suits it, each with its error:
 
 * diffuse and sheen: colour × a scalar integral, by the diffuse registry's split
   Gauss-Legendre rule in (μ_l, φ) (physics/diffuse/base.py);
@@ -17,12 +19,12 @@ import time
 import numpy as np
 
 from ..integrate.albedo import albedo as microfacet_albedo
-from ..physics.diffuse.base import ORDER, _albedo_at_order
+from ..physics.diffuse.base import albedo_quadrature
 from ..physics.fresnel import FRESNELS
 from ..physics.masking import MASKINGS
 from ..physics.ndf import NDFS
 from . import lobes as L
-from .material import channel
+from .colour import channel
 from .params import LOBES
 
 #: Gauss-Legendre nodes per panel of the clearcoat rule (u and two φ panels); its error
@@ -42,9 +44,7 @@ class _Scalar:
 
 
 def _by_rule(shape, mu) -> tuple[np.ndarray, float]:
-    model = _Scalar(shape)
-    E = _albedo_at_order(model, 1.0, mu, ORDER)
-    return E, float(np.max(np.abs(E - _albedo_at_order(model, 1.0, mu, ORDER // 2)), initial=0.0))
+    return albedo_quadrature(_Scalar(shape), 1.0, mu)
 
 
 def _diffuse(m, mu):
@@ -104,6 +104,26 @@ def _clearcoat(m, mu):
     E = _clearcoat_at(m, mu, CLEARCOAT_ORDER)
     err = float(np.max(np.abs(E - _clearcoat_at(m, mu, CLEARCOAT_ORDER // 2))))
     return E[:, None] * np.ones(3), err
+
+
+def rest_albedo(brdf, mu) -> tuple[np.ndarray, float]:
+    """(E(μ), error) in the drawn channel of the lobes drawn but the specular lobe's single
+    scattering: diffuse, sheen, clearcoat, and the per-channel Kulla-Conty lobe (exact:
+    its albedo is (1 − Ê)·E_ms's closed form, integrate/compensation.py). The errors are
+    per-channel bounds, so any channel or the luminance (weights summing to 1) keeps them."""
+    m = brdf.material
+    mu = np.atleast_1d(np.asarray(mu, dtype=float))
+    parts = {"diffuse": _diffuse, "sheen": _sheen, "clearcoat": _clearcoat}
+    E, error = np.zeros_like(mu), 0.0
+    for name, rule in parts.items():
+        if brdf.lobe in ("all", name):
+            rgb, err = rule(m, mu)
+            E, error = E + channel(rgb, brdf.channel), error + err
+    if brdf.lobe in ("all", "specular") and m.options["principled_multiscatter"] == "kulla_conty":
+        ms = m.multiscatter()
+        E = E + channel(np.stack([x.albedo(mu) for x in ms], axis=-1), brdf.channel)
+        error += max(x.error for x in ms)
+    return E, error
 
 
 def lobe_albedo(m, mu, phi: float = 0.0, tol: float = 1e-4) -> dict:

@@ -22,6 +22,8 @@ from ..physics.g2 import G2_FORMS
 from ..physics.masking import MASKINGS
 from ..physics.ndf import NDFS
 from . import lobes as lobe_formulas
+from .albedo import rest_albedo
+from .colour import channel
 from .params import LOBES, LUMINANCE
 
 #: disney.brdf's floor on α (the paper's "max(.001, …)"): GGX at α → 0 is a delta.
@@ -123,13 +125,6 @@ class Principled:
         return total
 
 
-def channel(rgb: np.ndarray, name: str) -> np.ndarray:
-    """One channel of (..., 3), or its Rec. 709 luminance."""
-    if name == "luminance":
-        return rgb @ np.asarray(LUMINANCE)
-    return rgb[..., "rgb".index(name)]
-
-
 @dataclass(frozen=True)
 class PrincipledBRDF(BRDF):
     """The principled material as a BRDF: ``f`` is the chosen lobe(s) in the chosen
@@ -158,11 +153,21 @@ class PrincipledBRDF(BRDF):
         return out
 
     def lobes(self):
-        return [(1.0, self)]
+        """[(weight, microfacet BRDF)]: the specular lobe in the drawn channel as what the
+        albedo quadrature integrates (integrate/albedo.py, adaptive in its own GGX). E is
+        linear in F and F_c = C_spec0,c + (1 − C_spec0,c)(1 − cos θ_d)⁵, so the lobe is
+        w·(F = 1) + (1 − w)·(F = (1 − cos θ_d)⁵) with w = C_spec0 in the channel (the
+        luminance's weights sum to 1); weight 0 when the specular lobe is not drawn."""
+        w = float(channel(self.material.specular_color, self.channel))
+        shown = self.lobe in ("all", "specular")
+        return [(w if shown else 0.0, self.material.specular_brdf(FRESNELS["none"]())),
+                (1.0 - w if shown else 0.0, self.material.specular_brdf(FRESNELS["schlick"](f0=0.0, f90=1.0)))]
 
-    def albedo_by(self, mu, phi: float = 0.0, tol: float = 1e-4) -> dict:
-        from .albedo import albedo
-        return albedo(self, mu, phi, tol)
+    def diffuse_albedo(self, mu) -> tuple[np.ndarray, float]:
+        """(E(μ), its error) of what :meth:`lobes` leaves out, in the drawn channel: the
+        diffuse, sheen and clearcoat lobes by their own rules and the specular lobe's
+        Kulla-Conty part, exact (app/principled/albedo.py)."""
+        return rest_albedo(self, mu)
 
 
 def principled_brdf(material: Principled, lobe: str = "all", channel_name: str = "luminance") -> PrincipledBRDF:

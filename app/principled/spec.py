@@ -1,16 +1,16 @@
-"""``model=principled`` from flat parameters (the API's and the CLI's spelling): what
-app/model.py calls for that model. Values carry the principled parameters and options
-plus, for code that reads any model's specular terms, the GGX lobe's own description
+"""``model=principled`` from flat parameters (the API's and the CLI's spelling): the
+family's validation, called by app/model's one make_spec. Values carry the principled
+parameters and options plus, for code that reads any model's specular terms, the GGX lobe's own description
 (ndf, masking, g2, fresnel, alpha, alpha_y, f0), which the principled model derives.
 """
 from __future__ import annotations
 
-import math
-
 import numpy as np
 
 from ..errors import ParameterError
+from ..model.family import check_range
 from ..physics.params import Param
+from .colour import parse_color
 from .material import Principled, principled_brdf
 from .params import BASE_COLOR_DEFAULT, LUMINANCE, OPTIONS, PARAMS
 
@@ -21,21 +21,8 @@ ROUGHNESS = Param("roughness", "roughness r", 0.0, 1.0, 0.5,
 NAMES = ("base_color", ROUGHNESS.name, *(p.name for p in PARAMS), *OPTIONS)
 
 
-def parse_color(text) -> tuple[float, float, float]:
-    """"r,g,b" (or a sequence of three) → three floats in [0, 1]."""
-    parts = text.split(",") if isinstance(text, str) else list(text)
-    try:
-        rgb = tuple(float(x) for x in parts)
-    except (TypeError, ValueError):
-        rgb = ()
-    if len(rgb) != 3 or not all(math.isfinite(c) and 0.0 <= c <= 1.0 for c in rgb):
-        raise ParameterError("base_color", f"base_color must be three numbers r,g,b in [0, 1]; got {text!r}")
-    return rgb
-
-
 def make_values(given: dict) -> dict:
-    """Validated values of a principled model from the parameters given (None = not given)."""
-    given = {k: x for k, x in given.items() if x is not None and k != "model"}
+    """Validated values of a principled model from the parameters given (no None, no model)."""
     for name in given:
         if name not in NAMES:
             raise ParameterError(name, f"{name} does not apply to model=principled (it takes "
@@ -43,14 +30,7 @@ def make_values(given: dict) -> dict:
     values: dict = {"model": "principled",
                     "base_color": parse_color(given.get("base_color", BASE_COLOR_DEFAULT))}
     for p in (ROUGHNESS, *PARAMS):
-        x = given.get(p.name, p.default)
-        try:
-            ok = p.contains(float(x))
-        except (TypeError, ValueError):
-            ok = False
-        if not ok:
-            raise ParameterError(p.name, f"{p.name} must be a number in {p.range_text()}; got {x!r}")
-        values[p.name] = float(x)
+        values[p.name] = check_range(p, given.get(p.name, p.default))
     for name, (_, choices, default) in OPTIONS.items():
         chosen = given.get(name, default)
         if chosen not in choices:

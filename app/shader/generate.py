@@ -66,9 +66,9 @@ def program(spec: ModelSpec, form: str = "const") -> Program:
 def _assemble(spec: ModelSpec, form: str):
     if form not in FORMS:
         raise ParameterError("form", f"form must be one of {', '.join(FORMS)}; got {form!r}")
-    if spec.values.get("model", "microfacet") != "microfacet":
+    if "ndf" not in spec.family.own_names():        # it writes a microfacet model's choices
         raise ParameterError("model", f"code generation writes model=microfacet only; got "
-                                      f"model={spec.values['model']}")
+                                      f"model={spec.family.name}")
     brdf = spec.brdf()
     ms: KullaConty | None = getattr(brdf, "multiscatter", None)
     single = brdf.single() if ms is not None else brdf

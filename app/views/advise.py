@@ -13,6 +13,7 @@ from ..figures.advise import advise_figure
 from ..integrate.cache import Keyed, complete_only, mark_cached
 from ..physics.ndf import ALPHA
 from ..errors import ParameterError
+from ..model import family_of
 from . import schemas
 from .view import View
 
@@ -41,7 +42,7 @@ def _check_advise(q: AdviseQuery, s: Settings):
         raise ParameterError("alpha_min", f"alpha_min={q.alpha_min:g} is above alpha_max="
                                       f"{q.alpha_max:g}: the range needs alpha_min ≤ alpha_max")
     given = schemas.model_values(q)
-    if given.get("model", "microfacet") != "microfacet":
+    if "alpha" not in family_of(given).own_names():   # it varies alpha, alpha_y
         raise ParameterError("model", "this analysis changes alpha, alpha_y of a microfacet "
                              "model; it applies to model=microfacet only")
     if given.get("material"):

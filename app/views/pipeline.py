@@ -10,7 +10,8 @@ from ..errors import ParameterError
 from ..figures.markup import markup
 from ..figures.overlay import overlay, overlayable
 from ..figures.style import model_title
-from ..model import OPTIONS, ModelSpec
+from ..integrate.methods import METHODS
+from ..model import OPTIONS, ModelSpec, refuse_method, refuse_view
 from . import schemas
 from .view import View
 
@@ -37,10 +38,23 @@ class Comparison:
 
 
 def run(view: View, query, settings: Settings) -> Result:
-    """Refuse the query before any work (view.check), build the model, compute."""
+    """Refuse the query before any work (what the model's family does not take: the view
+    itself, an albedo method; then view.check), build the model, compute."""
+    refuse(view, query)
     view.check(query, settings)
     spec = schemas.spec_of(query)
     return Result(view, query, spec, view.compute(spec, query))
+
+
+def refuse(view: View, query) -> None:
+    """ParameterError (422) naming ``model`` when the family of the query's model is not
+    drawn by ``view``, naming ``method`` when the albedo method asked does not apply to it
+    (the family's declared capabilities, app/model/family.py)."""
+    values = schemas.model_values(query)
+    refuse_view(view.name, values)
+    method = getattr(query, "method", None)
+    if method in METHODS:
+        refuse_method(method, values)
 
 
 def compare(view: View, queries: list, labels: list[str] | None, caption: str | None,

@@ -1,22 +1,18 @@
-"""Query models generated from the physics registry.
+"""Query models generated from the model registry.
 
-``ModelQuery`` has one field per option and parameter the registry declares, so a new
-NDF (or a new shape parameter) appears in the API, its validation and ``/docs`` with no
-change here. Exact per-choice ranges and applicability are checked by
+``ModelQuery`` has the fields every model family declares (app/model/registry.py), so a
+new family, NDF or shape parameter appears in the API, its validation and ``/docs`` with
+no change here. Exact per-choice ranges and applicability are checked by
 :func:`app.model.make_spec`.
 """
 from typing import Annotated, Literal, Optional
 
-from pydantic import AfterValidator, BaseModel, BeforeValidator, ConfigDict, Field, create_model
+from pydantic import BaseModel, BeforeValidator, ConfigDict, Field, create_model
 
 from ..integrate.albedo import ORDER_MAX
 from ..integrate.methods import DEFAULT_SAMPLES, MC_METHODS, MC_SAMPLES_MAX, METHODS
-from .. import materials
-from ..principled import params as principled_params
-from ..principled.spec import ROUGHNESS as PRINCIPLED_ROUGHNESS
 from ..errors import ParameterError
-from ..model import (COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, ModelSpec,
-                     choice_param_names, make_spec)
+from ..model import ModelSpec, make_spec, query_fields
 
 STRICT = ConfigDict(extra="forbid", allow_inf_nan=False)
 
@@ -81,113 +77,7 @@ Phi = Annotated[float, Field(ge=-360.0, le=360.0, description="azimuth in degree
                              examples=[0.0])]
 
 
-def _material_slug(value):
-    """A known material slug, else a ValueError that suggests the nearest (422)."""
-    if value is not None and value not in materials.materials():
-        raise ValueError(materials.unknown_material(value))
-    return value
-
-
-#: Parameters the principled family shares by name with the microfacet one (its roughness
-#: spans [0, 1]; the microfacet form starts at 0.01)
-SHARED_PARAMS = {PRINCIPLED_ROUGHNESS.name: PRINCIPLED_ROUGHNESS}
-
-
-def _model_fields() -> dict:
-    fields: dict = {}
-    for option, (label, registry, default) in OPTIONS.items():
-        names = tuple(registry)
-        fields[option] = (Literal[names], Field(default, description=f"{label}: {', '.join(names)}",
-                                                examples=[default]))
-    for name, (label, registry, default, _, when) in SUB_OPTIONS.items():
-        names = tuple(registry)
-        fields[name] = (Optional[Literal[names]], Field(
-            None, description=f"{label}: {', '.join(names)}; applies with {when}; default {default}"))
-    for p in COMMON_PARAMS:
-        if p.name in OPTIONAL_PARAMS:
-            # a name both families take spans both ranges; each family refuses the rest
-            # (make_spec), naming its own range
-            other = SHARED_PARAMS.get(p.name)
-            lo, hi = (min(p.lo, other.lo), max(p.hi, other.hi)) if other else (p.lo, p.hi)
-            fields[p.name] = (Optional[float], Field(None, ge=lo, le=hi, description=p.description,
-                                                     examples=[p.default]))
-        else:
-            fields[p.name] = (float, Field(p.default, ge=p.lo, le=p.hi, description=p.description,
-                                           examples=[p.default]))
-    for name, owners in choice_param_names().items():
-        lo = min(p.lo for p in owners.values())
-        hi = max(p.hi for p in owners.values())
-        first = next(iter(owners.values()))
-        where = " or ".join(owners)
-        fields[name] = (Optional[float], Field(
-            None, ge=lo, le=hi, examples=[first.default],
-            description=f"{first.description} Applies with {where}; default {first.default:g}."))
-    fields["material"] = (Optional[Annotated[str, AfterValidator(_material_slug)]], Field(
-        None, examples=["gold"], description="a measured material (GET /api/v1/materials): sets fresnel to "
-        "its kind with its RGB index; /eval then answers F_rgb and f_rgb beside the luminance F, f"))
-    fields.update(principled_fields())
-    return fields
-
-
-def _srgb_decode(c: float) -> float:
-    """The sRGB transfer curve's inverse (IEC 61966-2-1): an encoded value to linear."""
-    return c / 12.92 if c <= 0.04045 else ((c + 0.055) / 1.055) ** 2.4
-
-
-def colour_text(value):
-    """base_color in any accepted form as the canonical "r,g,b" text (linear): "r,g,b",
-    a list [r, g, b], or "#rrggbb" / "#rgb" (sRGB). Anything else: a message that shows
-    the forms (pydantic turns the ValueError into a 422 naming base_color)."""
-    forms = "give r,g,b (three numbers in [0, 1], e.g. 0.82,0.67,0.16), [r, g, b] in JSON, or #rrggbb"
-    if isinstance(value, (list, tuple)):
-        if len(value) != 3 or not all(isinstance(x, (int, float)) and not isinstance(x, bool)
-                                      for x in value):
-            raise ValueError(f"base_color as a list needs three numbers; got {value!r}; {forms}")
-        value = ",".join(repr(float(x)) for x in value)
-    if not isinstance(value, str):
-        raise ValueError(f"base_color {value!r} is not a colour; {forms}")
-    text = value.strip()
-    if text.startswith("#"):
-        digits = text[1:]
-        if len(digits) == 3:
-            digits = "".join(d * 2 for d in digits)
-        try:
-            if len(digits) != 6:
-                raise ValueError
-            rgb = [int(digits[k:k + 2], 16) / 255.0 for k in (0, 2, 4)]
-        except ValueError:
-            raise ValueError(f"base_color {text!r} is not a hex colour (#rrggbb or #rgb); {forms}") from None
-        return ",".join(repr(_srgb_decode(c)) for c in rgb)
-    parts = [x.strip() for x in text.split(",")]
-    try:
-        numbers = [float(x) for x in parts]
-    except ValueError:
-        numbers = []
-    if len(numbers) != 3:
-        raise ValueError(f"base_color {text!r} is not three numbers; {forms}")
-    return ",".join(parts)
-
-
-def principled_fields() -> dict:
-    """model=principled and its own parameters (all optional: absent = the paper's default)."""
-    fields: dict = {"model": (Literal["microfacet", "principled"], Field(
-        "microfacet", description="microfacet (the options above) or principled (Burley 2012)"))}
-    fields["base_color"] = (Optional[Annotated[str, BeforeValidator(colour_text)]], Field(
-        None, examples=["0.82,0.67,0.16"],
-        description="model=principled: base colour as r,g,b in [0, 1] (linear), a JSON list "
-                    "[r, g, b], or #rrggbb / #rgb (sRGB-encoded, decoded to linear by the sRGB "
-                    "curve, IEC 61966-2-1); default 0.82,0.67,0.16"))
-    for p in principled_params.PARAMS:
-        fields[p.name] = (Optional[float], Field(None, ge=p.lo, le=p.hi, examples=[p.default],
-                                                 description=f"model=principled: {p.description} "
-                                                             f"Default {p.default:g}."))
-    for name, (label, choices, default) in principled_params.OPTIONS.items():
-        fields[name] = (Optional[Literal[tuple(choices)]], Field(
-            None, description=f"model=principled: {label}: {', '.join(choices)}; default {default}"))
-    return fields
-
-
-ModelQuery = create_model("ModelQuery", __config__=STRICT, **_model_fields())
+ModelQuery = create_model("ModelQuery", __config__=STRICT, **query_fields())
 ModelQuery.__doc__ = "The BRDF model: options and parameters, as every evaluating endpoint takes them."
 
 
@@ -211,7 +101,7 @@ class EvalQuery(ModelQuery):
                           BeforeValidator(_split_commas),
                           Field(description="which quantities to return; default all but f_rgb "
                                             "(f_diffuse: the diffuse term of f; f_rgb: per channel, "
-                                            "model=principled)")] = \
+                                            "for a coloured model)")] = \
         ["f", "f_diffuse", "D", "G1_i", "G1_o", "G2", "F"]
 
 

@@ -11,7 +11,7 @@ from ..environment.display import sphere_figure
 from ..environment.maps import ENVIRONMENTS
 from ..environment.render import render, render_point
 from ..errors import ParameterError
-from ..principled.spec import parse_color
+from ..principled.colour import parse_color
 from . import schemas
 from .view import View
 

@@ -124,19 +124,18 @@ function choiceControl(f) {
 }
 
 async function buildControls() {
-  const principled = params.model === "principled";
-  const paths = ["/models", "/views", ...(principled ? ["/principled"] : [])];
-  const [models, views, catalogue] = await Promise.all(paths.map(async (path) => {
+  const [models, views] = await Promise.all(["/models", "/views"].map(async (path) => {
     const res = await fetch(`${API}${path}`);
     if (!res.ok) throw new Error(`${path}: HTTP ${res.status}`);
     return res.json();
   }));
   view = views.find((v) => v.name === kind) || null;
   const kids = [];
-  // the roughness always shapes the figure (in whichever form the URL gives it; the
-  // principled model's own r, which takes no alpha)
-  const roughName = principled || params.roughness !== undefined ? "roughness" : "alpha";
-  const rough = (catalogue || models).params.find((p) => p.name === roughName);
+  // the roughness always shapes the figure (in whichever form the URL gives it; another
+  // family's own roughness parameter, which takes no alpha)
+  const family = (models.models || []).find((f) => f.name === params.model && !f.default);
+  const roughName = family?.roughness_param ?? (params.roughness !== undefined ? "roughness" : "alpha");
+  const rough = (family || models).params.find((p) => p.name === roughName);
   if (rough) kids.push(numberControl(rough));
   const geometry = new Map(models.geometry.map((p) => [p.name, p]));
   for (const f of view ? view.fields : []) {

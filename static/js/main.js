@@ -13,7 +13,7 @@ import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows, co
 import { Panel } from "./panels.js";
 import { panelBar, fieldApplies } from "./panelcontrols.js";
 import { Scheduler } from "./scheduler.js";
-import { setPrincipled, principledDefaults, isPrincipled, preg, MICROFACET } from "./principled.js";
+import { fam, setFamilies, allFamilyDefaults, familyRoughness } from "./families.js";
 
 const state = ctx.state;
 const scheduler = new Scheduler();
@@ -73,14 +73,14 @@ function pinCurrent() {
   setPins([...state.pins, m]);
 }
 // GGX, Beckmann and Blinn-Phong at the current α (Blinn-Phong's α is its Beckmann-
-// equivalent; the principled model's α = r²), D(θ) on a log axis: the tails side by side
-// in one click.
+// equivalent; another family's α = r² of the roughness it names), D(θ) on a log axis: the
+// tails side by side in one click.
 function compareTails() {
-  const r = isPrincipled(state) ? state.principled.roughness : isPerceptual(state) ? state.roughness : null;
+  const r = familyRoughness(state) ?? (isPerceptual(state) ? state.roughness : null);
   const alpha = r === null ? state.alpha : Number(Math.max(r ** 2, reg.params.get("alpha").lo).toPrecision(3));
   const pins = ["ggx", "beckmann", "blinn_phong"].filter((n) => choiceOf("ndf", n)).map((ndf) => {
     const s = structuredClone(state);
-    s.model = MICROFACET;
+    s.model = fam.default;
     s.ndf = ndf;
     choiceDefaults(s);
     Object.assign(s, { alpha, anisotropic: false, perceptual: false, pins: [] });
@@ -185,14 +185,13 @@ function report(panel) {
 async function boot() {
   let viewList;
   try {
-    let models, principled, materials;
-    // without the principled catalogue or the materials (an older server) the page offers
-    // the microfacet model alone
-    [models, viewList, principled, materials] = await Promise.all([getJSON("/models"), getJSON("/views"),
-      getJSON("/principled").catch(() => null), getJSON("/materials").catch(() => null)]);
+    let models, materials;
+    // without the materials (an older server) the page offers the model families alone
+    [models, viewList, materials] = await Promise.all([getJSON("/models"), getJSON("/views"),
+      getJSON("/materials").catch(() => null)]);
     setModels(models);
     setMaterials(materials);
-    setPrincipled(principled);
+    setFamilies(models);
   } catch (e) {
     booting = false;
     $("#boot-status").textContent = `Could not load the models: ${e.message}`;
@@ -223,7 +222,7 @@ async function boot() {
     const p = panels.find((x) => x.name === name);
     if (on) p.section.scrollIntoView({ behavior: "smooth", block: "nearest" });
   });
-  Object.assign(ctx.defaultState, modelDefaults(), { model: MICROFACET, principled: principledDefaults(),
+  Object.assign(ctx.defaultState, modelDefaults(), { model: fam.default, families: allFamilyDefaults(),
     pins: [], vary: null, values: null, extra: {},
     show: ctx.views.map((v) => v.name).filter((n) => HINTS[n]?.shown) });
   for (const [key, loc] of ctx.locals) ctx.defaultState[key] = PAGE_DEFAULTS[loc.view]?.[loc.field.name] ?? loc.field.default;
@@ -273,7 +272,7 @@ window.__brdf = {
   drawEvent: "brdf-drawn",          // fired on a plot div after each finished draw
   get state() { return state; },
   get models() { return reg.models; },
-  get principled() { return preg.cat; },
+  get families() { return fam.list; },
   pending: () => (booting ? 1 : 0) + urlPending() + scheduler.pending(panels),
   panels: () => panels.map((p) => ({ name: p.name, inflight: !!p.inflight, dirty: p.dirty, drawn: p.drawn,
                                      error: p.error, visible: p.shown(), inView: p.inView, takesModel: p.takesModel(),

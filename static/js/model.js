@@ -1,11 +1,11 @@
 /* The model registry (GET /api/v1/models) and the rules it implies for a state:
  * which parameters take part, which choices apply, the query a state stands for.
  * A state is a plain object: choice names, parameter values, and the forms chosen by
- * presence (anisotropic, perceptual, secondLobe); with model=principled the query is
- * the principled model's (principled.js).
+ * presence (anisotropic, perceptual, secondLobe); with a family other than the default
+ * the query is that family's (families.js).
  */
 import { inRange } from "./sliders.js";
-import { isPrincipled, principledQuery, principledCompact, PRINCIPLED } from "./principled.js";
+import { fam, otherFamily, familyQuery, familyCompact } from "./families.js";
 
 export const reg = { models: null, groups: [], params: new Map(), materials: [] };
 
@@ -17,8 +17,8 @@ export function setMaterials(listing) {
   reg.materialSource = listing ? `${listing.source}; ${listing.license}` : "";
 }
 export const materialOf = (slug) => reg.materials.find((m) => m.slug === slug);
-/** The material of s, or null (the principled model takes none). */
-export const materialIn = (s) => (!isPrincipled(s) && s.material && materialOf(s.material)) || null;
+/** The material of s, or null (a family other than the default takes none). */
+export const materialIn = (s) => (!otherFamily(s) && s.material && materialOf(s.material)) || null;
 
 export function setModels(models) {
   models.params = models.params || [];
@@ -120,7 +120,8 @@ export function activeParams(s) {
 export const activeGroups = (s) => reg.groups.filter((g) => !(g.name === MATERIAL_REPLACES && materialIn(s)));
 
 export function modelQuery(s) {
-  if (isPrincipled(s)) return principledQuery(s.principled);
+  const f = otherFamily(s);
+  if (f) return familyQuery(f, s.families[f.name]);
   const q = {};
   for (const g of activeGroups(s)) q[g.name] = s[g.name];
   if (materialIn(s)) q.material = s.material;
@@ -131,7 +132,7 @@ export function modelQuery(s) {
 
 /** A query without the values that are the API's defaults anyway. */
 export function compact(q) {
-  if (q.model === PRINCIPLED) return principledCompact(q);
+  if (q.model !== undefined && q.model !== fam.default) return familyCompact(q);
   const out = {};
   const named = [...reg.groups, ...subOptions()];
   for (const [k, v] of Object.entries(q)) {

@@ -2,7 +2,7 @@
  * figure, one sentence of what it shows, and its export buttons. A panel knows how to
  * ask for its figure (request) and how to draw an answer (receive, draw); when to do
  * either is the scheduler's business. A view that does not take the chosen model
- * (model=principled: GET /api/v1/principled lists the views that do) says so instead.
+ * (GET /api/v1/models lists the views that draw each family) says so instead.
  */
 import { API, el, richText, replaceText, apiMessage, errorLoc, query, setIf } from "./dom.js";
 import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
@@ -18,7 +18,7 @@ import { drawHeld, endHeld, readyHeld, ownTask } from "./heldcanvas.js";
 import { Readouts } from "./readouts.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
-import { viewTakes, whyMicrofacetOnly, isPrincipled } from "./principled.js";
+import { fam, viewTakes, whyNot, otherFamily, familyAnisotropic } from "./families.js";
 
 const LOADING_DELAY_MS = 300;
 // After paths written directly, Plotly's own state is brought up to date (Panel.sync)
@@ -28,7 +28,7 @@ const SYNC_IDLE_MS = 1500;
 const whenIdle = (f) => (window.requestIdleCallback ? requestIdleCallback(f, { timeout: 2000 }) : setTimeout(f, 200));
 
 // D, Λ/G1 and E(μ) are taken at one azimuth: the plane of incidence's when anisotropic.
-const anisotropic = (s) => (isPrincipled(s) ? s.principled.anisotropic > 0 : isAnisotropic(s));
+const anisotropic = (s) => (otherFamily(s) ? familyAnisotropic(s) : isAnisotropic(s));
 const sliceAzimuth = (s) => (anisotropic(s) ? { phi_deg: s.phi_i_deg } : {});
 
 /** While a slider is held, the heavy images come coarser (about half the resolution
@@ -101,8 +101,10 @@ export class Panel {
   syncModel() {
     const off = !this.takesModel();
     if (off === !this.modelNote.hidden) return;
-    this.modelNote.textContent = off ? `${viewTitle(this.view)} is for the microfacet model only. `
-      + `${whyMicrofacetOnly(this.name)} Choose “Microfacet” under Model to see it.` : "";
+    const takers = fam.list.filter((f) => !f.views || f.views.includes(this.name));
+    this.modelNote.textContent = off ? `${viewTitle(this.view)} is for the `
+      + `${takers.map((f) => f.label.toLowerCase()).join(" or the ")} only. `
+      + `${whyNot(this.name, ctx.state)} Choose “${takers[0]?.label}” under Model to see it.` : "";
     this.modelNote.hidden = !off;
     this.wrap.hidden = this.actions.hidden = off;
     this.sub.hidden = off;
@@ -122,6 +124,12 @@ export class Panel {
     for (const [key, loc] of ctx.locals) {
       if (loc.view === this.name && s[key] !== loc.field.default && fieldApplies(this.name, loc.field, s)) q[loc.field.name] = s[key];
     }
+    // an albedo method that a model drawn (the current one, pinned ones) does not take
+    // (its family's albedo_methods) gives way to the first method they all take
+    const drawn = [s.model, ...(this.pinned(s) ? s.pins.map((pin) => pin.model ?? fam.default) : [])];
+    const methods = drawn.map((name) => fam.byName.get(name)?.albedo_methods).filter(Boolean)
+      .reduce((all, m) => (all ? all.filter((x) => m.includes(x)) : m), null);
+    if (methods?.length && q.method !== undefined && !methods.includes(q.method)) q.method = methods[0];
     if (this.overlaid(s)) Object.assign(q, { vary: s.vary, values: s.values });
     for (const [k, v] of Object.entries(s.extra || {})) if (this.view.fields.some((f) => f.name === k)) q[k] = v;
     return q;

@@ -2,30 +2,33 @@
  * "models" entry as it stands). In the URL each pin is one `pin` parameter, name:value
  * entries joined by commas, e.g. ?pin=ndf:beckmann,alpha:0.2 (names and choice values
  * are [a-z0-9_], numbers plain decimals: neither ':' nor ',' occurs inside one).
- * A pin always names its ndf, or model:principled; the rest are the values that differ
- * from the defaults. A value's own commas (base_color r,g,b) are written as '/'.
+ * A pin always names its ndf, or model:<family> of another family; the rest are the
+ * values that differ from the defaults. A value's own commas (a colour's r,g,b) are
+ * written as '/'.
  */
 import { reg, subOptions, paramFor, choiceDefaults, fixApplicability, modelQuery, compact,
          isPerceptual, isAnisotropic, materialOf } from "./model.js";
 import { inRange, rangeText } from "./sliders.js";
 import { ctx } from "./ctx.js";
-import { isPrincipled, principledDefaults, readPrincipled, fixPrincipled, principledNames, principledAvailable,
-         PRINCIPLED, MICROFACET } from "./principled.js";
+import { fam, otherFamily, familyDefaults, readFamily, fixFamily, familyNames } from "./families.js";
 
 export const MAX_PINS = 6;                // a legend of 7 curves is still readable
 
 export const encodePin = (pin) => Object.entries(pin).map(([k, v]) => `${k}:${String(v).replace(/,/g, "/")}`).join(",");
 export const samePin = (a, b) => encodePin(a) === encodePin(b);
-/** The model of state s as a pin: its NDF (or model:principled) always, then what
+/** The model of state s as a pin: its NDF (or model:<family>) always, then what
  * differs from the defaults. */
-export const pinOf = (s) => (isPrincipled(s) ? compact(modelQuery(s)) : { ndf: s.ndf, ...compact(modelQuery(s)) });
+export const pinOf = (s) => (otherFamily(s) ? compact(modelQuery(s)) : { ndf: s.ndf, ...compact(modelQuery(s)) });
+const familyOfPin = (pin) => (pin.model !== undefined && pin.model !== fam.default && fam.byName.get(pin.model)) || null;
 
 /** The state a pin stands for; the forms chosen by presence follow from its keys. */
 export function pinState(pin) {
   const s = structuredClone(ctx.defaultState);
-  if (pin.model === PRINCIPLED) {
-    Object.assign(s, { model: PRINCIPLED, principled: principledDefaults(), pins: [] });
-    readPrincipled(s.principled, (k) => (k in pin ? String(pin[k]) : null));
+  const f = familyOfPin(pin);
+  if (f) {
+    Object.assign(s, { model: f.name, pins: [] });
+    s.families[f.name] = familyDefaults(f);
+    readFamily(f, s.families[f.name], (k) => (k in pin ? String(pin[k]) : null));
     return s;
   }
   for (const g of reg.groups) if (pin[g.name]) s[g.name] = pin[g.name];
@@ -48,9 +51,11 @@ export function decodePin(raw) {
     entries.push([part.slice(0, i).trim(), part.slice(i + 1).trim()]);
   }
   const model = entries.find(([k]) => k === "model")?.[1];
-  if (model === PRINCIPLED && principledAvailable()) return decodePrincipled(entries, bad);
-  if (model !== undefined && model !== MICROFACET) return bad(`model=${model} is not a model the page knows`);
-  const own = entries.filter(([k]) => k !== "model");          // model:microfacet is the default
+  if (model !== undefined && model !== fam.default && fam.byName.has(model)) {
+    return decodeFamily(fam.byName.get(model), entries, bad);
+  }
+  if (model !== undefined && model !== fam.default) return bad(`model=${model} is not a model the page knows`);
+  const own = entries.filter(([k]) => k !== "model");          // model:<the default> is the default
   const choices = Object.fromEntries(own.filter(([k]) => reg.groups.some((g) => g.name === k)));
   const geometry = new Set(reg.models.geometry.map((x) => x.name));
   const pin = {};
@@ -77,23 +82,27 @@ export function decodePin(raw) {
   return { pin: pinOf(s), note: null };     // canonical: parameters that take no part dropped
 }
 
-function decodePrincipled(entries, bad) {
-  const names = new Set(principledNames());
+function decodeFamily(f, entries, bad) {
+  const names = new Set(familyNames(f));
   const alien = entries.find(([k]) => k !== "model" && !names.has(k));
-  if (alien) return bad(`${alien[0]} is not a parameter of the principled model`);
+  if (alien) return bad(`${alien[0]} is not a parameter of model=${f.name}`);
   const given = new Map(entries.map(([k, v]) => [k, v.replace(/\//g, ",")]));
-  const s = pinState({ model: PRINCIPLED });
-  const notes = [...readPrincipled(s.principled, (k) => given.get(k) ?? null), ...fixPrincipled(s.principled)];
+  const s = pinState({ model: f.name });
+  const p = s.families[f.name];
+  const notes = [...readFamily(f, p, (k) => given.get(k) ?? null), ...fixFamily(f, p)];
   if (notes.length) return bad(notes[0]);
   return { pin: pinOf(s), note: null };
 }
 
 /** A short name: the NDF and roughness always, then what else differs. */
 export function pinLabel(pin) {
-  if (pin.model === PRINCIPLED) {
-    const { model, roughness, ...rest } = pin;
-    const r = roughness ?? pinState(pin).principled.roughness;
-    return [`${model} r=${r}`, ...Object.entries(rest).map(([k, v]) => `${k}=${v}`)].join(", ");
+  const f = familyOfPin(pin);
+  if (f) {
+    // the family's roughness always (its symbol: the label's last word, "roughness r" → r)
+    const rough = f.params.find((p) => p.name === f.roughness_param);
+    const { model, [rough?.name]: r, ...rest } = pin;
+    const head = rough ? `${model} ${rough.label.split(" ").at(-1)}=${r ?? pinState(pin).families[f.name][rough.name]}` : model;
+    return [head, ...Object.entries(rest).map(([k, v]) => `${k}=${v}`)].join(", ");
   }
   const s = pinState(pin);
   const q = modelQuery(s);

@@ -1,7 +1,7 @@
-/* The sidebar: the choice of model, then its controls: the microfacet model's built from
- * GET /api/v1/models (menus from the option choices, sliders from the parameters), the
- * principled model's from GET /api/v1/principled (principledform.js); only the chosen
- * model's are shown. Kept in step with the state.
+/* The sidebar: the choice of model family, then its controls, all from GET /api/v1/models:
+ * the default family's (menus from the option choices, sliders from the parameters), every
+ * other family's from its entry (familyform.js); only the chosen family's are shown. Kept
+ * in step with the state.
  */
 import { el, $, richText, setIf } from "./dom.js";
 import { paramControl } from "./sliders.js";
@@ -9,8 +9,8 @@ import { reg, subOptions, choiceOf, sameSpec, switchChoice, fixApplicability, ap
          subApplies, activeParams, anisoAllowed, isAnisotropic, isPerceptual, secondLobeAllowed,
          materialIn, MATERIAL_REPLACES } from "./model.js";
 import { ctx } from "./ctx.js";
-import { MODELS, MICROFACET, principledAvailable, fixPrincipled } from "./principled.js";
-import { principledSections, syncPrincipledForm } from "./principledform.js";
+import { fam, fixModel } from "./families.js";
+import { familySections, syncFamilyForms } from "./familyform.js";
 
 const SECOND_LOBE_START_MIX = 0.5;
 export const controls = new Map();       // state key -> {param, row, box, slider, set}
@@ -26,13 +26,11 @@ function section(title, ...kids) {
 const MATERIAL_PREFIX = "material:";
 const MATERIAL_GROUPS = { conductor: "Measured metals (RGB n, k)", dielectric: "Measured dielectrics (index n)" };
 
-/** The model menu, at the top: microfacet | principled | a measured material (the
- * microfacet model whose Fresnel is the material's); the rest of the sidebar follows. */
+/** The model menu, at the top: every family | a measured material (the default family
+ * whose Fresnel is the material's); the rest of the sidebar follows. */
 function modelSelect(on) {
   const sel = el("select", { id: "model", name: "model" });
-  for (const m of MODELS) {
-    if (m.name === MICROFACET || principledAvailable()) sel.append(el("option", { value: m.name, text: m.label, title: m.description }));
-  }
+  for (const m of fam.list) sel.append(el("option", { value: m.name, text: m.label, title: m.description }));
   for (const [kind, label] of Object.entries(MATERIAL_GROUPS)) {
     const list = reg.materials.filter((m) => m.kind === kind);
     if (!list.length) continue;
@@ -41,9 +39,9 @@ function modelSelect(on) {
   sel.addEventListener("change", () => {
     const s = ctx.state;
     const slug = sel.value.startsWith(MATERIAL_PREFIX) ? sel.value.slice(MATERIAL_PREFIX.length) : "";
-    s.model = slug ? MICROFACET : sel.value;
+    s.model = slug ? fam.default : sel.value;
     s.material = slug;
-    on.notices(s.model === MICROFACET ? [] : fixPrincipled(s.principled));
+    on.notices(fixModel(s));
     syncSidebar();
     on.change();
   });
@@ -57,14 +55,15 @@ function modelSelect(on) {
 /** What the model menu's choice is, in a sentence. */
 function modelInfo(s) {
   const m = materialIn(s);
-  if (!m) return MODELS.find((x) => x.name === s.model)?.description || "";
+  if (!m) return fam.byName.get(s.model)?.description || "";
   const what = m.kind === "conductor" ? "a metal: its measured complex index n, k per RGB channel"
     : "a dielectric: its measured index n";
-  return `${m.name}, ${what}, sets the microfacet model's Fresnel (physicallybased.info, CC0). `
-    + "Choose “Microfacet” to pick a Fresnel yourself.";
+  const base = fam.byName.get(fam.default)?.label || "";
+  return `${m.name}, ${what}, sets the Fresnel of the ${base.toLowerCase()} (physicallybased.info, CC0). `
+    + `Choose “${base}” to pick a Fresnel yourself.`;
 }
 
-const microfacet = (fieldset) => { fieldset.dataset.model = MICROFACET; return fieldset; };
+const ofDefault = (fieldset) => { fieldset.dataset.model = fam.default; return fieldset; };
 
 function toggle(id, text, title, onChange) {
   const box = el("input", { type: "checkbox", id, name: id });
@@ -151,14 +150,14 @@ export function buildSidebar(on) {
       surface.push(subSelect({ name: "aniso_map", ...reg.models.sub_options.aniso_map }));
     }
   }
-  if (principledAvailable() || reg.materials.length) form.append(modelSelect(on));
-  form.append(microfacet(section("Surface", ...surface)));
-  const [principled, implementations] = principledSections(on);
-  if (principled) form.append(principled);
+  if (fam.list.length > 1 || reg.materials.length) form.append(modelSelect(on));
+  form.append(ofDefault(section("Surface", ...surface)));
+  const [first, ...rest] = familySections(on);      // a family's first section beside the surface's
+  if (first) form.append(first);
   form.append(section("Incidence", ...reg.models.geometry.map((p) => control(p))));
   const others = reg.groups.filter((g) => g.name !== "ndf");
-  if (others.length) form.append(microfacet(section("Shadowing & Fresnel", ...others.map(choiceSelect))));
-  if (implementations) form.append(implementations);
+  if (others.length) form.append(ofDefault(section("Shadowing & Fresnel", ...others.map(choiceSelect))));
+  for (const f of rest) form.append(f);
   const g2Box = form.querySelector('.choice[data-group="g2"] .choice-params');
   if (g2Box && reg.models.sub_options?.lambda_phi) g2Box.append(subSelect({ name: "lambda_phi", ...reg.models.sub_options.lambda_phi }));
   const pinCurrent = el("button", { type: "button", id: "pin-current", class: "small-btn", text: "Pin current model" });
@@ -183,7 +182,7 @@ function syncModel() {
   $("#model-info").textContent = modelInfo(s);
   $("#model-info").title = m ? reg.materialSource : "";
   for (const f of document.querySelectorAll("#controls-form fieldset[data-model]")) f.hidden = f.dataset.model !== s.model;
-  syncPrincipledForm();
+  syncFamilyForms();
 }
 
 /** Only the parameters that take part are shown and enabled. */

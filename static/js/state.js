@@ -1,14 +1,13 @@
 /* THE state and its URL. One plain object is the single source of truth; the URL
  * carries its non-default values (API names), so a link restores the page exactly.
  * Values the API would refuse are corrected and said so; parameters the API does not
- * know are flagged, as the API flags them. `model=principled` carries the principled
- * model's values instead of the microfacet model's (principled.js).
+ * know are flagged, as the API flags them. `model=<family>` of a family other than the
+ * default carries that family's values instead of the default's (families.js).
  */
 import { reg, subOptions, paramFor, choiceDefaults, activeParams, activeGroups, subApplies, fixApplicability,
          perceptualAllowed, secondLobeAllowed, materialIn, materialOf, PRESENCE, MATERIAL_REPLACES } from "./model.js";
 import { inRange, rangeText, clampParam } from "./sliders.js";
-import { isPrincipled, writePrincipled, readPrincipled, fixPrincipled, principledNames, principledAvailable,
-         PRINCIPLED, MICROFACET } from "./principled.js";
+import { fam, otherFamily, writeFamily, readFamily, fixFamily, familyNames } from "./families.js";
 import { ctx } from "./ctx.js";
 import { encodePin, decodePin, samePin, MAX_PINS } from "./pins.js";
 
@@ -21,7 +20,8 @@ const PAGE_PARAMS = new Set(["show", "vary", "values", "pin", "embed", "lobe3d"]
  * alpha_y always), one `pin` per pinned model. */
 export function stateToSearch(s) {
   const q = new URLSearchParams();
-  if (isPrincipled(s)) writePrincipled(s.principled, q);
+  const f = otherFamily(s);
+  if (f) writeFamily(f, s.families[f.name], q);
   else {
     for (const g of activeGroups(s)) if (s[g.name] !== g.default) q.set(g.name, s[g.name]);
     if (materialIn(s)) q.set("material", s.material);
@@ -102,15 +102,16 @@ function readMaterial(s, q, notes) {
   if (given.length) notes.push(`${[...new Set(given)].join(", ")}: set by material=${slug}; ignored.`);
 }
 
-/** The principled model's values and the geometry from a link; the microfacet model's
- * names there are said to be left out (the API refuses them with model=principled). */
-function readPrincipledLink(s, q, named, principled, notes) {
-  notes.push(...readPrincipled(s.principled, (k) => q.get(k)), ...fixPrincipled(s.principled));
+/** A family's values and the geometry from a link; the names of other families there
+ * are said to be left out (the API refuses them with this model). */
+function readFamilyLink(s, f, q, foreign, notes) {
+  const p = s.families[f.name];
+  notes.push(...readFamily(f, p, (k) => q.get(k)), ...fixFamily(f, p));
   const geometry = reg.models.geometry;
-  for (const p of geometry) readParam(s, p, q.get(p.name), notes);
-  const alien = [...named.map((g) => g.name), ...reg.params.keys(), "material"]
-    .filter((k) => q.has(k) && !principled.has(k) && !geometry.some((p) => p.name === k));
-  if (alien.length) notes.push(`${alien.join(", ")}: microfacet model only; ignored with model=principled.`);
+  for (const x of geometry) readParam(s, x, q.get(x.name), notes);
+  const own = new Set(familyNames(f));
+  const alien = [...foreign].filter((k) => q.has(k) && !own.has(k) && !geometry.some((x) => x.name === k));
+  if (alien.length) notes.push(`${alien.join(", ")}: not a parameter of model=${f.name}; ignored.`);
 }
 
 /** Page URL -> {s, notes}: a hand-edited link always opens a working page, and says
@@ -121,16 +122,22 @@ export function stateFromSearch(search) {
   const notes = [];
   const named = [...reg.groups, ...subOptions()];
   const model = q.get("model");
-  if (model === PRINCIPLED && principledAvailable()) s.model = PRINCIPLED;
-  else if (model !== null && model !== MICROFACET) {
-    notes.push(`model=${model} is not one of ${MICROFACET}${principledAvailable() ? `, ${PRINCIPLED}` : ""}; using ${MICROFACET}.`);
+  if (model !== null && fam.byName.has(model)) s.model = model;
+  else if (model !== null) {
+    notes.push(`model=${model} is not one of ${[...fam.byName.keys()].join(", ")}; using ${fam.default}.`);
   }
-  const principled = new Set(principledAvailable() ? principledNames() : []);
-  if (isPrincipled(s)) readPrincipledLink(s, q, named, principled, notes);
+  // every name some family other than the default takes, and the default's
+  const others = new Set(fam.list.filter((x) => x.name !== fam.default).flatMap(familyNames));
+  const defaults = new Set([...named.map((g) => g.name), ...reg.params.keys(), "material"]);
+  const f = otherFamily(s);
+  if (f) readFamilyLink(s, f, q, new Set([...defaults, ...others]), notes);
   else {
     readMicrofacet(s, q, named, notes);
-    const alien = [...principled].filter((k) => q.has(k) && !reg.params.has(k));
-    if (alien.length) notes.push(`${alien.join(", ")}: only with model=principled; ignored.`);
+    const alien = [...others].filter((k) => q.has(k) && !reg.params.has(k));
+    if (alien.length) {
+      const owners = (k) => fam.list.filter((x) => familyNames(x).includes(k)).map((x) => `model=${x.name}`).join(" or ");
+      notes.push(`${alien.map((k) => `${k} (only with ${owners(k)})`).join(", ")}: ignored.`);
+    }
   }
   for (const [key, loc] of ctx.locals) {
     const raw = q.get(key);
@@ -160,7 +167,7 @@ export function stateFromSearch(search) {
   s.extra = {};
   for (const k of ctx.extraKeys) if (q.has(k)) s.extra[k] = q.get(k);
   const known = new Set([...named.map((g) => g.name), ...reg.params.keys(), ...ctx.locals.keys(), ...PAGE_PARAMS,
-                         ...ctx.extraKeys, ...principled, "model", "material"]);
+                         ...ctx.extraKeys, ...others, "model", "material"]);
   const unknown = [...new Set(q.keys())].filter((k) => !known.has(k));
   if (unknown.length) {
     notes.push(`Unknown parameter${unknown.length > 1 ? "s" : ""} ${unknown.map((k) => `“${k}”`).join(", ")}: `

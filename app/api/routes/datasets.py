@@ -15,7 +15,7 @@ from ...datasets import compare, figure, formats, overlay, summary
 from ...datasets.store import DatasetStore, content_id
 from ...errors import ParameterError, TooLarge
 from ...fit import run as fitting
-from ...model import make_spec
+from ...model import family_of, make_spec
 from ...views import VIEWS, View, run, schemas
 from ..deps import DatasetsDep, Route, SettingsDep
 from ..encode import json_response
@@ -134,7 +134,7 @@ class DifferenceQuery(schemas.ModelQuery):
                         "max_relative_error is the largest in magnitude, `where` its angles.")
 def difference(datasets: DatasetsDep, data_id: DataId, q: Annotated[DifferenceQuery, Query()]) -> Response:
     values = schemas.model_values(q)
-    if values.get("model") != "principled":      # the data's channel, not the model's
+    if "channel" not in family_of(values).own_names():   # the data's channel, not the model's
         values.pop("channel", None)
     spec = make_spec(**values)
     data, _ = datasets.get(data_id, "data_id", "path")
@@ -155,9 +155,9 @@ def _overlay_query(view: View) -> type:
 
 def _view_query(view: View, q):
     """The view's own query in the overlay's: the data's channel goes to the model only
-    where the model has channels of its own (model=principled)."""
+    where the model has channels of its own (its family takes ``channel``)."""
     own = {k: getattr(q, k) for k in q.model_fields_set if k in view.figure_query.model_fields}
-    if getattr(q, "model", None) != "principled":
+    if "channel" not in family_of(schemas.model_values(q)).own_names():
         own.pop("channel", None)
     return view.figure_query.model_validate(own)
 

@@ -1,9 +1,12 @@
-"""``GET /api/v1/health`` and ``GET /api/v1/models``: liveness, and every option of the
-model with its parameters, ranges and defaults (what the page builds its controls from)."""
+"""``GET /api/v1/health`` and ``GET /api/v1/models``: liveness, and every model family of
+the registry with its parameters, options, ranges, defaults, the views that draw it and
+its albedo methods (what the page builds its model menu and controls from). The default
+family's catalogue is also at the top level (the form clients have read since v1)."""
 from fastapi import APIRouter
 
 from ... import __version__
-from ...model import COMMON_PARAMS, OPTIONAL_PARAMS, OPTIONS, SUB_OPTIONS, choice_params
+from ...model import DEFAULT, families
+from ...views import VIEWS
 from ..deps import Route
 
 router = APIRouter(prefix="/api/v1", tags=["meta"], route_class=Route)
@@ -24,17 +27,17 @@ def health():
     return {"status": "ok", "version": __version__}
 
 
-def _choice(option: str, name: str, entry) -> dict:
-    out = {"name": name, "label": entry.label, "description": entry.description,
-           "params": [p.as_dict() for p in choice_params(option, name)]}
-    for attr in ("reference", "applies_to", "anisotropic", "isotropic_only", "needs_phi",
-                 "approximation", "derived_doc"):
-        if hasattr(entry, attr):
-            out[attr] = getattr(entry, attr)
-    return out
+def family_entry(family) -> dict:
+    """One family as /models lists it: its catalogue, the views that draw it (and why the
+    others do not), its albedo methods."""
+    refused = {name: why for name in VIEWS if (why := family.views(name)) is not None}
+    return {"name": family.name, "label": family.label, "description": family.description,
+            "reference": family.reference, **family.catalogue(),
+            "views": [name for name in VIEWS if name not in refused], "refused_views": refused,
+            "albedo_methods": list(family.albedo_methods), "default": family.name == DEFAULT}
 
 
-@router.get("/models", summary="Every option with its parameters, ranges and defaults",
+@router.get("/models", summary="Every model family, option and parameter with ranges and defaults",
             responses={200: {"content": {"application/json": {"example": {
                 "version": "0.1.0",
                 "params": [{"name": "alpha", "label": "α (roughness, x)", "lo": 0.0001, "hi": 1.0,
@@ -42,21 +45,10 @@ def _choice(option: str, name: str, entry) -> dict:
                 "geometry": [{"name": "theta_i_deg", "lo": 0.0, "hi": 90.0, "default": 45.0, "unit": "°"}],
                 "options": {"ndf": {"label": "Normal distribution D", "default": "ggx",
                                     "choices": [{"name": "ggx", "label": "GGX (Trowbridge-Reitz)",
-                                                 "params": []}]}}}}}}})
+                                                 "params": []}]}},
+                "models": [{"name": "microfacet", "label": "Microfacet model", "views": ["lobe"],
+                            "refused_views": {}, "albedo_methods": ["quadrature"]}]}}}}})
 def models():
-    return {
-        "version": __version__,
-        "params": [{**p.as_dict(), "optional": p.name in OPTIONAL_PARAMS} for p in COMMON_PARAMS],
-        "geometry": GEOMETRY,
-        "options": {
-            option: {"label": label, "default": default,
-                     "choices": [_choice(option, name, entry) for name, entry in registry.items()]}
-            for option, (label, registry, default) in OPTIONS.items()
-        },
-        "sub_options": {
-            name: {"label": label, "default": default, "applies_with": when,
-                   "choices": [{"name": key, "label": entry.label, "description": entry.description}
-                               for key, entry in registry.items()]}
-            for name, (label, registry, default, _, when) in SUB_OPTIONS.items()
-        },
-    }
+    found = families()
+    return {"version": __version__, **found[DEFAULT].catalogue(), "geometry": GEOMETRY,
+            "models": [family_entry(f) for f in found.values()]}

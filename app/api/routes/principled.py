@@ -1,34 +1,18 @@
-"""GET /api/v1/principled: the principled BRDF's parameters, ranges, defaults and options,
-and which views take it (what the page builds its controls and panels from). Its own
-views — principled_albedo, sphere_env — are views like any other (app/views/)."""
+"""GET /api/v1/principled: the principled family's entry of GET /api/v1/models on its own
+(the address docs/principled.md and the README give), in the form it has had since it
+was added: base_color, params, options, views, microfacet_only, reference."""
 from __future__ import annotations
 
 from fastapi import APIRouter
 
-from ...principled.params import BASE_COLOR_DEFAULT, OPTIONS, PARAMS
-from ...principled.spec import ROUGHNESS
-from ...views import VIEWS
+from ...model import families
 from ..deps import Route
+from .meta import family_entry
 
 router = APIRouter(prefix="/api/v1", route_class=Route)
 
-#: Views that refuse model=principled (422 naming ``model``), and why: each varies the
-#: microfacet model's own choices, which the principled model fixes.
-MICROFACET_ONLY = {
-    "advise": "It searches for cheaper microfacet choices (D, G2, Fresnel, α) for a scene; "
-              "the principled model fixes those.",
-    "checks": "Its identities vary the microfacet model's own terms (G2, Fresnel, k_d); "
-              "the principled model fixes those.",
-}
-#: Choices for isotropic roughness only (anisotropic = 0): the API refuses them otherwise.
-ISOTROPIC_ONLY = {("principled_multiscatter", "kulla_conty")}
-
-
-def _choice(option: str, c) -> dict:
-    out = {"name": c.name, "label": c.label, "description": c.description}
-    if (option, c.name) in ISOTROPIC_ONLY:
-        out["isotropic_only"] = True
-    return out
+#: the family this address describes
+FAMILY = "principled"
 
 
 @router.get("/principled", tags=["meta"], summary="The principled BRDF's parameters and options",
@@ -39,11 +23,8 @@ def _choice(option: str, c) -> dict:
                 "views": ["lobe", "sphere_env"], "microfacet_only": {"checks": "why"},
                 "reference": "Burley 2012"}}}}})
 def principled_catalogue():
-    return {"base_color": {"default": list(BASE_COLOR_DEFAULT), "lo": 0.0, "hi": 1.0},
-            "params": [ROUGHNESS.as_dict()] + [p.as_dict() for p in PARAMS],
-            "options": {name: {"label": label, "default": default,
-                               "choices": [_choice(name, c) for c in choices.values()]}
-                        for name, (label, choices, default) in OPTIONS.items()},
-            "views": [name for name in VIEWS if name not in MICROFACET_ONLY],
-            "microfacet_only": MICROFACET_ONLY,
-            "reference": "Burley 2012, Physically-Based Shading at Disney; docs/principled.md"}
+    entry = family_entry(families()[FAMILY])
+    colour = entry["colors"][0]
+    return {"base_color": {k: colour[k] for k in ("default", "lo", "hi")}, "params": entry["params"],
+            "options": entry["options"], "views": entry["views"],
+            "microfacet_only": entry["refused_views"], "reference": entry["reference"]}

@@ -1,27 +1,30 @@
-"""From flat parameters (as the API and the CLI spell them) to a BRDF.
-
-Knows the registries; raises :class:`ParameterError` naming the offending parameter and
+"""``model=microfacet``, the model registry's first family: a specular microfacet lobe
+from the physics registries' choices (NDF, masking, G2, Fresnel, multiple scattering,
+diffuse model) and the common parameters, from flat parameters (as the API and the CLI
+spell them) to a BRDF. Raises :class:`ParameterError` naming the offending parameter and
 what it allows, which the API turns into an HTTP 422.
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
-from typing import Callable
+from dataclasses import dataclass
+from typing import Annotated, Callable, Literal, Optional
 
 import numpy as np
+from pydantic import AfterValidator, Field
 
-from .errors import ParameterError
-from . import materials
-from .integrate.compensation import MULTISCATTERS, compensated
-from .physics.brdf import BRDF
-from .physics.diffuse import DIFFUSES
-from .physics.fresnel import FRESNELS
-from .physics.g2 import DEFAULT_LAMBDA_PHI, G2_FORMS, LAMBDA_PHIS
-from .physics.masking import MASKINGS
-from .physics.masking import REFERENCE as MASKING_REFERENCE
-from .physics.ndf import ALPHA, ALPHA_Y, NDFS
-from .physics.params import Param
-from .principled import spec as principled_spec
+from ..errors import ParameterError
+from .. import materials
+from ..integrate.compensation import MULTISCATTERS, compensated
+from ..integrate.methods import METHODS, albedo_by
+from ..physics.brdf import BRDF
+from ..physics.diffuse import DIFFUSES
+from ..physics.fresnel import FRESNELS
+from ..physics.g2 import DEFAULT_LAMBDA_PHI, G2_FORMS, LAMBDA_PHIS
+from ..physics.masking import MASKINGS
+from ..physics.masking import REFERENCE as MASKING_REFERENCE
+from ..physics.ndf import ALPHA, ALPHA_Y, NDFS
+from ..physics.params import Param
+from .family import Family, check_range
 
 KD = Param("kd", "k_d (diffuse weight)", 0.0, 1.0, 0.0,
            "Weight ρ of the diffuse term added to the specular lobe (kd/π for Lambert).")
@@ -95,84 +98,50 @@ def choice_param_names() -> dict[str, dict[str, Param]]:
     return out
 
 
-@dataclass(frozen=True)
-class ModelSpec:
-    """The validated, flat description of a model: what URLs and API calls carry. Build
-    one with :func:`make_spec`; derive others with the typed edits ``with_`` and
-    ``at_alpha`` (validated again) instead of editing ``values``."""
-    values: dict
-    _built: list = field(default_factory=list, compare=False, repr=False)
+def as_query(v: dict) -> dict:
+    """The model as make_spec (and every endpoint) takes it: every option named, the
+    roughness as α (no roughness/anisotropy form), only parameters that apply, no
+    derived values."""
+    out = {name: v[name] for name in OPTIONS}
+    out.update({p.name: v[p.name] for p in COMMON_PARAMS
+                if p.name not in ("roughness", "anisotropy") and v.get(p.name) is not None})
+    for option in ("ndf", "fresnel", "diffuse"):
+        out.update({p.name: v[p.name] for p in choice_params(option, v[option])
+                    if v.get(p.name) is not None})
+    if v.get("lambda_phi") is not None:
+        out["lambda_phi"] = v["lambda_phi"]
+    return out
 
-    def key(self) -> tuple:
-        """A hashable identity of the model (cache keys)."""
-        return tuple(sorted(self.values.items()))
 
-    def as_query(self) -> dict:
-        """The model as make_spec (and every endpoint) takes it: every option named, the
-        roughness as α (no roughness/anisotropy form), only parameters that apply, no
-        derived values."""
-        v = self.values
-        if v.get("model") == "principled":
-            return principled_spec.as_query(v)
-        out = {name: v[name] for name in OPTIONS}
-        out.update({p.name: v[p.name] for p in COMMON_PARAMS
-                    if p.name not in ("roughness", "anisotropy") and v.get(p.name) is not None})
-        for option in ("ndf", "fresnel", "diffuse"):
-            out.update({p.name: v[p.name] for p in choice_params(option, v[option])
-                        if v.get(p.name) is not None})
-        if v.get("lambda_phi") is not None:
-            out["lambda_phi"] = v["lambda_phi"]
-        return out
+def edit(out: dict, changes: dict) -> dict:
+    """The query ``out`` with ``changes``: the parameters of a replaced choice (Schlick's
+    f0 when fresnel changes, λ(φ) when the new G2 does not take it) are dropped."""
+    for option in ("ndf", "fresnel", "diffuse"):
+        if option in changes and changes[option] != out.get(option):
+            for p in choice_params(option, out[option]):
+                out.pop(p.name, None)
+    out.update(changes)
+    if not G2_FORMS[out["g2"]].needs_phi:
+        out.pop("lambda_phi", None)
+    return out
 
-    def with_(self, **changes) -> "ModelSpec":
-        """This model with ``changes`` (``None`` removes a value): the parameters of a
-        replaced choice (Schlick's f0 when fresnel changes, λ(φ) when the new G2 does not
-        take it) are dropped. Raises ParameterError for a combination that does not exist."""
-        out = self.as_query()
-        if out.get("model") == "principled":
-            foreign = sorted(set(changes) - set(principled_spec.NAMES))
-            if foreign:
-                raise ParameterError("model", f"this analysis changes {', '.join(foreign)} of a "
-                                              "microfacet model; it applies to model=microfacet only")
-            return make_spec(**{**out, **changes})
-        for option in ("ndf", "fresnel", "diffuse"):
-            if option in changes and changes[option] != out[option]:
-                for p in choice_params(option, out[option]):
-                    out.pop(p.name, None)
-        out.update(changes)
-        if not G2_FORMS[out["g2"]].needs_phi:
-            out.pop("lambda_phi", None)
-        return make_spec(**out)
 
-    def at_alpha(self, alpha: float) -> "ModelSpec":
-        """The isotropic model with roughness ``alpha`` (a second lobe's α₂ is kept)."""
-        return self.with_(alpha=float(alpha), alpha_y=None)
-
-    def brdf(self) -> BRDF:
-        """The BRDF, built once per spec."""
-        if not self._built:
-            self._built.append(self._build())
-        return self._built[0]
-
-    def _build(self) -> BRDF:
-        v = self.values
-        if v.get("model") == "principled":
-            return principled_spec.brdf(v)
-        shape = {p.name: v[p.name] for p in choice_params("ndf", v["ndf"]) if v.get(p.name) is not None}
-        fresnel_values = {p.name: v[p.name] for p in choice_params("fresnel", v["fresnel"])
-                          if v.get(p.name) is not None}
-        fresnel = (materials.MaterialFresnel(v["material"]) if v.get("material")
-                   else FRESNELS[v["fresnel"]](**fresnel_values))
-        ndf_class = NDFS[v["ndf"]]
-        lobe2 = ndf_class(v["alpha2"], None, **shape) if v.get("alpha2") is not None else None
-        lambda_phi = LAMBDA_PHIS[v["lambda_phi"]].fn if v.get("lambda_phi") else None
-        brdf = BRDF(ndf_class(v["alpha"], v.get("alpha_y"), **shape), MASKINGS[v["masking"]],
-                    G2_FORMS[v["g2"]], fresnel, v.get("kd", 0.0),
-                    lambda_phi=lambda_phi, lobe2=lobe2, lobe_mix=v.get("lobe_mix", 0.0),
-                    diffuse=_diffuse(v))
-        if v.get("multiscatter") == "kulla_conty":
-            return compensated(brdf)
-        return brdf
+def brdf(v: dict) -> BRDF:
+    shape = {p.name: v[p.name] for p in choice_params("ndf", v["ndf"]) if v.get(p.name) is not None}
+    fresnel_values = {p.name: v[p.name] for p in choice_params("fresnel", v["fresnel"])
+                      if v.get(p.name) is not None}
+    fresnel = (materials.MaterialFresnel(v["material"]) if v.get("material")
+               else FRESNELS[v["fresnel"]](**fresnel_values))
+    ndf_class = NDFS[v["ndf"]]
+    lobe2 = ndf_class(v["alpha2"], None, **shape) if v.get("alpha2") is not None else None
+    lambda_phi = LAMBDA_PHIS[v["lambda_phi"]].fn if v.get("lambda_phi") else None
+    out = BRDF(ndf_class(v["alpha"], v.get("alpha_y"), **shape), MASKINGS[v["masking"]],
+               G2_FORMS[v["g2"]], fresnel, v.get("kd", 0.0),
+               lambda_phi=lambda_phi, lobe2=lobe2, lobe_mix=v.get("lobe_mix", 0.0),
+               diffuse=_diffuse(v))
+    if v.get("multiscatter") == "kulla_conty":
+        return compensated(out)
+    return out
 
 
 def _diffuse(v: dict):
@@ -186,19 +155,11 @@ def _diffuse(v: dict):
                                           if v.get(p.name) is not None})
 
 
-def make_spec(**given) -> ModelSpec:
+def make_values(given: dict) -> dict:
     """Validate flat parameters: options known, values in range, each choice parameter
     used only with the choice it belongs to, one roughness form. Missing values take
-    their defaults; ``None`` means not given."""
-    given = {k: x for k, x in given.items() if x is not None}
-    if given.get("model", "microfacet") == "principled":
-        return ModelSpec(principled_spec.make_values(given))
-    model = given.pop("model", "microfacet")
-    if model != "microfacet":
-        raise ParameterError("model", f"model must be microfacet or principled; got {model!r}")
-    for name in principled_spec.NAMES:
-        if name in given and name not in COMMON_NAMES:
-            raise ParameterError(name, f"{name} applies only with model=principled")
+    their defaults."""
+    given = dict(given)
     material = _material_fresnel(given)
     explicit_alpha = [n for n in ("alpha", "alpha_y") if n in given]
     values: dict = {}
@@ -209,7 +170,7 @@ def make_spec(**given) -> ModelSpec:
         values[option] = name
     for p in COMMON_PARAMS:
         if p.name in given:
-            _check_range(p, given[p.name])
+            check_range(p, given[p.name])
             values[p.name] = float(given.pop(p.name))
         else:
             values[p.name] = None if p.name in OPTIONAL_PARAMS else p.default
@@ -235,7 +196,7 @@ def make_spec(**given) -> ModelSpec:
         chosen = [key for key in owners[name] if values[key.split('=')[0]] == key.split('=')[1]]
         if not chosen:
             raise ParameterError(name, f"{name} applies only with {' or '.join(owners[name])}")
-        _check_range(owners[name][chosen[0]], x)
+        check_range(owners[name][chosen[0]], x)
         values[name] = float(x)
     for option in ("ndf", "fresnel", "diffuse"):
         for p in choice_params(option, values[option]):
@@ -244,17 +205,7 @@ def make_spec(**given) -> ModelSpec:
         for p in choice_params("fresnel", values["fresnel"]):
             values.pop(p.name, None)
         values["material"] = material
-    spec = ModelSpec(values)
-    try:
-        brdf = spec.brdf()
-    except ParameterError:
-        raise
-    except ValueError as exc:  # a model that cannot be built, e.g. an anisotropic GTR,
-        # or whose compensation table would not build within the request's time budget
-        raise ParameterError(getattr(exc, "param", "alpha_y"), str(exc)) from exc
-    # Derived quantities for display (Blinn-Phong's α_p); not parameters.
-    values.update(getattr(brdf.ndf, "derived", dict)())
-    return spec
+    return values
 
 
 def _material_fresnel(given: dict) -> str | None:
@@ -321,10 +272,96 @@ def _check_applicability(values: dict) -> None:
                                     "so it has no anisotropic form")
 
 
-def _check_range(p: Param, x) -> None:
-    try:
-        ok = p.contains(float(x))
-    except (TypeError, ValueError):
-        ok = False
-    if not ok:
-        raise ParameterError(p.name, f"{p.name} must be a number in {p.range_text()}; got {x!r}")
+def _material_slug(value):
+    """A known material slug, else a ValueError that suggests the nearest (422)."""
+    if value is not None and value not in materials.materials():
+        raise ValueError(materials.unknown_material(value))
+    return value
+
+
+def query_fields() -> dict:
+    """One query field per option and parameter the physics registries declare, so a new
+    NDF (or a new shape parameter) appears in the API, its validation and ``/docs`` with
+    no change here. Exact per-choice ranges and applicability are checked by make_values."""
+    fields: dict = {}
+    for option, (label, registry, default) in OPTIONS.items():
+        names = tuple(registry)
+        fields[option] = (Literal[names], Field(default, description=f"{label}: {', '.join(names)}",
+                                                examples=[default]))
+    for name, (label, registry, default, _, when) in SUB_OPTIONS.items():
+        names = tuple(registry)
+        fields[name] = (Optional[Literal[names]], Field(
+            None, description=f"{label}: {', '.join(names)}; applies with {when}; default {default}"))
+    for p in COMMON_PARAMS:
+        if p.name in OPTIONAL_PARAMS:
+            fields[p.name] = (Optional[float], Field(None, ge=p.lo, le=p.hi, description=p.description,
+                                                     examples=[p.default]))
+        else:
+            fields[p.name] = (float, Field(p.default, ge=p.lo, le=p.hi, description=p.description,
+                                           examples=[p.default]))
+    for name, owners in choice_param_names().items():
+        lo = min(p.lo for p in owners.values())
+        hi = max(p.hi for p in owners.values())
+        first = next(iter(owners.values()))
+        where = " or ".join(owners)
+        fields[name] = (Optional[float], Field(
+            None, ge=lo, le=hi, examples=[first.default],
+            description=f"{first.description} Applies with {where}; default {first.default:g}."))
+    fields["material"] = (Optional[Annotated[str, AfterValidator(_material_slug)]], Field(
+        None, examples=["gold"], description="a measured material (GET /api/v1/materials): sets fresnel to "
+        "its kind with its RGB index; /eval then answers F_rgb and f_rgb beside the luminance F, f"))
+    return fields
+
+
+def _choice(option: str, name: str, entry) -> dict:
+    out = {"name": name, "label": entry.label, "description": entry.description,
+           "params": [p.as_dict() for p in choice_params(option, name)]}
+    for attr in ("reference", "applies_to", "anisotropic", "isotropic_only", "needs_phi",
+                 "approximation", "derived_doc"):
+        if hasattr(entry, attr):
+            out[attr] = getattr(entry, attr)
+    return out
+
+
+def catalogue() -> dict:
+    """Every option with its choices and their parameters, the common parameters, the
+    sub-options: what the page builds the microfacet controls from."""
+    return {
+        "params": [{**p.as_dict(), "optional": p.name in OPTIONAL_PARAMS} for p in COMMON_PARAMS],
+        "options": {
+            option: {"label": label, "default": default,
+                     "choices": [_choice(option, name, entry) for name, entry in registry.items()]}
+            for option, (label, registry, default) in OPTIONS.items()
+        },
+        "sub_options": {
+            name: {"label": label, "default": default, "applies_with": when,
+                   "choices": [{"name": key, "label": entry.label, "description": entry.description}
+                               for key, entry in registry.items()]}
+            for name, (label, registry, default, _, when) in SUB_OPTIONS.items()
+        },
+    }
+
+
+def lobe_albedo(spec, mu) -> dict:
+    """E(μ) of the model's two lobes: the diffuse term and the specular lobe (with its
+    Kulla-Conty part); sheen and clearcoat 0 (the principled_albedo view's lobes)."""
+    specular_brdf = spec.with_(kd=0.0).brdf()
+    specular = albedo_by(specular_brdf, mu, average=False)
+    E_d, E_d_error = spec.brdf().diffuse_albedo(mu)
+    zero = {"E": np.zeros_like(mu), "E_error": 0.0, "E_avg": 0.0}
+    lobes = {"diffuse": {"E": E_d, "E_error": E_d_error, "E_avg": spec.brdf().diffuse_albedo_avg()[0]},
+             "specular": {"E": specular["E"], "E_error": float(np.max(specular["E_error"])),
+                          "E_avg": float(albedo_by(specular_brdf, [1.0])["E_avg"])},
+             "sheen": zero, "clearcoat": zero}
+    return {"mu": mu, "E": E_d + specular["E"], "lobes": lobes, "channel": "luminance"}
+
+
+FAMILY = Family(
+    "microfacet", "Microfacet model",
+    "A specular microfacet lobe built from your choice of NDF, masking, G2 and Fresnel, with a "
+    "diffuse term.",
+    "Walter et al. 2007; Heitz 2014; docs/conventions.md",
+    make_values, brdf, as_query, query_fields, catalogue,
+    albedo_methods=METHODS, lobe_albedo=lobe_albedo, edit=edit,
+    display_names=lambda values: ({"material": materials.material(values["material"])["name"]}
+                                  if values.get("material") else {}))
