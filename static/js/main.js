@@ -14,6 +14,7 @@ import { Panel } from "./panels.js";
 import { panelBar, fieldApplies } from "./panelcontrols.js";
 import { Scheduler } from "./scheduler.js";
 import { setPrincipled, principledDefaults, isPrincipled, preg, MICROFACET } from "./principled.js";
+import { GpuPanel } from "./gpu/panel.js";
 
 const state = ctx.state;
 const scheduler = new Scheduler();
@@ -124,6 +125,7 @@ function onStateChange() {
     p.syncModel();
     scheduler.touch(p);
   }
+  gpu?.sync(state);
   scheduleUrlWrite();
   for (const loc of ctx.locals.values()) setIf(loc.input.parentElement, "hidden", !fieldApplies(loc.view, loc.field, state));
 }
@@ -202,6 +204,7 @@ async function boot() {
   const rank = (v) => (PANEL_ORDER.includes(v.name) ? PANEL_ORDER.indexOf(v.name) : PANEL_ORDER.length);
   ctx.views = viewList.map((v, i) => ({ ...v, i })).sort((a, b) => rank(a) - rank(b) || a.i - b.i);
   const box = $("#panels");
+  gpu = mountGpu(box);
   panels = ctx.views.map((view) => {
     const p = new Panel(view, { onChange: onStateChange, onPin: pinCurrent, onTails: compareTails });
     box.append(p.section);
@@ -240,6 +243,31 @@ async function boot() {
     inViewObserver.observe(p.section);
   }
   booting = false;
+  if (gpu.failed) showServerSphere();
+  onStateChange();
+}
+
+// ------------------------------------------------------------ GPU panel ----
+// The live sphere (js/gpu/): its drag writes the light at the release; where WebGL2 is
+// missing the server's sphere panel is shown instead.
+let gpu = null;
+function mountGpu(box) {
+  const g = new GpuPanel({
+    onLight: (theta, phi) => {
+      Object.assign(state, { theta_i_deg: theta, phi_i_deg: phi });
+      for (const k of ["theta_i_deg", "phi_i_deg"]) controls.get(k)?.set(state[k]);
+      onStateChange();
+    },
+    onFallback: () => { if (!booting) showServerSphere(); },
+  });
+  box.append(g.section);
+  window.__gpu = g.hook();
+  return g;
+}
+function showServerSphere() {
+  if (state.show.includes("sphere")) return;
+  state.show = [...state.show, "sphere"];
+  syncLocals();
   onStateChange();
 }
 

@@ -1,0 +1,269 @@
+/* The "Live sphere (GPU)" panel: the page's model drawn per pixel in WebGL2 from
+ * GET /api/v1/code?form=uniform (a slider changes uniforms; a new model compiles once),
+ * the light dragged with the pointer (no server round trip), an exposure, and the truth
+ * toggle (truth.js). Where WebGL2 or float targets are missing, or the server has no
+ * shader for the model, the panel says so and the server's sphere panel is the view.
+ */
+import { API, el, apiMessage, query } from "../dom.js";
+import { modelQuery } from "../model.js";
+import { makeContext, ShaderError } from "./gl.js";
+import { SphereRenderer } from "./sphere.js";
+import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
+import { lightAt } from "../spheredrag.js";
+
+/** Pixels across the live sphere (bench/gpu_sphere.py's 256²). */
+export const SIZE = 256;
+const DEG = Math.PI / 180;
+/** After the last change, wait this long before asking the server for the truth frame
+ * (a drag or a slider would otherwise ask at every step). */
+const TRUTH_DELAY_MS = 250;
+/** Input-to-frame times kept for the benchmark hook. */
+const TIMINGS_KEPT = 2000;
+
+/** (θ, φ) in degrees → unit vector (sin θ cos φ, sin θ sin φ, cos θ), the server's
+ * direction_deg. */
+export const direction = (thetaDeg, phiDeg) => [Math.sin(thetaDeg * DEG) * Math.cos(phiDeg * DEG),
+  Math.sin(thetaDeg * DEG) * Math.sin(phiDeg * DEG), Math.cos(thetaDeg * DEG)];
+
+/** The generated code with its comments gone: two models whose code differs only in
+ * the comments (the parameter values quoted there) run one compiled program. */
+const structure = (code) => code.replace(/\/\/[^\n]*/g, "").replace(/[ \t]+\n/g, "\n");
+
+const fmt = (x) => (x === 0 ? "0" : x.toExponential(1));
+
+export class GpuPanel {
+  /** onLight(θ, φ): the drag's light, written to the page's state at the release;
+   * onFallback(why): WebGL2 is unusable here (the page shows the server's sphere). */
+  constructor({ onLight, onFallback }) {
+    this.onLight = onLight;
+    this.onFallback = onFallback;
+    this.canvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-canvas",
+                                  title: "Drag on the sphere to move the light", "aria-label": "The lit sphere, drawn on the GPU" });
+    this.diffCanvas = el("canvas", { class: "gpu-canvas gpu-diff", width: SIZE, height: SIZE, id: "gpu-diff", hidden: true,
+                                      "aria-label": "Relative difference from the server's float64 frame" });
+    this.message = el("p", { class: "gpu-message", id: "gpu-message", role: "status", "aria-live": "polite" });
+    this.truthText = el("p", { class: "gpu-truth", id: "gpu-truth", role: "status", "aria-live": "polite", hidden: true });
+    this.exposureInput = el("input", { type: "range", min: "-6", max: "10", step: "0.5", value: "3", id: "gpu-exposure",
+                                       "aria-label": "Exposure (stops)" });
+    this.exposureText = el("output", { for: "gpu-exposure", text: "+3" });
+    this.truthButton = el("button", { type: "button", class: "export", id: "gpu-truth-toggle", "aria-pressed": "false",
+                                      text: "Truth: off", title: "Compare each pixel with the server's float64 render of the same frame" });
+    const tools = el("div", { class: "panel-tools gpu-tools" },
+      el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText), this.truthButton);
+    this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
+      el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
+      el("div", { class: "gpu-views" }, this.canvas, this.diffCanvas),
+      this.message, this.truthText,
+      el("p", { class: "caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
+        + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame." }));
+    Object.assign(this, { renderer: null, ok: false, modelKey: null, codeRequest: null, model: null, dragging: false,
+                          frameQueued: false, inputTime: null, timings: [], compiles: 0, draws: 0, truthOn: false,
+                          truthTimer: 0, truthAbort: null, truth: null, state: null });
+    this.exposureInput.addEventListener("input", () => {
+      this.renderer && (this.renderer.exposure = Number(this.exposureInput.value));
+      this.exposureText.value = `${Number(this.exposureInput.value) >= 0 ? "+" : ""}${this.exposureInput.value}`;
+      this.queueFrame(null, false);
+    });
+    this.truthButton.addEventListener("click", () => this.setTruth(!this.truthOn));
+    this.start();
+  }
+
+  /** A context and the renderer, or the reason there is none. */
+  start() {
+    const { gl, why } = makeContext(this.canvas);
+    if (!gl) return this.fail(`No live GPU view: ${why}. The server's sphere panel shows this model instead.`);
+    this.gl = gl;
+    this.canvas.addEventListener("webglcontextlost", (ev) => {
+      ev.preventDefault();                 // lets the browser restore it
+      this.ok = false;
+      this.renderer = null;
+      this.say(`The GPU context was lost (a shader ran too long, or the GPU was reset); restoring it…`, "error");
+    });
+    this.canvas.addEventListener("webglcontextrestored", () => {
+      this.build();
+      this.modelKey = null;
+      if (this.state) this.sync(this.state);
+    });
+    this.build();
+    this.dragHandlers();
+  }
+
+  build() {
+    try {
+      this.renderer = new SphereRenderer(this.gl, SIZE);
+      this.renderer.exposure = Number(this.exposureInput.value);
+      this.ok = true;
+    } catch (e) {
+      this.fail(`No live GPU view: ${e.message}. The server's sphere panel shows this model instead.`);
+    }
+  }
+
+  fail(why) {
+    this.ok = false;
+    this.failed = true;
+    this.say(why, "error");
+    this.section.classList.add("gpu-missing");
+    this.onFallback?.(why);
+  }
+
+  say(text, kind = "") {
+    this.message.textContent = text;
+    this.message.className = `gpu-message ${kind}`;
+  }
+
+  /** The page's state changed: the model (fetch its code when it is another one), the
+   * light (unless being dragged here). */
+  sync(state) {
+    this.state = state;
+    if (!this.renderer) return;
+    if (!this.dragging) this.renderer.setLight(direction(state.theta_i_deg, state.phi_i_deg));
+    const model = modelQuery(state);
+    const key = query(model);
+    if (key !== this.modelKey) {
+      this.modelKey = key;
+      this.loadModel(model, key);
+    } else this.queueFrame(null, true);
+  }
+
+  async loadModel(model, key) {
+    this.codeRequest?.abort();
+    const ctl = (this.codeRequest = new AbortController());
+    let body;
+    try {
+      const res = await fetch(`${API}/code?${query({ ...model, lang: "glsl", form: "uniform", format: "json" })}`, { signal: ctl.signal });
+      body = await res.json().catch(() => null);
+      if (!res.ok || !body) throw new Error(apiMessage(body, res));
+    } catch (e) {
+      if (e.name === "AbortError") return;
+      this.model = null;
+      this.say(`No GPU shader for this model: ${e.message} The server's sphere panel shows it.`, "error");
+      return;
+    }
+    if (key !== this.modelKey || !this.renderer) return;
+    try {
+      if (this.renderer.setSource(structure(body.code))) this.compiles++;
+    } catch (e) {
+      this.model = null;
+      this.say(e instanceof ShaderError ? `The generated shader failed here: ${e.message}` : String(e), "error");
+      return;
+    }
+    this.model = model;
+    this.renderer.uniforms = body.uniforms;
+    this.say(`Generated GLSL, ${body.lines} lines; ${this.compiles} compile${this.compiles === 1 ? "" : "s"} so far.`);
+    this.queueFrame(null, true);
+  }
+
+  /** Draw at the next animation frame; `inputTime` (an event's timeStamp) is measured to
+   * the finished frame; `changed`: the frame differs, so the truth is stale. */
+  queueFrame(inputTime, changed) {
+    if (inputTime !== null && this.inputTime === null) this.inputTime = inputTime;
+    if (changed) this.truthStale();
+    if (this.frameQueued) return;
+    this.frameQueued = true;
+    requestAnimationFrame(() => this.frame());
+  }
+
+  frame() {
+    this.frameQueued = false;
+    if (!this.renderer || !this.model || this.gl.isContextLost()) return;
+    this.renderer.draw();
+    this.draws++;
+    if (this.inputTime !== null) {
+      // one pixel read back: the frame is finished, not merely queued
+      this.gl.readPixels(0, 0, 1, 1, this.gl.RGBA, this.gl.UNSIGNED_BYTE, new Uint8Array(4));
+      this.timings.push(performance.now() - this.inputTime);
+      if (this.timings.length > TIMINGS_KEPT) this.timings.shift();
+      this.inputTime = null;
+    }
+  }
+
+  dragHandlers() {
+    const c = this.canvas;
+    const aim = (ev) => {
+      const box = c.getBoundingClientRect();
+      const x = ((ev.clientX - box.left) / box.width) * 2 - 1, y = 1 - ((ev.clientY - box.top) / box.height) * 2;
+      const [theta, phi] = lightAt(x, y);
+      this.dragLight = [theta, phi];
+      this.renderer?.setLight(direction(theta, phi));
+      this.queueFrame(ev.timeStamp, true);
+    };
+    c.addEventListener("pointerdown", (ev) => {
+      if (ev.button !== 0 || !this.renderer) return;
+      ev.preventDefault();
+      this.dragging = true;
+      c.setPointerCapture?.(ev.pointerId);
+      aim(ev);
+    });
+    c.addEventListener("pointermove", (ev) => { if (this.dragging) aim(ev); });
+    const end = () => {
+      if (!this.dragging) return;
+      this.dragging = false;
+      if (this.dragLight) this.onLight?.(...this.dragLight);
+    };
+    c.addEventListener("pointerup", end);
+    c.addEventListener("pointercancel", end);
+  }
+
+  // ---------------------------------------------------------------- truth ----
+  setTruth(on) {
+    this.truthOn = on;
+    this.truthButton.textContent = on ? "Truth: on" : "Truth: off";
+    this.truthButton.setAttribute("aria-pressed", String(on));
+    this.diffCanvas.hidden = !on;
+    this.truthText.hidden = !on;
+    if (on) this.truthStale();
+    else this.truthAbort?.abort();
+  }
+
+  truthStale() {
+    if (!this.truthOn) return;
+    this.truth = null;
+    clearTimeout(this.truthTimer);
+    this.truthAbort?.abort();
+    this.truthText.textContent = "Comparing with the server's float64 frame…";
+    this.truthTimer = setTimeout(() => this.checkTruth(), TRUTH_DELAY_MS);
+  }
+
+  async checkTruth() {
+    if (!this.renderer || !this.model || this.dragging) return;
+    this.renderer.render();
+    const gpu = this.renderer.read();
+    const light = this.renderer.light, model = this.model;
+    const ctl = (this.truthAbort = new AbortController());
+    let ref;
+    try {
+      ref = await referenceFrame(model, light, SIZE, ctl.signal);
+    } catch (e) {
+      if (e.name !== "AbortError") this.truthText.textContent = `No reference frame: ${e.message}`;
+      return;
+    }
+    if (ctl.signal.aborted) return;
+    const r = compare(gpu, ref, SIZE, light);
+    this.truth = { max: r.max, mean: r.mean, at: r.at, pixels: r.pixels, disk: r.disk, absPeak: r.absPeak,
+                   nonFinite: r.nonFinite, floor: r.floor };
+    const ctx2d = this.diffCanvas.getContext("2d");
+    ctx2d.putImageData(new ImageData(diffImage(r.diff, SIZE), SIZE, SIZE), 0, 0);
+    const where = r.at ? ` at pixel (${r.at[0]}, ${r.at[1]})` : "";
+    this.truthText.textContent = `GPU (float32) against the server (float64), same frame: largest relative difference `
+      + `${fmt(r.max)}${where}, mean ${fmt(r.mean)} over the ${r.pixels} pixels with θ_l, θ_v ≤ ${GRAZING_DEG}°; `
+      + `over all ${r.disk} pixels the largest difference is ${fmt(r.absPeak)} of the peak `
+      + `(near the terminator and the rim float32's rounding of n·l alone is ~1e-7)`
+      + (r.nonFinite ? `; ${r.nonFinite} pixels NaN/∞` : "")
+      + `. Right: the relative difference, log scale 1e-8 (dark) to 1e-3 (bright); below ${FLOOR}× the peak it counts against that floor.`;
+  }
+
+  /** For tests and bench/gpu_sphere.py. */
+  hook() {
+    const self = this;
+    return {
+      get ok() { return self.ok && !!self.model; },
+      get compiles() { return self.compiles; },
+      get draws() { return self.draws; },
+      get timings() { return self.timings.slice(); },
+      get truth() { return self.truth; },
+      get message() { return self.message.textContent; },
+      clearTimings() { self.timings.length = 0; },
+      setTruth: (on) => self.setTruth(on),
+    };
+  }
+}
