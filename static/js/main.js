@@ -262,6 +262,7 @@ function mountGpu(box) {
   });
   box.append(g.section);
   window.__gpu = g.hook();
+  window.__gpuPanel = g;
   return g;
 }
 function showServerSphere() {

@@ -109,10 +109,19 @@ export function readTarget(gl, target) {
 }
 
 /** Sets each named float uniform whose location exists (one the compiler removed as
- * unused has none); numbers → float, arrays of 2–4 → vecN. */
+ * unused has none); numbers → float, arrays of 2–4 → vecN. Locations are looked up once
+ * per program (uniformLocation). */
+const locations = new WeakMap();
+export function uniformLocation(gl, prog, name) {
+  let m = locations.get(prog);
+  if (!m) locations.set(prog, (m = new Map()));
+  if (!m.has(name)) m.set(name, gl.getUniformLocation(prog, name));
+  return m.get(name);
+}
+
 export function setUniforms(gl, prog, values) {
   for (const [name, v] of Object.entries(values)) {
-    const loc = gl.getUniformLocation(prog, name);
+    const loc = uniformLocation(gl, prog, name);
     if (loc === null) continue;
     if (typeof v === "number") gl.uniform1f(loc, v);
     else if (typeof v === "boolean") gl.uniform1f(loc, v ? 1 : 0);

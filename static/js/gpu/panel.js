@@ -117,7 +117,7 @@ export class GpuPanel {
     this.state = state;
     if (!this.renderer) return;
     if (!this.dragging) this.renderer.setLight(direction(state.theta_i_deg, state.phi_i_deg));
-    const model = modelQuery(state);
+    const model = this.fixedModel || modelQuery(state);
     const key = query(model);
     if (key !== this.modelKey) {
       this.modelKey = key;
@@ -148,6 +148,7 @@ export class GpuPanel {
       return;
     }
     this.model = model;
+    this.code = body;
     this.renderer.uniforms = body.uniforms;
     this.say(`Generated GLSL, ${body.lines} lines; ${this.compiles} compile${this.compiles === 1 ? "" : "s"} so far.`);
     this.queueFrame(null, true);
@@ -185,7 +186,14 @@ export class GpuPanel {
       const [theta, phi] = lightAt(x, y);
       this.dragLight = [theta, phi];
       this.renderer?.setLight(direction(theta, phi));
-      this.queueFrame(ev.timeStamp, true);
+      this.truthStale();
+      // drawn here, not at the next animation frame, and at most once per display frame
+      // (the light of later moves in that frame waits for the next one)
+      if (this.inputTime === null) this.inputTime = ev.timeStamp;
+      if (this.drawnThisFrame) return this.queueFrame(null, false);
+      this.drawnThisFrame = true;
+      requestAnimationFrame(() => { this.drawnThisFrame = false; });
+      this.frame();
     };
     c.addEventListener("pointerdown", (ev) => {
       if (ev.button !== 0 || !this.renderer) return;
@@ -194,7 +202,10 @@ export class GpuPanel {
       c.setPointerCapture?.(ev.pointerId);
       aim(ev);
     });
-    c.addEventListener("pointermove", (ev) => { if (this.dragging) aim(ev); });
+    // pointerrawupdate (Chromium, secure contexts) comes as the input arrives; pointermove
+    // waits for the next frame's start (up to 16.7 ms, half of that on average)
+    const moveEvent = "onpointerrawupdate" in window ? "pointerrawupdate" : "pointermove";
+    c.addEventListener(moveEvent, (ev) => { if (this.dragging) aim(ev); });
     const end = () => {
       if (!this.dragging) return;
       this.dragging = false;
@@ -262,7 +273,19 @@ export class GpuPanel {
       get timings() { return self.timings.slice(); },
       get truth() { return self.truth; },
       get message() { return self.message.textContent; },
+      get model() { return self.model; },
+      get code() { return self.code; },
       clearTimings() { self.timings.length = 0; },
+      /** Draw this model query instead of the page's (until null): resolves when drawn
+       * or failed, with the panel's message. */
+      async load(model) {
+        self.fixedModel = model;
+        const m = model || modelQuery(self.state);
+        self.modelKey = query(m);
+        await self.loadModel(m, self.modelKey);
+        await new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+        return self.message.textContent;
+      },
       setTruth: (on) => self.setTruth(on),
     };
   }

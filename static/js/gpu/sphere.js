@@ -7,38 +7,31 @@
  * A BRDF is GLSL defining `vec3 brdf(vec3 n, vec3 l, vec3 v)` and its uniforms: a new
  * source compiles once; new uniform values, the light or the exposure only draw.
  */
-import { FULLSCREEN_VS, program, floatTarget, readTarget, setUniforms } from "./gl.js";
+import { FULLSCREEN_VS, program, floatTarget, readTarget, setUniforms, uniformLocation } from "./gl.js";
 
 export const HEAD = "#version 300 es\nprecision highp float;\nprecision highp int;\n";
 
 const SPHERE_MAIN = `
 uniform vec3 u_light;      // unit, camera frame
 uniform float u_n;         // pixels across
-out vec4 color;
-void main() {
-  vec2 p = 2.0 * gl_FragCoord.xy / u_n - 1.0;     // pixel centre (gl_FragCoord at k + 1/2)
-  float r2 = dot(p, p);
-  if (r2 >= 1.0) { color = vec4(0.0); return; }
-  vec3 n = vec3(p, sqrt(1.0 - r2));
-  float mu_l = dot(n, u_light);
-  vec3 radiance = mu_l > 0.0 ? brdf(n, u_light, vec3(0.0, 0.0, 1.0)) * mu_l : vec3(0.0);
-  color = vec4(radiance, 1.0);
-}`;
-
-/** Radiance to display values: ×2^exposure, sRGB's transfer (IEC 61966-2-1), clipped. */
-const DISPLAY_FS = `${HEAD}
-uniform sampler2D u_radiance;
-uniform float u_scale;
+uniform bool u_display;    // true: display values (×2^exposure, sRGB); false: radiance, alpha 1 on the disk
+uniform float u_scale;     // 2^exposure
 uniform vec3 u_background;
 out vec4 color;
-vec3 srgb(vec3 c) {
+vec3 srgb(vec3 c) {        // IEC 61966-2-1's transfer, clipped to [0, 1]
   c = clamp(c, 0.0, 1.0);
   return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
 }
 void main() {
-  vec4 r = texelFetch(u_radiance, ivec2(gl_FragCoord.xy), 0);
-  bool bad = any(isnan(r.rgb)) || any(isinf(r.rgb));
-  color = r.a == 0.0 ? vec4(u_background, 1.0) : bad ? vec4(1.0, 0.0, 1.0, 1.0) : vec4(srgb(r.rgb * u_scale), 1.0);
+  vec2 p = 2.0 * gl_FragCoord.xy / u_n - 1.0;     // pixel centre (gl_FragCoord at k + 1/2)
+  float r2 = dot(p, p);
+  if (r2 >= 1.0) { color = u_display ? vec4(u_background, 1.0) : vec4(0.0); return; }
+  vec3 n = vec3(p, sqrt(1.0 - r2));
+  float mu_l = dot(n, u_light);
+  vec3 radiance = mu_l > 0.0 ? brdf(n, u_light, vec3(0.0, 0.0, 1.0)) * mu_l : vec3(0.0);
+  if (!u_display) { color = vec4(radiance, 1.0); return; }
+  bool bad = any(isnan(radiance)) || any(isinf(radiance));
+  color = bad ? vec4(1.0, 0.0, 1.0, 1.0) : vec4(srgb(radiance * u_scale), 1.0);
 }`;
 
 export class SphereRenderer {
@@ -47,7 +40,6 @@ export class SphereRenderer {
     this.gl = gl;
     this.n = n;
     this.target = floatTarget(gl, n, n);
-    this.display = program(gl, FULLSCREEN_VS, DISPLAY_FS);
     this.prog = null;
     this.source = null;
     this.uniforms = {};
@@ -74,37 +66,30 @@ export class SphereRenderer {
     this.light = l.map(Math.fround);
   }
 
-  /** Radiance into the float target. */
-  render() {
+  /** One pass of the sphere program: into the float target (radiance) or onto the
+   * canvas (display values: one pass per frame, no copy). */
+  pass(display) {
     const { gl, n } = this;
     if (!this.prog) return;
-    gl.bindFramebuffer(gl.FRAMEBUFFER, this.target.fb);
+    gl.bindFramebuffer(gl.FRAMEBUFFER, display ? null : this.target.fb);
     gl.viewport(0, 0, n, n);
     gl.useProgram(this.prog);
     setUniforms(gl, this.prog, this.uniforms);
-    gl.uniform3fv(gl.getUniformLocation(this.prog, "u_light"), this.light);
-    gl.uniform1f(gl.getUniformLocation(this.prog, "u_n"), n);
+    const u = (name) => uniformLocation(gl, this.prog, name);
+    gl.uniform3fv(u("u_light"), this.light);
+    gl.uniform1f(u("u_n"), n);
+    gl.uniform1i(u("u_display"), display ? 1 : 0);
+    gl.uniform1f(u("u_scale"), 2 ** this.exposure);
+    gl.uniform3fv(u("u_background"), this.background);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
-    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    if (!display) gl.bindFramebuffer(gl.FRAMEBUFFER, null);
   }
 
-  /** The float target onto the canvas with the exposure. */
-  present() {
-    const { gl, n } = this;
-    gl.viewport(0, 0, n, n);
-    gl.useProgram(this.display);
-    gl.activeTexture(gl.TEXTURE0);
-    gl.bindTexture(gl.TEXTURE_2D, this.target.tex);
-    gl.uniform1i(gl.getUniformLocation(this.display, "u_radiance"), 0);
-    gl.uniform1f(gl.getUniformLocation(this.display, "u_scale"), 2 ** this.exposure);
-    gl.uniform3fv(gl.getUniformLocation(this.display, "u_background"), this.background);
-    gl.drawArrays(gl.TRIANGLES, 0, 3);
-  }
+  /** Radiance into the float target (for read()). */
+  render() { this.pass(false); }
 
-  draw() {
-    this.render();
-    this.present();
-  }
+  /** The frame onto the canvas. */
+  draw() { this.pass(true); }
 
   /** The last render's radiance, float32 RGBA, rows from the top (the server's order);
    * alpha 1 on the disk, 0 off it. */
