@@ -287,6 +287,13 @@ export class GpuPanel {
         return self.message.textContent;
       },
       setTruth: (on) => self.setTruth(on),
+      /** The truth of the current frame now (no wait for the toggle's delay). */
+      async truthNow() {
+        self.setTruth(true);
+        clearTimeout(self.truthTimer);
+        await self.checkTruth();
+        return self.truth;
+      },
     };
   }
 }
