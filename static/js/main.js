@@ -15,6 +15,7 @@ import { panelBar, fieldApplies } from "./panelcontrols.js";
 import { Scheduler } from "./scheduler.js";
 import { setPrincipled, principledDefaults, isPrincipled, preg, MICROFACET } from "./principled.js";
 import { GpuPanel } from "./gpu/panel.js";
+import { LINK_KEY as USER_BRDF_KEY } from "./gpu/userbrdf.js";
 
 const state = ctx.state;
 const scheduler = new Scheduler();
@@ -244,6 +245,7 @@ async function boot() {
   }
   booting = false;
   if (gpu.failed) showServerSphere();
+  if (state.extra[USER_BRDF_KEY]) gpu.user.fromLink(state.extra[USER_BRDF_KEY]);
   onStateChange();
 }
 
@@ -259,10 +261,15 @@ function mountGpu(box) {
       onStateChange();
     },
     onFallback: () => { if (!booting) showServerSphere(); },
+    onLink: (key, text) => {
+      if ((state.extra[key] ?? null) !== text) window.__brdf.setExtra({ [key]: text });
+    },
   });
+  window.__brdf.declareExtra([USER_BRDF_KEY]);
   box.append(g.section);
   window.__gpu = g.hook();
   window.__gpuPanel = g;
+  window.__userBrdf = g.user.hook();
   return g;
 }
 function showServerSphere() {

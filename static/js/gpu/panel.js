@@ -10,6 +10,7 @@ import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
 import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
 import { lightAt } from "../spheredrag.js";
+import { UserBrdf, LINK_KEY } from "./userbrdf.js";
 
 /** Pixels across the live sphere (bench/gpu_sphere.py's 256²). */
 export const SIZE = 256;
@@ -34,9 +35,13 @@ const fmt = (x) => (x === 0 ? "0" : x.toExponential(1));
 export class GpuPanel {
   /** onLight(θ, φ): the drag's light, written to the page's state at the release;
    * onFallback(why): WebGL2 is unusable here (the page shows the server's sphere). */
-  constructor({ onLight, onFallback }) {
+  constructor({ onLight, onFallback, onLink }) {
     this.onLight = onLight;
     this.onFallback = onFallback;
+    this.user = new UserBrdf({
+      registry: () => (this.code && this.model ? { glsl: this.code.code, uniforms: this.code.uniforms, label: query(this.model) } : null),
+      link: (text) => onLink?.(LINK_KEY, text),
+    });
     this.canvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-canvas",
                                   title: "Drag on the sphere to move the light", "aria-label": "The lit sphere, drawn on the GPU" });
     this.diffCanvas = el("canvas", { class: "gpu-canvas gpu-diff", width: SIZE, height: SIZE, id: "gpu-diff", hidden: true,
@@ -52,15 +57,19 @@ export class GpuPanel {
       el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText), this.truthButton);
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
-      el("div", { class: "gpu-views" }, this.canvas, this.diffCanvas),
-      this.message, this.truthText,
+      el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.diffCanvas),
+      this.message, this.truthText, this.user.section,
       el("p", { class: "caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
-        + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame." }));
+        + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
+      + "Open a Disney BRDF Explorer .brdf file to see yours beside it, measured." }));
+    this.user.acceptDrops(this.section);
     Object.assign(this, { renderer: null, ok: false, modelKey: null, codeRequest: null, model: null, dragging: false,
                           frameQueued: false, inputTime: null, timings: [], compiles: 0, draws: 0, truthOn: false,
                           truthTimer: 0, truthAbort: null, truth: null, state: null });
     this.exposureInput.addEventListener("input", () => {
       this.renderer && (this.renderer.exposure = Number(this.exposureInput.value));
+      this.user.setExposure(Number(this.exposureInput.value));
+      this.user.draw();
       this.exposureText.value = `${Number(this.exposureInput.value) >= 0 ? "+" : ""}${this.exposureInput.value}`;
       this.queueFrame(null, false);
     });
@@ -92,6 +101,7 @@ export class GpuPanel {
     try {
       this.renderer = new SphereRenderer(this.gl, SIZE);
       this.renderer.exposure = Number(this.exposureInput.value);
+      this.user.setExposure(this.renderer.exposure);
       this.ok = true;
     } catch (e) {
       this.fail(`No live GPU view: ${e.message}. The server's sphere panel shows this model instead.`);
@@ -116,7 +126,10 @@ export class GpuPanel {
   sync(state) {
     this.state = state;
     if (!this.renderer) return;
-    if (!this.dragging) this.renderer.setLight(direction(state.theta_i_deg, state.phi_i_deg));
+    if (!this.dragging) {
+      this.renderer.setLight(direction(state.theta_i_deg, state.phi_i_deg));
+      this.user.setLight(this.renderer.light);
+    }
     const model = this.fixedModel || modelQuery(state);
     const key = query(model);
     if (key !== this.modelKey) {
@@ -168,6 +181,8 @@ export class GpuPanel {
     this.frameQueued = false;
     if (!this.renderer || !this.model || this.gl.isContextLost()) return;
     this.renderer.draw();
+    this.user.setLight(this.renderer.light);
+    this.user.draw();
     this.draws++;
     if (this.inputTime !== null) {
       // one pixel read back: the frame is finished, not merely queued
