@@ -96,6 +96,46 @@ export class PairEvaluator {
   }
 }
 
+/** How long one pixel of a shader may take before it is refused as one that would stall
+ * the GPU (a 256² sphere of it would take 65 536 times as long on a software GPU). */
+export const PROBE_LIMIT_MS = 300;
+
+/** Draws one pixel of `prog` (n = l = v = +z) and waits for it without blocking the page
+ * (a fence polled from timers): resolves to the milliseconds it took, or null when it
+ * is still running after PROBE_LIMIT_MS. */
+export function probe(gl, prog, uniforms) {
+  const target = (gl.activeTexture(gl.TEXTURE2), floatTarget(gl, 1, 1));
+  gl.activeTexture(gl.TEXTURE0);
+  const tl = floatTexture(gl, 1, 1, new Float32Array([0, 0, 1, 0]));
+  gl.activeTexture(gl.TEXTURE1);
+  const tv = floatTexture(gl, 1, 1, new Float32Array([0, 0, 1, 0]));
+  gl.bindFramebuffer(gl.FRAMEBUFFER, target.fb);
+  gl.viewport(0, 0, 1, 1);
+  gl.useProgram(prog);
+  setUniforms(gl, prog, uniforms);
+  gl.uniform1i(gl.getUniformLocation(prog, "u_l"), 0);
+  gl.uniform1i(gl.getUniformLocation(prog, "u_v"), 1);
+  const t0 = performance.now();
+  gl.drawArrays(gl.TRIANGLES, 0, 3);
+  const sync = gl.fenceSync(gl.SYNC_GPU_COMMANDS_COMPLETE, 0);
+  gl.flush();
+  gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+  return new Promise((resolve) => {
+    const poll = () => {
+      if (gl.isContextLost()) return resolve(null);
+      if (gl.getSyncParameter(sync, gl.SYNC_STATUS) === gl.SIGNALED) {
+        gl.deleteSync(sync);
+        for (const t of [tl, tv, target.tex]) gl.deleteTexture(t);
+        gl.deleteFramebuffer(target.fb);
+        return resolve(performance.now() - t0);
+      }
+      if (performance.now() - t0 > PROBE_LIMIT_MS) return resolve(null);
+      setTimeout(poll, 5);
+    };
+    setTimeout(poll, 0);
+  });
+}
+
 const dir = (theta, phi) => [Math.sin(theta) * Math.cos(phi), Math.sin(theta) * Math.sin(phi), Math.cos(theta)];
 
 /** The albedo's pairs: for each μ_v of MU (v at φ = 0), l over Gauss-Legendre μ_l × φ. */

@@ -10,7 +10,7 @@ import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
 import { parseBrdf, defaults, BrdfFileError, MAX_BYTES } from "./brdffile.js";
 import { userGlsl, explain } from "./glslprep.js";
-import { PairEvaluator, measure, MU, ALBEDO_NODES, FLOOR, FLOAT32_REL } from "./measure.js";
+import { PairEvaluator, measure, probe, MU, ALBEDO_NODES, FLOOR, FLOAT32_REL, PROBE_LIMIT_MS } from "./measure.js";
 import { encodeLink, decodeLink, MAX_LINK_CHARS } from "./link.js";
 
 /** URL parameter holding the user's BRDF (compressed source and values). */
@@ -69,8 +69,9 @@ export class UserBrdf {
     this.open(await file.text(), null, file.name);
   }
 
-  /** A .brdf text (and values, from a link): parsed, compiled, drawn, measured. */
-  open(text, values = null, name = "your BRDF") {
+  /** A .brdf text (and values, from a link): parsed, compiled, timed on one pixel (a
+   * shader that would stall the GPU is refused before it draws 65 536), drawn, measured. */
+  async open(text, values = null, name = "your BRDF") {
     let parsed;
     try {
       parsed = parseBrdf(text);
@@ -81,12 +82,22 @@ export class UserBrdf {
     const { glsl, offset, limit } = userGlsl(parsed, text.split("\n").length);
     let prog;
     try {
-      this.renderer.setSource(glsl, { offset, limit });
       prog = this.evaluator.compile(glsl, { offset, limit });
     } catch (e) {
       this.say(`${name}: ${e instanceof ShaderError ? `the shader does not compile:\n${explain(e.lines)}` : String(e)}`, "error");
       return;
     }
+    this.say(`${name}: compiled; timing one pixel…`);
+    const gl = this.renderer.gl;
+    const ms = await probe(gl, prog, { ...defaults(parsed.params), ...(values || {}) });
+    if (ms === null) {
+      this.say(`${name}: one pixel of its shader was still running after ${PROBE_LIMIT_MS} ms (an endless or very long loop?): `
+        + "refused before it could stall the GPU; the GPU context is reset. Fix the shader and open it again.", "error");
+      this.stalled = true;
+      gl.getExtension("WEBGL_lose_context")?.loseContext();
+      return;
+    }
+    this.renderer.setSource(glsl, { offset, limit });
     if (this.prog) this.renderer.gl.deleteProgram(this.prog);
     Object.assign(this, { file: parsed, source: text, name, prog, values: { ...defaults(parsed.params), ...(values || {}) } });
     this.buildSliders();
@@ -101,7 +112,15 @@ export class UserBrdf {
   /** The BRDF's own WebGL2 context (its stalls and losses are its own). */
   context() {
     if (this.renderer && !this.lost) return true;
-    if (this.lost) { this.say("The GPU context is still being restored; try again in a moment.", "error"); return false; }
+    this.renderer = this.evaluator = null;
+    if (this.lost) {                   // a lost context stays lost: a new canvas, a new context
+      const fresh = el("canvas", { class: "gpu-canvas", width: 256, height: 256, id: "gpu-user-canvas", hidden: true,
+                                   "aria-label": "Your BRDF's sphere, drawn on the GPU" });
+      this.canvas.replaceWith(fresh);
+      this.canvas = fresh;
+      this.lost = false;
+      this.otherSource = this.otherProg = null;
+    }
     const { gl, why } = makeContext(this.canvas);
     if (!gl) { this.say(`Your BRDF cannot be drawn here: ${why}.`, "error"); return false; }
     this.canvas.addEventListener("webglcontextlost", (ev) => {
@@ -109,12 +128,14 @@ export class UserBrdf {
       this.lost = true;
       this.renderer = this.evaluator = this.prog = null;
       this.canvas.hidden = true;
-      this.say(`The GPU stopped ${this.name || "your BRDF"}'s shader and lost its context (the shader ran too long — `
-        + "an endless or very long loop?). The BRDF is unloaded; the rest of the page works. Fix the shader and open it again.", "error");
+      if (!this.stalled) {
+        this.say(`The GPU stopped ${this.name || "your BRDF"}'s shader and lost its context (the shader ran too long — `
+          + "an endless or very long loop?). The BRDF is unloaded; the rest of the page works. Fix the shader and open it again.", "error");
+      }
+      this.stalled = false;
       this.file = null;
       this.link(null);
     });
-    this.canvas.addEventListener("webglcontextrestored", () => { this.lost = false; });
     this.renderer = new SphereRenderer(gl, 256);
     this.evaluator = new PairEvaluator(gl);
     return true;
