@@ -31,12 +31,15 @@ export function floatLiterals(src) {
   const keepDefines = intNames(src);
   let out = "";
   let stmtStart = true, intStmt = false, bracket = 0, forParen = 0, intFor = false, parenDepth = 0;
-  let afterFor = false, defineName = null, inDefine = false, defineKeep = false;
+  let afterFor = false, defineName = null, inDefine = false, defineKeep = false, inDirective = false;
   for (const m of src.matchAll(TOKEN)) {
     let t = m[0];
     if (t.startsWith("//") || t.startsWith("/*")) { out += t; continue; }
     if (/^\s+$/.test(t)) {
-      if (t.includes("\n")) { inDefine = false; defineKeep = false; }
+      if (t.includes("\n")) {
+        if (inDirective) stmtStart = true;           // a directive line ends like a statement
+        inDefine = defineKeep = inDirective = false;
+      }
       out += t;
       continue;
     }
@@ -44,6 +47,7 @@ export function floatLiterals(src) {
       // a preprocessor line: `#define NAME value` keeps ints if NAME is used as an int
       const rest = src.slice(m.index + 1).match(/^\s*define\s+([A-Za-z_]\w*)/);
       inDefine = !!rest;
+      inDirective = true;
       defineName = rest ? rest[1] : null;
       defineKeep = !!rest && keepDefines.has(defineName);
       out += t;
