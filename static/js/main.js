@@ -205,12 +205,13 @@ async function boot() {
   const rank = (v) => (PANEL_ORDER.includes(v.name) ? PANEL_ORDER.indexOf(v.name) : PANEL_ORDER.length);
   ctx.views = viewList.map((v, i) => ({ ...v, i })).sort((a, b) => rank(a) - rank(b) || a.i - b.i);
   const box = $("#panels");
-  gpu = mountGpu(box);
   panels = ctx.views.map((view) => {
     const p = new Panel(view, { onChange: onStateChange, onPin: pinCurrent, onTails: compareTails });
     box.append(p.section);
     return p;
   });
+  // the live GPU sphere after the panels the page opens with (they fill the first screen)
+  gpu = mountGpu(box, panels.find((p) => !PANEL_ORDER.includes(p.name))?.section ?? null);
   for (const p of panels) p.report = report(p);
   for (const p of panels) {
     if (!HINTS[p.name]?.lightDrag) continue;
@@ -253,7 +254,7 @@ async function boot() {
 // The live sphere (js/gpu/): its drag writes the light at the release; where WebGL2 is
 // missing the server's sphere panel is shown instead.
 let gpu = null;
-function mountGpu(box) {
+function mountGpu(box, before) {
   const g = new GpuPanel({
     onLight: (theta, phi) => {
       Object.assign(state, { theta_i_deg: theta, phi_i_deg: phi });
@@ -266,7 +267,7 @@ function mountGpu(box) {
     },
   });
   window.__brdf.declareExtra([USER_BRDF_KEY]);
-  box.append(g.section);
+  box.insertBefore(g.section, before);
   window.__gpu = g.hook();
   window.__gpuPanel = g;
   window.__userBrdf = g.user.hook();

@@ -59,13 +59,13 @@ export class GpuPanel {
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
       el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.diffCanvas),
       this.message, this.truthText, this.user.section,
-      el("p", { class: "caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
+      el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
         + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
       + "Open a Disney BRDF Explorer .brdf file to see yours beside it, measured." }));
     this.user.acceptDrops(this.section);
     Object.assign(this, { renderer: null, ok: false, modelKey: null, codeRequest: null, model: null, dragging: false,
                           frameQueued: false, inputTime: null, timings: [], compiles: 0, draws: 0, truthOn: false,
-                          truthTimer: 0, truthAbort: null, truth: null, state: null });
+                          truthTimer: 0, truthToken: 0, codeInflight: false, codeWanted: null, truth: null, state: null });
     this.exposureInput.addEventListener("input", () => {
       this.renderer && (this.renderer.exposure = Number(this.exposureInput.value));
       this.user.setExposure(Number(this.exposureInput.value));
@@ -138,18 +138,27 @@ export class GpuPanel {
     } else this.queueFrame(null, true);
   }
 
+  /** The model's code from /code: one request in flight at a time (a slider's burst of
+   * moves asks again only for the newest model when it returns); never aborted. */
   async loadModel(model, key) {
-    this.codeRequest?.abort();
-    const ctl = (this.codeRequest = new AbortController());
-    let body;
+    if (this.codeInflight) { this.codeWanted = [model, key]; return; }
+    this.codeInflight = true;
+    let body, failure = null;
     try {
-      const res = await fetch(`${API}/code?${query({ ...model, lang: "glsl", form: "uniform", format: "json" })}`, { signal: ctl.signal });
+      const res = await fetch(`${API}/code?${query({ ...model, lang: "glsl", form: "uniform", format: "json" })}`);
       body = await res.json().catch(() => null);
-      if (!res.ok || !body) throw new Error(apiMessage(body, res));
+      if (!res.ok || !body) failure = apiMessage(body, res);
     } catch (e) {
-      if (e.name === "AbortError") return;
+      failure = e.message;
+    }
+    this.codeInflight = false;
+    const wanted = this.codeWanted;
+    this.codeWanted = null;
+    if (wanted && wanted[1] !== key) return this.loadModel(...wanted);
+    if (failure !== null) {
+      if (key !== this.modelKey) return;
       this.model = null;
-      this.say(`No GPU shader for this model: ${e.message} The server's sphere panel shows it.`, "error");
+      this.say(`No GPU shader for this model: ${failure} The server's sphere panel shows it.`, "error");
       return;
     }
     if (key !== this.modelKey || !this.renderer) return;
@@ -238,14 +247,14 @@ export class GpuPanel {
     this.diffCanvas.hidden = !on;
     this.truthText.hidden = !on;
     if (on) this.truthStale();
-    else this.truthAbort?.abort();
+    else this.truthToken++;
   }
 
   truthStale() {
     if (!this.truthOn) return;
     this.truth = null;
     clearTimeout(this.truthTimer);
-    this.truthAbort?.abort();
+    this.truthToken++;
     this.truthText.textContent = "Comparing with the server's float64 frame…";
     this.truthTimer = setTimeout(() => this.checkTruth(), TRUTH_DELAY_MS);
   }
@@ -255,15 +264,15 @@ export class GpuPanel {
     this.renderer.render();
     const gpu = this.renderer.read();
     const light = this.renderer.light, model = this.model;
-    const ctl = (this.truthAbort = new AbortController());
+    const token = ++this.truthToken;           // a later change makes this answer stale
     let ref;
     try {
-      ref = await referenceFrame(model, light, SIZE, ctl.signal);
+      ref = await referenceFrame(model, light, SIZE);
     } catch (e) {
-      if (e.name !== "AbortError") this.truthText.textContent = `No reference frame: ${e.message}`;
+      if (token === this.truthToken) this.truthText.textContent = `No reference frame: ${e.message}`;
       return;
     }
-    if (ctl.signal.aborted) return;
+    if (token !== this.truthToken) return;
     const r = compare(gpu, ref, SIZE, light);
     this.truth = { max: r.max, mean: r.mean, at: r.at, pixels: r.pixels, disk: r.disk, absPeak: r.absPeak,
                    nonFinite: r.nonFinite, floor: r.floor };

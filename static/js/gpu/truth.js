@@ -21,9 +21,9 @@ export const GRAZING_DEG = 88;
 const MU_MIN = Math.cos((GRAZING_DEG * Math.PI) / 180);
 
 /** The server's float64 frame: Float64Array n·n·3, rows from the top, NaN off the disk. */
-export async function referenceFrame(model, light, n, signal) {
+export async function referenceFrame(model, light, n) {
   const [lx, ly, lz] = light;
-  const res = await fetch(`${API}/reference/sphere?${query({ ...model, lx, ly, lz, n })}`, { signal });
+  const res = await fetch(`${API}/reference/sphere?${query({ ...model, lx, ly, lz, n })}`);
   if (!res.ok) throw new Error(apiMessage(await res.json().catch(() => null), res));
   return new Float64Array(await res.arrayBuffer());
 }
