@@ -6,21 +6,25 @@
   alone (the server's sphere view averages the highlight's pixels and takes the light as
   angles: a different frame). Raw little-endian float64, RGB per pixel, rows from the top,
   NaN off the disk: binary, as JSON cannot carry NaN and 256²·3 numbers as text cost ~4 MB.
+* ``POST /api/v1/environments/hdr``: a Radiance .hdr read (app/environment/hdr.py) and
+  described — size, mean and peak radiance; a clear 4xx for anything that is not one.
 """
 from __future__ import annotations
 
 from typing import Annotated
 
 import numpy as np
-from fastapi import APIRouter, Query, Response
+from fastapi import APIRouter, Query, Request, Response
 from pydantic import Field
 
 from ... import kernels
-from ...errors import ParameterError
+from ...environment.hdr import MAX_FILE_BYTES, read_hdr
+from ...errors import ParameterError, TooLarge
 from ...integrate import cost
 from ...materials import evaluate_rgb
 from ...views import schemas
 from ..deps import Route
+from ..encode import json_response
 
 router = APIRouter(prefix="/api/v1", tags=["data"], route_class=Route)
 
@@ -98,3 +102,22 @@ def reference_sphere(q: Annotated[ReferenceSphereQuery, Query()]) -> Response:
     frame = sphere_frame(brdf, light, q.n)
     return Response(frame.astype("<f8").tobytes(), media_type="application/octet-stream",
                     headers={"X-Frame-Shape": f"{q.n},{q.n},3", "Cache-Control": "no-store"})
+
+
+@router.post("/environments/hdr", summary="Read a Radiance .hdr environment (equirectangular) and describe it",
+             description="The request body is the file's bytes. Answers its width, height, mean and "
+                         "largest radiance per channel; 422 naming what is wrong for a file that is not "
+                         f"a readable .hdr, 413 over {MAX_FILE_BYTES} bytes or the pixel limits.")
+async def upload_hdr(request: Request) -> Response:
+    declared = request.headers.get("content-length")
+    if declared is not None and declared.isdigit() and int(declared) > MAX_FILE_BYTES:
+        raise TooLarge("file", f"{declared} bytes: at most {MAX_FILE_BYTES}", loc="body")
+    data = bytearray()
+    async for chunk in request.stream():
+        data += chunk
+        if len(data) > MAX_FILE_BYTES:
+            raise TooLarge("file", f"more than {MAX_FILE_BYTES} bytes", loc="body")
+    image = read_hdr(bytes(data))
+    return json_response({"width": int(image.shape[1]), "height": int(image.shape[0]),
+                          "mean_rgb": [float(x) for x in image.reshape(-1, 3).mean(axis=0, dtype=np.float64)],
+                          "max_rgb": [float(x) for x in image.reshape(-1, 3).max(axis=0)]})
