@@ -11,6 +11,7 @@ import { SphereRenderer } from "./sphere.js";
 import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
 import { lightAt } from "../spheredrag.js";
 import { UserBrdf, LINK_KEY } from "./userbrdf.js";
+import { EnvSphere, ENVIRONMENTS, PAIRS_PER_FRAME as ENV_PAIRS } from "./env.js";
 
 /** Pixels across the live sphere (bench/gpu_sphere.py's 256²). */
 export const SIZE = 256;
@@ -18,6 +19,8 @@ const DEG = Math.PI / 180;
 /** After the last change, wait this long before asking the server for the truth frame
  * (a drag or a slider would otherwise ask at every step). */
 const TRUTH_DELAY_MS = 250;
+/** Sample pairs per pixel at which the environment sphere stops accumulating. */
+const ENV_MAX_SAMPLES = 4096;
 /** Input-to-frame times kept for the benchmark hook. */
 const TIMINGS_KEPT = 2000;
 
@@ -53,12 +56,18 @@ export class GpuPanel {
     this.exposureText = el("output", { for: "gpu-exposure", text: "+3" });
     this.truthButton = el("button", { type: "button", class: "export", id: "gpu-truth-toggle", "aria-pressed": "false",
                                       text: "Truth: off", title: "Compare each pixel with the server's float64 render of the same frame" });
+    this.envSelect = el("select", { id: "gpu-env", "aria-label": "Environment of the second sphere" },
+      el("option", { value: "", text: "no environment" }), ...ENVIRONMENTS.map((e) => el("option", { value: e, text: e })));
+    this.envCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-env-canvas", hidden: true,
+                                    "aria-label": "The sphere under the environment, drawn on the GPU" });
+    this.envText = el("p", { class: "gpu-message", id: "gpu-env-text", role: "status", hidden: true });
     const tools = el("div", { class: "panel-tools gpu-tools" },
-      el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText), this.truthButton);
+      el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText),
+      el("label", {}, "environment ", this.envSelect), this.truthButton);
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
-      el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.diffCanvas),
-      this.message, this.truthText, this.user.section,
+      el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.diffCanvas),
+      this.message, this.truthText, this.envText, this.user.section,
       el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
         + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
       + "Open a Disney BRDF Explorer .brdf file to see yours beside it, measured." }));
@@ -74,6 +83,7 @@ export class GpuPanel {
       this.queueFrame(null, false);
     });
     this.truthButton.addEventListener("click", () => this.setTruth(!this.truthOn));
+    this.envSelect.addEventListener("change", () => this.setEnvironment(this.envSelect.value));
     this.start();
   }
 
@@ -192,6 +202,7 @@ export class GpuPanel {
     this.renderer.draw();
     this.user.setLight(this.renderer.light);
     this.user.draw();
+    this.envRestart();
     this.draws++;
     if (this.inputTime !== null) {
       // one pixel read back: the frame is finished, not merely queued
@@ -237,6 +248,77 @@ export class GpuPanel {
     };
     c.addEventListener("pointerup", end);
     c.addEventListener("pointercancel", end);
+  }
+
+  // ---------------------------------------------------------- environment ----
+  /** The second sphere under a procedural environment ("" for none), progressive. */
+  setEnvironment(name) {
+    this.envName = name;
+    this.envCanvas.hidden = this.envText.hidden = !name;
+    if (!name) return;
+    if (!this.envSphere) {
+      const { gl, why } = makeContext(this.envCanvas);
+      if (!gl) { this.envText.textContent = `No environment sphere: ${why}.`; return; }
+      this.envSphere = new EnvSphere(gl, SIZE);
+    }
+    this.envSphere.env = name;
+    this.envRestart();
+  }
+
+  /** Accumulation from nothing (model, light, exposure or environment changed). */
+  envRestart() {
+    const e = this.envSphere;
+    if (!this.envName || !e || !this.code || !this.model) return;
+    try {
+      e.setSource(structure(this.code.code));
+    } catch (err) {
+      this.envText.textContent = `The environment sphere cannot compile this model: ${err.message}`;
+      return;
+    }
+    e.uniforms = this.code.uniforms;
+    e.key = this.renderer.light;
+    e.exposure = this.renderer.exposure;
+    e.reset();
+    this.envStart = performance.now();
+    this.envReference = null;
+    if (!this.envLoop) this.envLoop = requestAnimationFrame(() => this.envFrame());
+  }
+
+  envFrame() {
+    this.envLoop = 0;
+    const e = this.envSphere;
+    if (!this.envName || !e || e.gl.isContextLost()) return;
+    e.step();
+    if (e.frames % 16 === 0) this.envReport();
+    if (e.frames * ENV_PAIRS < ENV_MAX_SAMPLES) this.envLoop = requestAnimationFrame(() => this.envFrame());
+    else this.envReport();
+  }
+
+  envReport() {
+    const st = this.envSphere.stats();
+    if (!st) return;
+    this.envStats = { ...st, seconds: (performance.now() - this.envStart) / 1000 };
+    const ref = this.envReference;
+    this.envText.textContent = `Under ${this.envName}: ${st.samples} sample pairs per pixel in ${this.envStats.seconds.toFixed(1)} s; `
+      + `mean luminance ${st.mean.toPrecision(5)} ± ${st.error.toExponential(1)}`
+      + (ref ? `; the server's (${ref.samples.per_pixel} samples, MIS): ${ref.noise.mean_radiance.toPrecision(5)} ± `
+        + `${ref.noise.mean_radiance_error.toExponential(1)}, difference ${(Math.abs(st.mean - ref.noise.mean_radiance)
+        / Math.hypot(st.error, ref.noise.mean_radiance_error)).toFixed(1)} σ.` : ".");
+    if (!ref && !this.envAsked && this.envStats.seconds > 2) this.envAskServer();
+  }
+
+  async envAskServer() {
+    this.envAsked = true;
+    const [x, y, z] = this.renderer.light;
+    const theta = Math.acos(Math.min(1, z)) * 180 / Math.PI, phi = Math.atan2(y, x) * 180 / Math.PI;
+    const q = query({ ...this.model, environment: this.envName, n: SIZE, samples: 16, theta_i_deg: theta, phi_i_deg: phi });
+    const start = this.envStart;
+    try {
+      const res = await fetch(`${API}/sphere_env?${q}`);
+      const body = await res.json();
+      if (res.ok && start === this.envStart) { this.envReference = body; this.envReport(); }
+    } catch { /* the comparison is left out; the sphere stands */ }
+    this.envAsked = false;
   }
 
   // ---------------------------------------------------------------- truth ----
@@ -298,6 +380,8 @@ export class GpuPanel {
       get truth() { return self.truth; },
       get message() { return self.message.textContent; },
       get model() { return self.model; },
+      get env() { return self.envStats ? { ...self.envStats, reference: self.envReference?.noise ?? null } : null; },
+      setEnvironment: (name) => { self.envSelect.value = name; self.setEnvironment(name); },
       get code() { return self.code; },
       clearTimings() { self.timings.length = 0; },
       /** Draw this model query instead of the page's (until null): resolves when drawn
