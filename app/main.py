@@ -13,8 +13,8 @@ from starlette.concurrency import run_in_threadpool
 
 from . import __version__, kernels, server, work
 from .api import errors, http, openapi
-from .api.routes import (batch, code, conventions, datasets, eval, exports, fallback, figures, fit,
-                         lut, materials, meta, pages, principled, views)
+from .api.routes import (batch, code, conventions, datasets, environments, eval, exports, fallback, figures,
+                         fit, lut, materials, meta, pages, principled, views)
 from .config import Settings
 from .model import make_spec
 from .physics.ndf import NDFS
@@ -114,7 +114,7 @@ def create_app(settings: Settings | None = None) -> FastAPI:
     # the most asked first: FastAPI tries the routes in order, ~10 µs each here (the
     # batch after the 147 routes before it took 2.5 ms of each slider move to find)
     for module in (batch, figures, eval, views, meta, pages, principled, code, conventions,
-                   materials, lut, datasets, fit, exports):
+                   materials, lut, datasets, fit, exports, environments):
         app.include_router(with_head(module.router))
     # Swagger UI's script and stylesheet from the fastapi-offline package: /docs offline
     app.mount("/static/vendor/swagger-ui", StaticFiles(directory=SWAGGER_UI_DIR), name="swagger-ui")

@@ -14,6 +14,8 @@ import { Panel } from "./panels.js";
 import { panelBar, fieldApplies } from "./panelcontrols.js";
 import { Scheduler } from "./scheduler.js";
 import { fam, setFamilies, allFamilyDefaults, familyRoughness } from "./families.js";
+import { GpuPanel } from "./gpu/panel.js";
+import { LINK_KEY as USER_BRDF_KEY } from "./gpu/userbrdf.js";
 
 const state = ctx.state;
 const scheduler = new Scheduler();
@@ -124,6 +126,7 @@ function onStateChange() {
     p.syncModel();
     scheduler.touch(p);
   }
+  gpu?.sync(state);
   scheduleUrlWrite();
   for (const loc of ctx.locals.values()) setIf(loc.input.parentElement, "hidden", !fieldApplies(loc.view, loc.field, state));
 }
@@ -206,6 +209,8 @@ async function boot() {
     box.append(p.section);
     return p;
   });
+  // the live GPU sphere after the panels the page opens with (they fill the first screen)
+  gpu = mountGpu(box, panels.find((p) => !PANEL_ORDER.includes(p.name))?.section ?? null);
   for (const p of panels) p.report = report(p);
   for (const p of panels) {
     if (!HINTS[p.name]?.lightDrag) continue;
@@ -239,6 +244,38 @@ async function boot() {
     inViewObserver.observe(p.section);
   }
   booting = false;
+  if (gpu.failed) showServerSphere();
+  if (state.extra[USER_BRDF_KEY]) gpu.user.fromLink(state.extra[USER_BRDF_KEY]);
+  onStateChange();
+}
+
+// ------------------------------------------------------------ GPU panel ----
+// The live sphere (js/gpu/): its drag writes the light at the release; where WebGL2 is
+// missing the server's sphere panel is shown instead.
+let gpu = null;
+function mountGpu(box, before) {
+  const g = new GpuPanel({
+    onLight: (theta, phi) => {
+      Object.assign(state, { theta_i_deg: theta, phi_i_deg: phi });
+      for (const k of ["theta_i_deg", "phi_i_deg"]) controls.get(k)?.set(state[k]);
+      onStateChange();
+    },
+    onFallback: () => { if (!booting) showServerSphere(); },
+    onLink: (key, text) => {
+      if ((state.extra[key] ?? null) !== text) window.__brdf.setExtra({ [key]: text });
+    },
+  });
+  window.__brdf.declareExtra([USER_BRDF_KEY]);
+  box.insertBefore(g.section, before);
+  window.__gpu = g.hook();
+  window.__gpuPanel = g;
+  window.__userBrdf = g.user.hook();
+  return g;
+}
+function showServerSphere() {
+  if (state.show.includes("sphere")) return;
+  state.show = [...state.show, "sphere"];
+  syncLocals();
   onStateChange();
 }
 

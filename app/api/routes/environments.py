@@ -1,0 +1,123 @@
+"""The server's float64 references for the page's GPU views (static/js/gpu/):
+
+* ``GET /api/v1/reference/sphere``: the lit sphere's radiance per unit irradiance
+  L_o/E = f(l, v)·⟨n·l⟩ at the n×n pixel centres, for a light given as the exact vector the
+  GPU used — the same frame as the GPU's, so that their difference is the GPU's arithmetic
+  alone (the server's sphere view averages the highlight's pixels and takes the light as
+  angles: a different frame). Raw little-endian float64, RGB per pixel, rows from the top,
+  NaN off the disk: binary, as JSON cannot carry NaN and 256²·3 numbers as text cost ~4 MB.
+* ``POST /api/v1/environments/hdr``: a Radiance .hdr read (app/environment/hdr.py) and
+  described — size, mean and peak radiance; a clear 4xx for anything that is not one.
+"""
+from __future__ import annotations
+
+from typing import Annotated
+
+import numpy as np
+from fastapi import APIRouter, Query, Request, Response
+from pydantic import Field
+
+from ... import kernels
+from ...environment.hdr import MAX_FILE_BYTES, read_hdr
+from ...errors import ParameterError, TooLarge
+from ...integrate import cost
+from ...materials import evaluate_rgb
+from ...views import schemas
+from ..deps import Route
+from ..encode import json_response
+
+router = APIRouter(prefix="/api/v1", tags=["data"], route_class=Route)
+
+#: |l| may differ from 1 by this much: a float32 rounding of a unit vector is within
+#: 3·2⁻²⁴ ≈ 1.8e-7 of it; anything further is not a direction the GPU drew with.
+UNIT_TOLERANCE = 1e-6
+#: Bytes held per pixel while the frame is made: directions, frames, three channels.
+BYTES_PER_PIXEL = 400
+
+
+class ReferenceSphereQuery(schemas.ModelQuery):
+    lx: Annotated[float, Field(ge=-1.0, le=1.0, description="light direction, x (image right), as the GPU used it")] = 0.0
+    ly: Annotated[float, Field(ge=-1.0, le=1.0, description="light direction, y (image up)")] = 0.0
+    lz: Annotated[float, Field(ge=-1.0, le=1.0, description="light direction, z (towards the viewer)")] = 1.0
+    n: Annotated[int, Field(ge=8, le=512, description="pixels across the sphere (n×n image)")] = 256
+
+
+def pixel_centres(n: int) -> tuple[np.ndarray, np.ndarray]:
+    """x, y (n×n, rows from the top) at pixel centres −1 + (2k + 1)/n, the sphere view's
+    grid (quantities.lit_sphere) and the GPU's (gl_FragCoord at k + ½)."""
+    centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
+    y, x = np.meshgrid(centres[::-1], centres, indexing="ij")
+    return x, y
+
+
+def local_directions(x: np.ndarray, y: np.ndarray, light: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """l and v in each point's local frame (t, b, n): n = (x, y, √(1−x²−y²)), t = +x
+    projected onto the tangent plane, b = n × t; the viewer along +z (lit_sphere's frame)."""
+    normal = np.stack([x, y, np.sqrt(np.maximum(1.0 - x * x - y * y, 0.0))], axis=-1)
+    t = np.array([1.0, 0.0, 0.0]) - normal[:, :1] * normal
+    t /= np.linalg.norm(t, axis=-1, keepdims=True)
+    frame = np.stack([t, np.cross(normal, t), normal], axis=-2)
+    return frame @ light, frame @ np.array([0.0, 0.0, 1.0])
+
+
+def f_rgb(brdf, l: np.ndarray, v: np.ndarray) -> np.ndarray:
+    """f per channel (…, 3): a model declaring f_rgb (the principled BRDF) its own, a
+    material's per-channel Fresnel through evaluate_rgb, else the grey f thrice."""
+    own = getattr(brdf, "f_rgb", None)
+    if callable(own):
+        return np.asarray(own(l, v), dtype=float)
+    if getattr(brdf.fresnel, "channels", None) is not None:
+        return evaluate_rgb(brdf, l, v, ("f",))["f_rgb"]
+    return np.repeat(np.asarray(kernels.f(brdf, l, v), dtype=float)[:, None], 3, axis=1)
+
+
+def sphere_frame(brdf, light: np.ndarray, n: int) -> np.ndarray:
+    """L_o/E (n, n, 3) at the pixel centres, NaN off the disk, 0 where n·l ≤ 0."""
+    x, y = pixel_centres(n)
+    on = x * x + y * y < 1.0
+    out = np.full((n, n, 3), np.nan)
+    l, v = local_directions(x[on], y[on], light)
+    mu_l = l[:, 2]
+    lit = mu_l > 0.0
+    values = np.zeros((int(on.sum()), 3))
+    if lit.any():
+        values[lit] = f_rgb(brdf, l[lit], v[lit]) * mu_l[lit, None]
+    out[on] = values
+    return out
+
+
+@router.get("/reference/sphere", summary="The lit sphere in float64 at the GPU's exact frame (binary)",
+            description="L_o/E = f·⟨n·l⟩ at the n×n pixel centres for the light vector (lx, ly, lz) "
+                        "as given (unit to 1e-6), no supersampling: the truth the page's GPU sphere "
+                        "is compared with. Little-endian float64, RGB per pixel, rows from the top "
+                        "(y = 1), NaN off the disk.",
+            responses={200: {"content": {"application/octet-stream": {}}}})
+def reference_sphere(q: Annotated[ReferenceSphereQuery, Query()]) -> Response:
+    light = np.array([q.lx, q.ly, q.lz], dtype=float)
+    if abs(np.linalg.norm(light) - 1.0) > UNIT_TOLERANCE:
+        raise ParameterError("lx", f"(lx, ly, lz) must be a unit vector to {UNIT_TOLERANCE:g}; "
+                                   f"its length is {np.linalg.norm(light):.9g}")
+    brdf = schemas.spec_of(q).brdf()
+    cost.require_evaluations(brdf, q.n * q.n, q.n * q.n * BYTES_PER_PIXEL, "n", f"a {q.n}² sphere")
+    frame = sphere_frame(brdf, light, q.n)
+    return Response(frame.astype("<f8").tobytes(), media_type="application/octet-stream",
+                    headers={"X-Frame-Shape": f"{q.n},{q.n},3", "Cache-Control": "no-store"})
+
+
+@router.post("/environments/hdr", summary="Read a Radiance .hdr environment (equirectangular) and describe it",
+             description="The request body is the file's bytes. Answers its width, height, mean and "
+                         "largest radiance per channel; 422 naming what is wrong for a file that is not "
+                         f"a readable .hdr, 413 over {MAX_FILE_BYTES} bytes or the pixel limits.")
+async def upload_hdr(request: Request) -> Response:
+    declared = request.headers.get("content-length")
+    if declared is not None and declared.isdigit() and int(declared) > MAX_FILE_BYTES:
+        raise TooLarge("file", f"{declared} bytes: at most {MAX_FILE_BYTES}", loc="body")
+    data = bytearray()
+    async for chunk in request.stream():
+        data += chunk
+        if len(data) > MAX_FILE_BYTES:
+            raise TooLarge("file", f"more than {MAX_FILE_BYTES} bytes", loc="body")
+    image = read_hdr(bytes(data))
+    return json_response({"width": int(image.shape[1]), "height": int(image.shape[0]),
+                          "mean_rgb": [float(x) for x in image.reshape(-1, 3).mean(axis=0, dtype=np.float64)],
+                          "max_rgb": [float(x) for x in image.reshape(-1, 3).max(axis=0)]})

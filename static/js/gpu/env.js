@@ -1,0 +1,200 @@
+/* The sphere under a procedural environment on the GPU, progressive: each frame adds K
+ * sample pairs per pixel to a float32 accumulation (ping-pong targets), the display shows
+ * their mean. The environments are app/environment/maps.py's, written again in GLSL
+ * (uniform, studio, overcast, sunset; key = the light direction, colour).
+ *
+ * Estimator: per pair, one direction drawn ∝ cos θ about n and one uniformly in the cone
+ * of the environment's bright disc (studio's key box, sunset's sun; none otherwise), the
+ * balance heuristic over the two (Veach 1997, ch. 9): Σ_s f L μ_l / (p_cos + p_cone).
+ * Alpha accumulates the luminance's square, for the stated standard error.
+ */
+import { FULLSCREEN_VS, program, floatTarget, readTarget, setUniforms, uniformLocation } from "./gl.js";
+import { HEAD } from "./sphere.js";
+
+export const ENVIRONMENTS = ["uniform", "studio", "overcast", "sunset"];
+/** Sample pairs per pixel per frame. */
+export const PAIRS_PER_FRAME = 2;
+/** Rec. 709 luminance (render.py's LUMINANCE). */
+const LUMA = [0.2126, 0.7152, 0.0722];
+const DEG = Math.PI / 180;
+/** The bright disc each environment's cone samples: [radius + edge/2 in degrees] (maps.py). */
+const CONE_DEG = { studio: 12 + 5 / 2, sunset: 2.5 + 1 / 2 };
+
+const ENV_GLSL = `
+uniform vec3 u_key;
+uniform vec3 u_colour;
+uniform int u_env;          // 0 uniform, 1 studio, 2 overcast, 3 sunset
+const vec3 ENV_ZENITH = vec3(0.08, 0.16, 0.45);
+const vec3 ENV_HORIZON = vec3(1.0, 0.45, 0.15);
+const vec3 ENV_GROUND = vec3(0.04, 0.03, 0.025);
+const vec3 ENV_SUN_COLOUR = vec3(1.0, 0.75, 0.45);
+float env_smooth_disc(vec3 w, vec3 c, float r_deg, float e_deg) {
+  float c_in = cos(radians(r_deg - e_deg / 2.0)), c_out = cos(radians(r_deg + e_deg / 2.0));
+  float t = clamp((dot(w, c) - c_out) / (c_in - c_out), 0.0, 1.0);
+  return t * t * (3.0 - 2.0 * t);
+}
+vec3 env_radiance(vec3 w) {
+  if (u_env == 0) return u_colour;
+  if (u_env == 1) {
+    vec3 fill = normalize(vec3(-u_key.x, 0.5 * abs(u_key.y) + 0.3, max(u_key.z, 0.3)));
+    return (0.02 + 16.0 * env_smooth_disc(w, u_key, 12.0, 5.0) + 1.2 * env_smooth_disc(w, fill, 20.0, 8.0)) * u_colour;
+  }
+  if (u_env == 2) {
+    float c = dot(w, u_key);
+    return (c >= 0.0 ? (1.0 + 2.0 * clamp(c, 0.0, 1.0)) / 3.0 : 0.15) * u_colour;
+  }
+  float up = clamp(w.y, -1.0, 1.0);
+  vec3 sky = up >= 0.0 ? ENV_HORIZON + pow(max(up, 0.0), 0.4) * (ENV_ZENITH - ENV_HORIZON) : ENV_GROUND;
+  return (sky + 60.0 * env_smooth_disc(w, u_key, 2.5, 1.0) * ENV_SUN_COLOUR) * u_colour;
+}`;
+
+const ACCUMULATE_MAIN = `
+uniform highp sampler2D u_prev;
+uniform float u_n;
+uniform uint u_frame;
+uniform float u_cone_cos;    // cos of the cone's half-angle; 1: no cone
+out vec4 color;
+const float ENV_PI = 3.14159265;
+uint env_hash(uint x) {          // a 32-bit integer mix (Wellons' lowbias32)
+  x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16; return x;
+}
+float env_rnd(inout uint s) { s = env_hash(s); return float(s >> 8) / 16777216.0; }
+mat3 env_basis(vec3 z) {         // any orthonormal frame with z as its third axis
+  vec3 a = abs(z.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
+  vec3 x = normalize(cross(a, z));
+  return mat3(x, cross(z, x), z);
+}
+void main() {
+  ivec2 px = ivec2(gl_FragCoord.xy);
+  vec4 prev = texelFetch(u_prev, px, 0);
+  vec2 p = 2.0 * gl_FragCoord.xy / u_n - 1.0;
+  float r2 = dot(p, p);
+  if (r2 >= 1.0) { color = vec4(0.0); return; }
+  vec3 n = vec3(p, sqrt(1.0 - r2)), v = vec3(0.0, 0.0, 1.0);
+  uint s = env_hash(uint(px.x) + 4096u * uint(px.y) + 16777216u * u_frame);
+  mat3 fn = env_basis(n), fc = env_basis(u_key);
+  float cone_pdf = u_cone_cos < 1.0 ? 1.0 / (2.0 * ENV_PI * (1.0 - u_cone_cos)) : 0.0;
+  vec3 sum_rgb = vec3(0.0);
+  float sum_l2 = 0.0;
+  for (int k = 0; k < ${PAIRS_PER_FRAME}; k++) {
+    vec3 est = vec3(0.0);
+    for (int strategy = 0; strategy < 2; strategy++) {
+      float u1 = env_rnd(s), u2 = env_rnd(s);
+      vec3 l;
+      if (strategy == 0) {
+        float sr = sqrt(u1);
+        l = fn * vec3(sr * cos(2.0 * ENV_PI * u2), sr * sin(2.0 * ENV_PI * u2), sqrt(1.0 - u1));
+      } else {
+        if (cone_pdf == 0.0) continue;
+        float c = 1.0 - u1 * (1.0 - u_cone_cos), sn = sqrt(max(0.0, 1.0 - c * c));
+        l = fc * vec3(sn * cos(2.0 * ENV_PI * u2), sn * sin(2.0 * ENV_PI * u2), c);
+      }
+      float mu = dot(n, l);
+      if (mu <= 0.0) continue;
+      float pdf = mu / ENV_PI + (dot(l, u_key) >= u_cone_cos ? cone_pdf : 0.0);
+      est += brdf(n, l, v) * env_radiance(l) * mu / pdf;
+    }
+    sum_rgb += est;
+    float lum = dot(est, vec3(${LUMA.join(", ")}));
+    sum_l2 += lum * lum;
+  }
+  color = prev + vec4(sum_rgb, sum_l2);
+}`;
+
+const DISPLAY_FS = `${HEAD}
+uniform highp sampler2D u_sum;
+uniform float u_count;
+uniform float u_scale;
+out vec4 color;
+vec3 srgb(vec3 c) {
+  c = clamp(c, 0.0, 1.0);
+  return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
+}
+void main() {
+  vec2 p = 2.0 * gl_FragCoord.xy / float(textureSize(u_sum, 0).x) - 1.0;
+  if (dot(p, p) >= 1.0) { color = vec4(1.0); return; }
+  color = vec4(srgb(texelFetch(u_sum, ivec2(gl_FragCoord.xy), 0).rgb / u_count * u_scale), 1.0);
+}`;
+
+export class EnvSphere {
+  constructor(gl, n) {
+    Object.assign(this, { gl, n, prog: null, source: null, uniforms: {}, env: "studio", key: [0, 0, 1],
+                          colour: [1, 1, 1], exposure: 0, frames: 0 });
+    this.targets = [floatTarget(gl, n, n), floatTarget(gl, n, n)];
+    this.display = program(gl, FULLSCREEN_VS, DISPLAY_FS);
+  }
+
+  /** The BRDF's GLSL (brdf(n, l, v)); compiles when it differs. Throws ShaderError. */
+  setSource(glsl) {
+    if (glsl === this.source && this.prog) return false;
+    const prog = program(this.gl, FULLSCREEN_VS, HEAD + glsl + ENV_GLSL + ACCUMULATE_MAIN);
+    if (this.prog) this.gl.deleteProgram(this.prog);
+    Object.assign(this, { prog, source: glsl });
+    this.reset();
+    return true;
+  }
+
+  /** Start the accumulation again (the model, light or environment changed). */
+  reset() {
+    const gl = this.gl;
+    for (const t of this.targets) {
+      gl.bindFramebuffer(gl.FRAMEBUFFER, t.fb);
+      gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
+    }
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    this.frames = 0;
+  }
+
+  /** One frame's samples added; the mean shown. */
+  step() {
+    const { gl, n } = this;
+    if (!this.prog) return;
+    const [from, to] = this.frames % 2 ? [this.targets[1], this.targets[0]] : this.targets;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, to.fb);
+    gl.viewport(0, 0, n, n);
+    gl.useProgram(this.prog);
+    setUniforms(gl, this.prog, this.uniforms);
+    const u = (name) => uniformLocation(gl, this.prog, name);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, from.tex);
+    gl.uniform1i(u("u_prev"), 0);
+    gl.uniform1f(u("u_n"), n);
+    gl.uniform1ui(u("u_frame"), this.frames);
+    gl.uniform3fv(u("u_key"), this.key);
+    gl.uniform3fv(u("u_colour"), this.colour);
+    gl.uniform1i(u("u_env"), ENVIRONMENTS.indexOf(this.env));
+    gl.uniform1f(u("u_cone_cos"), CONE_DEG[this.env] ? Math.cos(CONE_DEG[this.env] * DEG) : 1);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+    this.frames++;
+    this.current = to;
+    gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.useProgram(this.display);
+    gl.bindTexture(gl.TEXTURE_2D, to.tex);
+    gl.uniform1i(uniformLocation(gl, this.display, "u_sum"), 0);
+    gl.uniform1f(uniformLocation(gl, this.display, "u_count"), this.frames * PAIRS_PER_FRAME);
+    gl.uniform1f(uniformLocation(gl, this.display, "u_scale"), 2 ** this.exposure);
+    gl.drawArrays(gl.TRIANGLES, 0, 3);
+  }
+
+  /** Samples per pixel so far, the image's mean luminance over the disk and its standard
+   * error (√Σσ²/P, each pixel's from its own samples: render.py's definition). */
+  stats() {
+    const N = this.frames * PAIRS_PER_FRAME;
+    if (!this.current || N < 2) return null;
+    const raw = readTarget(this.gl, this.current);
+    const n = this.n;
+    let sum = 0, varSum = 0, P = 0;
+    for (let j = 0; j < n; j++) {
+      for (let i = 0; i < n; i++) {
+        const x = -1 + (2 * i + 1) / n, y = -1 + (2 * j + 1) / n;
+        if (x * x + y * y >= 1) continue;
+        const q = 4 * (j * n + i);
+        const s1 = LUMA[0] * raw[q] + LUMA[1] * raw[q + 1] + LUMA[2] * raw[q + 2], s2 = raw[q + 3];
+        sum += s1 / N;
+        varSum += Math.max(s2 - (s1 * s1) / N, 0) / (N - 1) / N;
+        P++;
+      }
+    }
+    return { samples: N, mean: sum / P, error: Math.sqrt(varSum) / P };
+  }
+}

@@ -1,0 +1,407 @@
+/* The "Live sphere (GPU)" panel: the page's model drawn per pixel in WebGL2 from
+ * GET /api/v1/code?form=uniform (a slider changes uniforms; a new model compiles once),
+ * the light dragged with the pointer (no server round trip), an exposure, and the truth
+ * toggle (truth.js). Where WebGL2 or float targets are missing, or the server has no
+ * shader for the model, the panel says so and the server's sphere panel is the view.
+ */
+import { API, el, apiMessage, query } from "../dom.js";
+import { modelQuery } from "../model.js";
+import { makeContext, ShaderError } from "./gl.js";
+import { SphereRenderer } from "./sphere.js";
+import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
+import { lightAt } from "../spheredrag.js";
+import { UserBrdf, LINK_KEY } from "./userbrdf.js";
+import { EnvSphere, ENVIRONMENTS, PAIRS_PER_FRAME as ENV_PAIRS } from "./env.js";
+
+/** Pixels across the live sphere (bench/gpu_sphere.py's 256²). */
+export const SIZE = 256;
+const DEG = Math.PI / 180;
+/** After the last change, wait this long before asking the server for the truth frame
+ * (a drag or a slider would otherwise ask at every step). */
+const TRUTH_DELAY_MS = 250;
+/** Sample pairs per pixel at which the environment sphere stops accumulating. */
+const ENV_MAX_SAMPLES = 4096;
+/** Input-to-frame times kept for the benchmark hook. */
+const TIMINGS_KEPT = 2000;
+
+/** (θ, φ) in degrees → unit vector (sin θ cos φ, sin θ sin φ, cos θ), the server's
+ * direction_deg. */
+export const direction = (thetaDeg, phiDeg) => [Math.sin(thetaDeg * DEG) * Math.cos(phiDeg * DEG),
+  Math.sin(thetaDeg * DEG) * Math.sin(phiDeg * DEG), Math.cos(thetaDeg * DEG)];
+
+/** The generated code with its comments gone: two models whose code differs only in
+ * the comments (the parameter values quoted there) run one compiled program. */
+const structure = (code) => code.replace(/\/\/[^\n]*/g, "").replace(/[ \t]+\n/g, "\n");
+
+const fmt = (x) => (x === 0 ? "0" : x.toExponential(1));
+
+export class GpuPanel {
+  /** onLight(θ, φ): the drag's light, written to the page's state at the release;
+   * onFallback(why): WebGL2 is unusable here (the page shows the server's sphere). */
+  constructor({ onLight, onFallback, onLink }) {
+    this.onLight = onLight;
+    this.onFallback = onFallback;
+    this.user = new UserBrdf({
+      registry: () => (this.code && this.model ? { glsl: this.code.code, uniforms: this.code.uniforms, label: query(this.model) } : null),
+      link: (text) => onLink?.(LINK_KEY, text),
+    });
+    this.canvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-canvas",
+                                  title: "Drag on the sphere to move the light", "aria-label": "The lit sphere, drawn on the GPU" });
+    this.diffCanvas = el("canvas", { class: "gpu-canvas gpu-diff", width: SIZE, height: SIZE, id: "gpu-diff", hidden: true,
+                                      "aria-label": "Relative difference from the server's float64 frame" });
+    this.message = el("p", { class: "gpu-message", id: "gpu-message", role: "status", "aria-live": "polite" });
+    this.truthText = el("p", { class: "gpu-truth", id: "gpu-truth", role: "status", "aria-live": "polite", hidden: true });
+    this.exposureInput = el("input", { type: "range", min: "-6", max: "10", step: "0.5", value: "3", id: "gpu-exposure",
+                                       "aria-label": "Exposure (stops)" });
+    this.exposureText = el("output", { for: "gpu-exposure", text: "+3" });
+    this.truthButton = el("button", { type: "button", class: "export", id: "gpu-truth-toggle", "aria-pressed": "false",
+                                      text: "Truth: off", title: "Compare each pixel with the server's float64 render of the same frame" });
+    this.envSelect = el("select", { id: "gpu-env", "aria-label": "Environment of the second sphere" },
+      el("option", { value: "", text: "no environment" }), ...ENVIRONMENTS.map((e) => el("option", { value: e, text: e })));
+    this.envCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-env-canvas", hidden: true,
+                                    "aria-label": "The sphere under the environment, drawn on the GPU" });
+    this.envText = el("p", { class: "gpu-message", id: "gpu-env-text", role: "status", hidden: true });
+    const tools = el("div", { class: "panel-tools gpu-tools" },
+      el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText),
+      el("label", {}, "environment ", this.envSelect), this.truthButton);
+    this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
+      el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
+      el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.diffCanvas),
+      this.message, this.truthText, this.envText, this.user.section,
+      el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
+        + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
+      + "Open a Disney BRDF Explorer .brdf file to see yours beside it, measured." }));
+    this.user.acceptDrops(this.section);
+    Object.assign(this, { renderer: null, ok: false, modelKey: null, codeRequest: null, model: null, dragging: false,
+                          frameQueued: false, inputTime: null, timings: [], compiles: 0, draws: 0, truthOn: false,
+                          truthTimer: 0, truthToken: 0, codeInflight: false, codeWanted: null, truth: null, state: null });
+    this.exposureInput.addEventListener("input", () => {
+      this.renderer && (this.renderer.exposure = Number(this.exposureInput.value));
+      this.user.setExposure(Number(this.exposureInput.value));
+      this.user.draw();
+      this.exposureText.value = `${Number(this.exposureInput.value) >= 0 ? "+" : ""}${this.exposureInput.value}`;
+      this.queueFrame(null, false);
+    });
+    this.truthButton.addEventListener("click", () => this.setTruth(!this.truthOn));
+    this.envSelect.addEventListener("change", () => this.setEnvironment(this.envSelect.value));
+    this.start();
+  }
+
+  /** A context and the renderer, or the reason there is none. */
+  start() {
+    const { gl, why } = makeContext(this.canvas);
+    if (!gl) return this.fail(`No live GPU view: ${why}. The server's sphere panel shows this model instead.`);
+    this.gl = gl;
+    this.canvas.addEventListener("webglcontextlost", (ev) => {
+      ev.preventDefault();                 // lets the browser restore it
+      this.ok = false;
+      this.renderer = null;
+      this.say(`The GPU context was lost (a shader ran too long, or the GPU was reset); restoring it…`, "error");
+    });
+    this.canvas.addEventListener("webglcontextrestored", () => {
+      this.build();
+      this.modelKey = null;
+      if (this.state) this.sync(this.state);
+    });
+    this.build();
+    this.dragHandlers();
+  }
+
+  build() {
+    try {
+      this.renderer = new SphereRenderer(this.gl, SIZE);
+      this.renderer.exposure = Number(this.exposureInput.value);
+      this.user.setExposure(this.renderer.exposure);
+      this.ok = true;
+    } catch (e) {
+      this.fail(`No live GPU view: ${e.message}. The server's sphere panel shows this model instead.`);
+    }
+  }
+
+  fail(why) {
+    this.ok = false;
+    this.failed = true;
+    this.say(why, "error");
+    this.section.classList.add("gpu-missing");
+    this.onFallback?.(why);
+  }
+
+  say(text, kind = "") {
+    this.message.textContent = text;
+    this.message.className = `gpu-message ${kind}`;
+  }
+
+  /** The page's state changed: the model (fetch its code when it is another one), the
+   * light (unless being dragged here). */
+  sync(state) {
+    this.state = state;
+    if (!this.renderer) return;
+    if (!this.dragging) {
+      this.renderer.setLight(direction(state.theta_i_deg, state.phi_i_deg));
+      this.user.setLight(this.renderer.light);
+    }
+    const model = this.fixedModel || modelQuery(state);
+    const key = query(model);
+    if (key !== this.modelKey) {
+      this.modelKey = key;
+      this.loadModel(model, key);
+    } else this.queueFrame(null, true);
+  }
+
+  /** The model's code from /code: one request in flight at a time (a slider's burst of
+   * moves asks again only for the newest model when it returns); never aborted. */
+  async loadModel(model, key) {
+    if (this.codeInflight) { this.codeWanted = [model, key]; return; }
+    this.codeInflight = true;
+    let body, failure = null;
+    try {
+      const res = await fetch(`${API}/code?${query({ ...model, lang: "glsl", form: "uniform", format: "json" })}`);
+      body = await res.json().catch(() => null);
+      if (!res.ok || !body) failure = apiMessage(body, res);
+    } catch (e) {
+      failure = e.message;
+    }
+    this.codeInflight = false;
+    const wanted = this.codeWanted;
+    this.codeWanted = null;
+    if (wanted && wanted[1] !== key) return this.loadModel(...wanted);
+    if (failure !== null) {
+      if (key !== this.modelKey) return;
+      this.model = null;
+      this.say(`No GPU shader for this model: ${failure} The server's sphere panel shows it.`, "error");
+      return;
+    }
+    if (key !== this.modelKey || !this.renderer) return;
+    try {
+      if (this.renderer.setSource(structure(body.code))) this.compiles++;
+    } catch (e) {
+      this.model = null;
+      this.say(e instanceof ShaderError ? `The generated shader failed here: ${e.message}` : String(e), "error");
+      return;
+    }
+    this.model = model;
+    this.code = body;
+    this.renderer.uniforms = body.uniforms;
+    this.say(`Generated GLSL, ${body.lines} lines; ${this.compiles} compile${this.compiles === 1 ? "" : "s"} so far.`);
+    this.queueFrame(null, true);
+  }
+
+  /** Draw at the next animation frame; `inputTime` (an event's timeStamp) is measured to
+   * the finished frame; `changed`: the frame differs, so the truth is stale. */
+  queueFrame(inputTime, changed) {
+    if (inputTime !== null && this.inputTime === null) this.inputTime = inputTime;
+    if (changed) this.truthStale();
+    if (this.frameQueued) return;
+    this.frameQueued = true;
+    requestAnimationFrame(() => this.frame());
+  }
+
+  frame() {
+    this.frameQueued = false;
+    if (!this.renderer || !this.model || this.gl.isContextLost()) return;
+    this.renderer.draw();
+    this.user.setLight(this.renderer.light);
+    this.user.draw();
+    this.envRestart();
+    this.draws++;
+    if (this.inputTime !== null) {
+      // one pixel read back: the frame is finished, not merely queued
+      this.gl.readPixels(0, 0, 1, 1, this.gl.RGBA, this.gl.UNSIGNED_BYTE, new Uint8Array(4));
+      this.timings.push(performance.now() - this.inputTime);
+      if (this.timings.length > TIMINGS_KEPT) this.timings.shift();
+      this.inputTime = null;
+    }
+  }
+
+  dragHandlers() {
+    const c = this.canvas;
+    const aim = (ev) => {
+      const box = c.getBoundingClientRect();
+      const x = ((ev.clientX - box.left) / box.width) * 2 - 1, y = 1 - ((ev.clientY - box.top) / box.height) * 2;
+      const [theta, phi] = lightAt(x, y);
+      this.dragLight = [theta, phi];
+      this.renderer?.setLight(direction(theta, phi));
+      this.truthStale();
+      // drawn here, not at the next animation frame, and at most once per display frame
+      // (the light of later moves in that frame waits for the next one)
+      if (this.inputTime === null) this.inputTime = ev.timeStamp;
+      if (this.drawnThisFrame) return this.queueFrame(null, false);
+      this.drawnThisFrame = true;
+      requestAnimationFrame(() => { this.drawnThisFrame = false; });
+      this.frame();
+    };
+    c.addEventListener("pointerdown", (ev) => {
+      if (ev.button !== 0 || !this.renderer) return;
+      ev.preventDefault();
+      this.dragging = true;
+      c.setPointerCapture?.(ev.pointerId);
+      aim(ev);
+    });
+    // pointerrawupdate (Chromium, secure contexts) comes as the input arrives; pointermove
+    // waits for the next frame's start (up to 16.7 ms, half of that on average)
+    const moveEvent = "onpointerrawupdate" in window ? "pointerrawupdate" : "pointermove";
+    c.addEventListener(moveEvent, (ev) => { if (this.dragging) aim(ev); });
+    const end = () => {
+      if (!this.dragging) return;
+      this.dragging = false;
+      if (this.dragLight) this.onLight?.(...this.dragLight);
+    };
+    c.addEventListener("pointerup", end);
+    c.addEventListener("pointercancel", end);
+  }
+
+  // ---------------------------------------------------------- environment ----
+  /** The second sphere under a procedural environment ("" for none), progressive. */
+  setEnvironment(name) {
+    this.envName = name;
+    this.envCanvas.hidden = this.envText.hidden = !name;
+    if (!name) return;
+    if (!this.envSphere) {
+      const { gl, why } = makeContext(this.envCanvas);
+      if (!gl) { this.envText.textContent = `No environment sphere: ${why}.`; return; }
+      this.envSphere = new EnvSphere(gl, SIZE);
+    }
+    this.envSphere.env = name;
+    this.envRestart();
+  }
+
+  /** Accumulation from nothing (model, light, exposure or environment changed). */
+  envRestart() {
+    const e = this.envSphere;
+    if (!this.envName || !e || !this.code || !this.model) return;
+    try {
+      e.setSource(structure(this.code.code));
+    } catch (err) {
+      this.envText.textContent = `The environment sphere cannot compile this model: ${err.message}`;
+      return;
+    }
+    e.uniforms = this.code.uniforms;
+    e.key = this.renderer.light;
+    e.exposure = this.renderer.exposure;
+    e.reset();
+    this.envStart = performance.now();
+    this.envReference = null;
+    if (!this.envLoop) this.envLoop = requestAnimationFrame(() => this.envFrame());
+  }
+
+  envFrame() {
+    this.envLoop = 0;
+    const e = this.envSphere;
+    if (!this.envName || !e || e.gl.isContextLost()) return;
+    e.step();
+    if (e.frames % 16 === 0) this.envReport();
+    if (e.frames * ENV_PAIRS < ENV_MAX_SAMPLES) this.envLoop = requestAnimationFrame(() => this.envFrame());
+    else this.envReport();
+  }
+
+  envReport() {
+    const st = this.envSphere.stats();
+    if (!st) return;
+    this.envStats = { ...st, seconds: (performance.now() - this.envStart) / 1000 };
+    const ref = this.envReference;
+    this.envText.textContent = `Under ${this.envName}: ${st.samples} sample pairs per pixel in ${this.envStats.seconds.toFixed(1)} s; `
+      + `mean luminance ${st.mean.toPrecision(5)} ± ${st.error.toExponential(1)}`
+      + (ref ? `; the server's (${ref.samples.per_pixel} samples, MIS): ${ref.noise.mean_radiance.toPrecision(5)} ± `
+        + `${ref.noise.mean_radiance_error.toExponential(1)}, difference ${(Math.abs(st.mean - ref.noise.mean_radiance)
+        / Math.hypot(st.error, ref.noise.mean_radiance_error)).toFixed(1)} σ.` : ".");
+    if (!ref && !this.envAsked && this.envStats.seconds > 2) this.envAskServer();
+  }
+
+  async envAskServer() {
+    this.envAsked = true;
+    const [x, y, z] = this.renderer.light;
+    const theta = Math.acos(Math.min(1, z)) * 180 / Math.PI, phi = Math.atan2(y, x) * 180 / Math.PI;
+    const q = query({ ...this.model, environment: this.envName, n: SIZE, samples: 16, theta_i_deg: theta, phi_i_deg: phi });
+    const start = this.envStart;
+    try {
+      const res = await fetch(`${API}/sphere_env?${q}`);
+      const body = await res.json();
+      if (res.ok && start === this.envStart) { this.envReference = body; this.envReport(); }
+    } catch { /* the comparison is left out; the sphere stands */ }
+    this.envAsked = false;
+  }
+
+  // ---------------------------------------------------------------- truth ----
+  setTruth(on) {
+    this.truthOn = on;
+    this.truthButton.textContent = on ? "Truth: on" : "Truth: off";
+    this.truthButton.setAttribute("aria-pressed", String(on));
+    this.diffCanvas.hidden = !on;
+    this.truthText.hidden = !on;
+    if (on) this.truthStale();
+    else this.truthToken++;
+  }
+
+  truthStale() {
+    if (!this.truthOn) return;
+    this.truth = null;
+    clearTimeout(this.truthTimer);
+    this.truthToken++;
+    this.truthText.textContent = "Comparing with the server's float64 frame…";
+    this.truthTimer = setTimeout(() => this.checkTruth(), TRUTH_DELAY_MS);
+  }
+
+  async checkTruth() {
+    if (!this.renderer || !this.model || this.dragging) return;
+    this.renderer.render();
+    const gpu = this.renderer.read();
+    const light = this.renderer.light, model = this.model;
+    const token = ++this.truthToken;           // a later change makes this answer stale
+    let ref;
+    try {
+      ref = await referenceFrame(model, light, SIZE);
+    } catch (e) {
+      if (token === this.truthToken) this.truthText.textContent = `No reference frame: ${e.message}`;
+      return;
+    }
+    if (token !== this.truthToken) return;
+    const r = compare(gpu, ref, SIZE, light);
+    this.truth = { max: r.max, mean: r.mean, at: r.at, pixels: r.pixels, disk: r.disk, absPeak: r.absPeak,
+                   nonFinite: r.nonFinite, floor: r.floor };
+    const ctx2d = this.diffCanvas.getContext("2d");
+    ctx2d.putImageData(new ImageData(diffImage(r.diff, SIZE), SIZE, SIZE), 0, 0);
+    const where = r.at ? ` at pixel (${r.at[0]}, ${r.at[1]})` : "";
+    this.truthText.textContent = `GPU (float32) against the server (float64), same frame: largest relative difference `
+      + `${fmt(r.max)}${where}, mean ${fmt(r.mean)} over the ${r.pixels} pixels with θ_l, θ_v ≤ ${GRAZING_DEG}°; `
+      + `over all ${r.disk} pixels the largest difference is ${fmt(r.absPeak)} of the peak `
+      + `(near the terminator and the rim float32's rounding of n·l alone is ~1e-7)`
+      + (r.nonFinite ? `; ${r.nonFinite} pixels NaN/∞` : "")
+      + `. Right: the relative difference, log scale 1e-8 (dark) to 1e-3 (bright); below ${FLOOR}× the peak it counts against that floor.`;
+  }
+
+  /** For tests and bench/gpu_sphere.py. */
+  hook() {
+    const self = this;
+    return {
+      get ok() { return self.ok && !!self.model; },
+      get compiles() { return self.compiles; },
+      get draws() { return self.draws; },
+      get timings() { return self.timings.slice(); },
+      get truth() { return self.truth; },
+      get message() { return self.message.textContent; },
+      get model() { return self.model; },
+      get env() { return self.envStats ? { ...self.envStats, reference: self.envReference?.noise ?? null } : null; },
+      setEnvironment: (name) => { self.envSelect.value = name; self.setEnvironment(name); },
+      get code() { return self.code; },
+      clearTimings() { self.timings.length = 0; },
+      /** Draw this model query instead of the page's (until null): resolves when drawn
+       * or failed, with the panel's message. */
+      async load(model) {
+        self.fixedModel = model;
+        const m = model || modelQuery(self.state);
+        self.modelKey = query(m);
+        await self.loadModel(m, self.modelKey);
+        await new Promise((r) => requestAnimationFrame(() => requestAnimationFrame(r)));
+        return self.message.textContent;
+      },
+      setTruth: (on) => self.setTruth(on),
+      /** The truth of the current frame now (no wait for the toggle's delay). */
+      async truthNow() {
+        self.setTruth(true);
+        clearTimeout(self.truthTimer);
+        await self.checkTruth();
+        return self.truth;
+      },
+    };
+  }
+}

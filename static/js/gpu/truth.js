@@ -1,0 +1,80 @@
+/* The truth toggle: the GPU's float32 frame against the server's float64 render of the
+ * same frame (GET /api/v1/reference/sphere: the same pixel centres and the very float32
+ * light vector the GPU drew with), per pixel and per channel.
+ *
+ * Relative difference |gpu − ref| / max(|ref|, FLOOR·peak), stated two ways:
+ * - over the pixels where both directions are at most GRAZING_DEG from the normal (the
+ *   band in which the generated GLSL is held to 1e-5 by tests/e2e/test_shader_webgl.py):
+ *   the float32 error of the BRDF itself;
+ * - over the whole disk, as an absolute difference in units of the frame's peak. Near the
+ *   terminator and the rim, n·l and n·v are sums that cancel: float32 rounds each term by
+ *   ~6e-8, so μ ≈ 1e-4 carries a relative error of ~1e-3 whatever the shader does — a
+ *   property of float32 input, not of the model. Both numbers are shown.
+ */
+import { API, apiMessage, query } from "../dom.js";
+
+/** Relative to the frame's brightest channel value: below FLOOR·peak a pixel's
+ * difference counts as absolute, in units of the peak. */
+export const FLOOR = 1e-6;
+/** The well-conditioned band: θ_l, θ_v ≤ 88° (μ ≥ cos 88° ≈ 0.035). */
+export const GRAZING_DEG = 88;
+const MU_MIN = Math.cos((GRAZING_DEG * Math.PI) / 180);
+
+/** The server's float64 frame: Float64Array n·n·3, rows from the top, NaN off the disk. */
+export async function referenceFrame(model, light, n) {
+  const [lx, ly, lz] = light;
+  const res = await fetch(`${API}/reference/sphere?${query({ ...model, lx, ly, lz, n })}`);
+  if (!res.ok) throw new Error(apiMessage(await res.json().catch(() => null), res));
+  return new Float64Array(await res.arrayBuffer());
+}
+
+/** Per-pixel relative difference (Float32Array n·n, NaN off the disk) with its largest
+ * and mean value in the well-conditioned band, where the largest is, the largest absolute
+ * difference over the whole disk in units of the peak, and the pixels that are NaN/∞. */
+export function compare(gpu, ref, n, light) {
+  let peak = 0;
+  for (let i = 0; i < n * n * 3; i++) if (Number.isFinite(ref[i]) && Math.abs(ref[i]) > peak) peak = Math.abs(ref[i]);
+  const floor = FLOOR * peak;
+  const diff = new Float32Array(n * n).fill(NaN);
+  let max = 0, sum = 0, count = 0, at = null, nonFinite = 0, absMax = 0, disk = 0;
+  for (let p = 0; p < n * n; p++) {
+    if (Number.isNaN(ref[p * 3])) continue;            // off the disk
+    disk++;
+    const x = -1 + (2 * (p % n) + 1) / n, y = 1 - (2 * Math.floor(p / n) + 1) / n;
+    const muV = Math.sqrt(Math.max(0, 1 - x * x - y * y));
+    const muL = x * light[0] + y * light[1] + muV * light[2];
+    let worst = 0, abs = 0;
+    for (let c = 0; c < 3; c++) {
+      const r = ref[p * 3 + c], g = gpu[p * 4 + c];
+      if (!Number.isFinite(g) || !Number.isFinite(r)) { worst = abs = Infinity; continue; }
+      worst = Math.max(worst, Math.abs(g - r) / Math.max(Math.abs(r), floor));
+      abs = Math.max(abs, Math.abs(g - r));
+    }
+    if (!Number.isFinite(worst)) { nonFinite++; continue; }
+    absMax = Math.max(absMax, abs);
+    diff[p] = worst;
+    if (muL < MU_MIN || muV < MU_MIN) continue;
+    sum += worst;
+    count++;
+    if (worst > max) { max = worst; at = [p % n, Math.floor(p / n)]; }
+  }
+  return { diff, max, mean: count ? sum / count : 0, at, pixels: count, disk, nonFinite, floor, peak,
+           absPeak: peak > 0 ? absMax / peak : absMax };
+}
+
+/** The difference as an image: log10 from 1e-8 (black) to 1e-3 (white), magenta where
+ * not finite, the background off the disk. ImageData-ready RGBA bytes. */
+export function diffImage(diff, n) {
+  const out = new Uint8ClampedArray(n * n * 4);
+  for (let p = 0; p < n * n; p++) {
+    const d = diff[p];
+    let rgb;
+    if (Number.isNaN(d)) rgb = [255, 255, 255];
+    else {
+      const t = Math.min(1, Math.max(0, (Math.log10(Math.max(d, 1e-12)) + 8) / 5));
+      rgb = [255 * t, 255 * t * t, 255 * (1 - t) * t * 2];
+    }
+    out.set([...rgb, 255], p * 4);
+  }
+  return out;
+}
