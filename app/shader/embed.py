@@ -71,9 +71,9 @@ def _y_of_mu(k: int) -> list:
             ("float", "y", "sel(m < 1.0, ra / (1.0 + ra), 1.0)")]
 
 
-def _piece_at_j() -> list:
-    """The cubic of piece j (an index into the shared tables) at y (Horner)."""
-    return [("float", "d", "y - KC_BP[j]"),
+def _piece_at_j(var: str = "y") -> list:
+    """The cubic of piece j (an index into the shared tables) at ``var`` (Horner)."""
+    return [("float", "d", f"{var} - KC_BP[j]"),
             ("float", "e", "((KC_C0[j] * d + KC_C1[j]) * d + KC_C2[j]) * d + KC_C3[j]")]
 
 
@@ -90,11 +90,18 @@ def _slice_E(k: int, term, offset: int) -> tuple[list, list, Fn]:
     doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017), from the project's E(μ) slice at\n"
            f"α = {term.alpha:g} ({m} cubic pieces in y, reported error {table.error:.1e}):"
            " y = √a/(1 + √a), a = μ/(α sinθ).")
-    body = _y_of_mu(k) + [("int", "j0", f"{offset}")]
+    body = _y_of_mu(k)
+    var = "y"
+    if table.exponent != 1.0:     # the slice's axis is x = y^q where E ~ μ^(2γ−3) at grazing
+        consts.append(Const(f"KC_Q_{k}", float(table.exponent), f"q of lobe {k}'s axis x = y^q"))
+        body.append(("float", "x", f"pow(y, KC_Q_{k})"))
+        var = "x"
+        doc += f"\nThe pieces are in x = y^{table.exponent:g}, where E is smooth at grazing."
+    body.append(("int", "j0", f"{offset}"))
     for i in range(steps):
         step = 1 << (steps - 1 - i)
-        body.append(("int", f"j{i + 1}", f"sel(y >= KC_BP[j{i} + {step}], j{i} + {step}, j{i})"))
-    body += [("int", "j", f"min(j{steps}, {offset + m - 1})")] + _piece_at_j()
+        body.append(("int", f"j{i + 1}", f"sel({var} >= KC_BP[j{i} + {step}], j{i} + {step}, j{i})"))
+    body += [("int", "j", f"min(j{steps}, {offset + m - 1})")] + _piece_at_j(var)
     coeffs = np.concatenate([coeffs, np.zeros((4, padded.size - m))], axis=1)   # the padding's pieces
     return (consts, _pieces(padded.tolist(), coeffs, " (a slice's padded with 2)", offset),
             Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc))

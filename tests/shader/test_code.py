@@ -150,7 +150,8 @@ def test_models_it_cannot_write_are_a_422(client, query, param):
     assert res.json()["detail"][0]["loc"][-1] == param
 
 
-@pytest.mark.parametrize("query", ["ndf=gtr&gamma=1.5", "ndf=exp_power&p=2", "ndf=ggx"])
+@pytest.mark.parametrize("query", ["ndf=gtr&gamma=1.5", "ndf=exp_power&p=2", "ndf=ggx",
+                                   "ndf=student_t&gamma=1.6"])
 def test_kulla_conty_E_in_the_code_is_the_albedo(client, query):
     """The generated E_1(μ) (the per-α slice's cubic pieces behind a branch-free search,
     or the whole table's at its α) against the albedo quadrature of the same lobe at F = 1
