@@ -264,9 +264,13 @@ def albedo(brdf: BRDF, mu, phi: float = 0.0, tol: float = DEFAULT_TOL,
         # E is linear in f: a weighted sum over specular lobes, plus the diffuse term's
         # own albedo (kd exactly for Lambert: ∫ (kd/π) μ_l dl = kd).
         parts = [(w, albedo(lobe, mu, phi, tol, order)) for w, lobe in lobes]
-        first = parts[0][1]
-        E_d, E_d_error = brdf.diffuse_albedo(first.mu)
-        return AlbedoResult(first.mu, sum(w * r.E for w, r in parts) + E_d,
+        mu_used = parts[0][1].mu if parts else np.atleast_1d(np.asarray(mu, dtype=float))
+        E_d, E_d_error = brdf.diffuse_albedo(mu_used)
+        if not parts:          # a family without a microfacet lobe: its own diffuse albedo
+            return AlbedoResult(mu_used, np.asarray(E_d, dtype=float) + 0.0 * mu_used,
+                                np.asarray(E_d_error, dtype=float) + 0.0 * mu_used,
+                                np.zeros(mu_used.shape, dtype=int), 0, 0.0)
+        return AlbedoResult(mu_used, sum(w * r.E for w, r in parts) + E_d,
                             sum(w * r.E_error for w, r in parts) + E_d_error,
                             np.max([r.order for _, r in parts], axis=0),
                             sum(r.evaluations for _, r in parts), sum(r.seconds for _, r in parts))

@@ -102,8 +102,6 @@ def albedo_by(brdf: BRDF, mu, phi: float = 0.0, method: str = "quadrature",
     with compensation E_single, E_single_error, F_avg, E_avg_single (Kulla-Conty's Ē) and
     F_ms; ``E_avg``/``E_avg_error`` when ``average``.
     """
-    if hasattr(brdf, "albedo_by"):      # a model with its own lobe-wise albedo (principled)
-        return brdf.albedo_by(mu, phi, tol)
     t0 = time.perf_counter()
     mu = np.atleast_1d(np.asarray(mu, dtype=float))
     requested = method
