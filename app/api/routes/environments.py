@@ -41,6 +41,13 @@ class ReferenceSphereQuery(schemas.ModelQuery):
     lz: Annotated[float, Field(ge=-1.0, le=1.0, description="light direction, z (towards the viewer)")] = 1.0
     n: Annotated[int, Field(ge=8, le=512, description="pixels across the sphere (n×n image)")] = 256
 
+    def check(self) -> None:
+        """The cross-parameter rule the schema cannot state: (lx, ly, lz) is a unit vector."""
+        length = float(np.linalg.norm([self.lx, self.ly, self.lz]))
+        if abs(length - 1.0) > UNIT_TOLERANCE:
+            raise ParameterError("lx", f"(lx, ly, lz) must be a unit vector to {UNIT_TOLERANCE:g}; "
+                                       f"its length is {length:.9g}")
+
 
 def pixel_centres(n: int) -> tuple[np.ndarray, np.ndarray]:
     """x, y (n×n, rows from the top) at pixel centres −1 + (2k + 1)/n, the sphere view's
@@ -93,10 +100,8 @@ def sphere_frame(brdf, light: np.ndarray, n: int) -> np.ndarray:
                         "(y = 1), NaN off the disk.",
             responses={200: {"content": {"application/octet-stream": {}}}})
 def reference_sphere(q: Annotated[ReferenceSphereQuery, Query()]) -> Response:
+    q.check()
     light = np.array([q.lx, q.ly, q.lz], dtype=float)
-    if abs(np.linalg.norm(light) - 1.0) > UNIT_TOLERANCE:
-        raise ParameterError("lx", f"(lx, ly, lz) must be a unit vector to {UNIT_TOLERANCE:g}; "
-                                   f"its length is {np.linalg.norm(light):.9g}")
     brdf = schemas.spec_of(q).brdf()
     cost.require_evaluations(brdf, q.n * q.n, q.n * q.n * BYTES_PER_PIXEL, "n", f"a {q.n}² sphere")
     frame = sphere_frame(brdf, light, q.n)
