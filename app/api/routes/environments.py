@@ -109,7 +109,14 @@ def reference_sphere(q: Annotated[ReferenceSphereQuery, Query()]) -> Response:
                     headers={"X-Frame-Shape": f"{q.n},{q.n},3", "Cache-Control": "no-store"})
 
 
-@router.post("/environments/hdr", summary="Read a Radiance .hdr environment (equirectangular) and describe it",
+_HDR_BODY = {"requestBody": {"required": True, "content": {
+    "application/octet-stream": {"schema": {"type": "string", "format": "binary"}},
+    "image/vnd.radiance": {"schema": {"type": "string", "format": "binary"}}}}}
+_HDR_ANSWER = {200: {"content": {"application/json": {"example": {
+    "width": 512, "height": 256, "mean_rgb": [0.81, 0.77, 0.74], "max_rgb": [41.0, 38.5, 33.2]}}}}}
+
+
+@router.post("/environments/hdr", openapi_extra=_HDR_BODY, responses=_HDR_ANSWER, summary="Read a Radiance .hdr environment (equirectangular) and describe it",
              description="The request body is the file's bytes. Answers its width, height, mean and "
                          "largest radiance per channel; 422 naming what is wrong for a file that is not "
                          f"a readable .hdr, 413 over {MAX_FILE_BYTES} bytes or the pixel limits.")
