@@ -26,6 +26,12 @@ LABELS = {"theta_o_deg": "θ_o (degrees; > 0 on the mirror side)", "theta_deg": 
           "mu": "μ = cos θ_v", "theta_h_deg": "θ_h (degrees)", "theta_d_deg": "θ_d (degrees)",
           "phi_deg": "φ_v (degrees)", "x": "x (sphere radii)", "y": "y (sphere radii)"}
 
+#: headroom above the data's largest value on a linear radius (the model's own lobe uses
+#: the same 5 %), in decades on a log one, and either side of a curve's widened y range
+RADIAL_PAD = 1.05
+RADIAL_PAD_DECADES = 0.1
+CURVE_PAD = 0.05
+
 #: (rows, columns) of the images whose axes share a unit: drawn with a locked aspect
 SQUARE = {("y", "x"), ("theta_d_deg", "theta_h_deg")}
 
@@ -64,9 +70,54 @@ def with_data(model_figure: dict, result: dict, label: str, data_figure: dict | 
         trace.update(mode="markers", marker={"color": DATA_COLOR, "size": 5, "symbol": "circle-open"})
     trace.update(name=name, showlegend=True)
     out = {"data": [*model_figure["data"], trace], "layout": dict(model_figure["layout"])}
+    if kind in CURVES:
+        _cover(out, trace, result.get("data_error"))
     out["layout"]["title"] = _retitled(model_figure, f"{_text(model_figure)}<br>{name}: "
                                                      f"(data − model)/model {where_text(result)}")
     return out
+
+
+def _cover(figure: dict, trace: dict, error) -> None:
+    """Widen the model's value axis (the polar lobe's radius, a curve's y) to the data's
+    finite values too (± their error bars): a peak of 3.75 on an axis sized to the model's
+    1.47 was cut off, the very thing the overlay exists to show. A log radius keeps the
+    model's bottom; the guide lines (directions) reach the new top."""
+    values = np.asarray(trace.get("r", trace.get("y")), dtype=float)
+    err = np.zeros_like(values) if error is None else np.asarray(error, dtype=float)
+    finite = np.isfinite(values)
+    if not finite.any():
+        return
+    low = float(np.min((values - np.where(np.isfinite(err), err, 0.0))[finite]))
+    high = float(np.max((values + np.where(np.isfinite(err), err, 0.0))[finite]))
+    layout = figure["layout"]
+    if trace["type"] == "scatterpolar":
+        polar = dict(layout.get("polar") or {})
+        radial = dict(polar.get("radialaxis") or {})
+        rng = radial.get("range")
+        if not isinstance(rng, list) or high <= 0:
+            return
+        log = radial.get("type") == "log"
+        top = np.log10(high) + RADIAL_PAD_DECADES if log else high * RADIAL_PAD
+        if top <= rng[1]:
+            return
+        radial["range"] = [rng[0], float(top)]
+        layout["polar"] = {**polar, "radialaxis": radial}
+        reach = float(10 ** top) if log else float(top)
+        figure["data"] = [dict(t, r=[t["r"][0], reach]) if _is_guide(t) else t for t in figure["data"]]
+        return
+    yaxis = layout.get("yaxis")
+    if isinstance(yaxis, dict) and isinstance(yaxis.get("range"), list):
+        lo, hi = yaxis["range"]
+        pad = CURVE_PAD * max(high - low, hi - lo)
+        new = [min(lo, low - pad) if low < lo else lo, max(hi, high + pad) if high > hi else hi]
+        if new[0] < 0 <= lo:
+            new[0] = 0.0 if low >= 0 else new[0]
+        layout["yaxis"] = {**yaxis, "range": [float(new[0]), float(new[1])]}
+
+
+def _is_guide(trace: dict) -> bool:
+    meta = trace.get("meta")
+    return isinstance(meta, dict) and meta.get("role") == "guide"
 
 
 def _text(figure: dict) -> str:

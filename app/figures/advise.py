@@ -19,6 +19,21 @@ HEADER_FILL = "#EEEEEE"
 ROW_HEIGHT = 24
 
 
+#: Differences at or below this are rounding, not an error: E and f are O(1) doubles
+#: summed over at most a few thousand nodes (≈ 1e3 × 2.2e-16).
+ROUNDING = 1e-12
+
+
+def error_phrase(what: str, measured: float | None, bound: float) -> str:
+    """The heading's "(albedo error 0.003 measured, ≤ 0.01 bound)" saying something true
+    when there is nothing to measure: "albedo error 0 measured, ≤ 0 bound" read as a
+    claim of perfection; below rounding it is "none beyond rounding" or "< 1e-12"."""
+    if bound <= ROUNDING:
+        return f"{what}: none beyond rounding (≤ {ROUNDING:.0e})"
+    shown = f"< {ROUNDING:.0e}" if measured is None or measured <= ROUNDING else f"{measured:.2g}"
+    return f"{what} {shown} measured, ≤ {bound:.2g} bound"
+
+
 def _number(x, fmt: str) -> str:
     return "—" if x is None else format(x, fmt)
 
@@ -90,8 +105,7 @@ def advise_figure(data: dict, spec: dict) -> dict:
     model = _model_name(spec)
     # the recommendation first: a page heading shows the title's first lines only
     what = "relative error of f" if pointwise else "albedo error"
-    title = (f"Recommended: {said} ({what} {data.get('max_difference', data['max_error']):.2g} "
-             f"measured, ≤ {data['max_error']:.2g} bound, "
+    title = (f"Recommended: {said} ({error_phrase(what, data.get('max_difference', data['max_error']), data['max_error'])}, "
              f"cost {data['relative_cost']:.3g}×)"
              + ("" if data.get("complete", True) else " — incomplete (time budget)")
              + f"<br>Cheaper choices than {model} over α ∈ [{rng['alpha_min']:g}, "

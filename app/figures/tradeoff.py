@@ -25,6 +25,10 @@ REFERENCE_COLOUR = "#888888"
 #: the quadrature's blue).
 COLOURS = {"quadrature": PALETTE[0], "mc_uniform": PALETTE[1], "mc_cosine": PALETTE[2],
            "mc_ndf": PALETTE[3], "mc_vndf": PALETTE[4], "table": PALETTE[6]}
+#: How an error below the reference's bound is drawn: at the bound, an open triangle
+#: pointing down, its hover saying so.
+UNRESOLVED_SYMBOL = "triangle-down-open"
+UNRESOLVED_TEXT = "(≤ reference bound: not resolved)"
 #: Margin (decades) around the drawn points, so that none sits on the frame.
 PAD_DECADES = 0.2
 
@@ -49,7 +53,7 @@ def _padded(ax: dict) -> dict:
 
 
 def _hover(method: str) -> str:
-    return (f"{method}<br>budget=%{{customdata[0]}}<br>evaluations=%{{customdata[1]}}"
+    return (f"{method} %{{text}}<br>budget=%{{customdata[0]}}<br>evaluations=%{{customdata[1]}}"
             "<br>seconds=%{customdata[2]:.3g}<br>error=%{customdata[3]:.3g}"
             "<br>reported=%{customdata[4]:.3g}<br>within reported at %{customdata[5]:.0%} of μ"
             "<extra></extra>")
@@ -62,7 +66,9 @@ def tradeoff_figure(data: dict, spec: dict, x: str = "evaluations") -> dict:
     xs_all = np.asarray(data[x], dtype=float)
     drawn = xs_all[np.isfinite(xs_all) & (xs_all > 0)]
     span = [float(drawn.min()), float(drawn.max())] if drawn.size else [1.0, 10.0]
-    traces, ys = [], []
+    ref = data.get("reference_error")
+    floor = ref if ref is not None and ref > 0 else None
+    traces, ys, any_unresolved = [], [], False
     for k, method in enumerate(methods):
         rows = per_point == k
         colour = COLOURS.get(method, PALETTE[k % len(PALETTE)])
@@ -77,19 +83,25 @@ def tradeoff_figure(data: dict, spec: dict, x: str = "evaluations") -> dict:
             xv, err, rep, custom = (np.array(span), np.repeat(err, 2), np.repeat(rep, 2),
                                     np.repeat(custom, 2, axis=0))
         name = (f"{method} (0 evaluations at lookup)" if flat else method)
+        # below the reference's own bound a difference is not resolved: drawn at the bound
+        # as an open downward triangle ("≤ bound"), never at its unresolved value
+        unresolved = (np.isfinite(err) & (err < floor)) if floor is not None else np.zeros(err.shape, bool)
+        shown = np.where(unresolved, floor, err) if floor is not None else err
         common = {"type": "scatter", "x": _list(xv), "legendgroup": method,
                   "customdata": _list(custom),
                   "hovertemplate": _hover(method)}
         traces.append({**common, "mode": "lines" if flat else "lines+markers", "name": name,
-                       "y": _positive(err), "line": {"color": colour, "width": 2},
-                       "marker": {"size": 7, "color": colour}})
+                       "y": _positive(shown), "line": {"color": colour, "width": 2},
+                       "marker": {"size": 7, "color": colour,
+                                  "symbol": [UNRESOLVED_SYMBOL if u else "circle" for u in unresolved]},
+                       "text": [UNRESOLVED_TEXT if u else "" for u in unresolved]})
         single = rows.sum() == 1 and not flat
         traces.append({**common, "mode": "markers" if single else "lines",
                        "name": f"{method}: reported error", "showlegend": False,
                        "y": _positive(rep), "line": {"color": colour, "width": 1.2, "dash": "dash"},
                        "marker": {"size": 9, "color": colour, "symbol": "circle-open"}})
-        ys += [err, rep]
-    ref = data.get("reference_error")
+        ys += [shown, rep]
+        any_unresolved = any_unresolved or bool(unresolved.any())
     if ref is not None and ref > 0:
         traces.append({"type": "scatter", "mode": "lines", "x": span, "y": [ref, ref],
                        "name": "reference's error bound", "meta": {"role": "guide"},
@@ -102,6 +114,11 @@ def tradeoff_figure(data: dict, spec: dict, x: str = "evaluations") -> dict:
                    "name": "dashed: the method's reported error", "meta": {"role": "guide"},
                    "line": {"color": "#444444", "width": 1.2, "dash": "dash"},
                    "hoverinfo": "skip"})
+    if any_unresolved:
+        traces.append({"type": "scatter", "mode": "markers", "x": [None], "y": [None],
+                       "name": "▽ at the reference bound: error ≤ bound (not resolved)",
+                       "meta": {"role": "guide"}, "hoverinfo": "skip",
+                       "marker": {"symbol": UNRESOLVED_SYMBOL, "color": "#444444", "size": 8}})
     values = np.concatenate([np.ravel(np.asarray(v, dtype=float)) for v in ys]) if ys else []
     n_mu = data.get("mu_count")
     title = (f"Albedo error against {x} — {model_title(spec)}<br>"
