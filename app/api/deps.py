@@ -82,13 +82,13 @@ REQUEST_ONLY: frozenset[Callable] = frozenset({get_settings, get_datasets, get_o
 
 def _plan(route: APIRoute) -> tuple[type[BaseModel], str, str | None, list] | None:
     """(query model, its argument, the request's argument or None, [(argument,
-    dependency)]) when the endpoint is a plain function of one query model, the request
-    and REQUEST_ONLY dependencies that returns a Response; None otherwise."""
+    dependency)]) when the endpoint is a function (plain, or a coroutine that awaits the
+    heavy pool) of one query model, the request and REQUEST_ONLY dependencies that returns
+    a Response; None otherwise."""
     d = route.dependant
     returns = inspect.signature(route.endpoint).return_annotation
     deps = [(sub.name, sub.call) for sub in d.dependencies]
-    if (inspect.iscoroutinefunction(route.endpoint)
-            or not (isinstance(returns, type) and issubclass(returns, Response))
+    if (not (isinstance(returns, type) and issubclass(returns, Response))
             or d.path_params or d.header_params or d.cookie_params or d.body_params
             or len(d.query_params) != 1 or any(call not in REQUEST_ONLY for _, call in deps)
             or any(sub.dependencies for sub in d.dependencies)
@@ -112,12 +112,15 @@ class Route(QueryModelRoute):
             return super().get_route_handler()
         model, name, request_name, deps = plan
         endpoint = self.endpoint
+        is_async = inspect.iscoroutinefunction(endpoint)
 
         async def app(request: Request) -> Response:
             args = {name: read_query(model, request.query_params)}
             args.update({arg: call(request) for arg, call in deps})
             if request_name:
                 args[request_name] = request
+            if is_async:           # its work is elsewhere (the heavy pool): awaited here
+                return await endpoint(**args)
             return await run_in_threadpool(endpoint, **args)
         return app
 

@@ -4,10 +4,12 @@
 process of the server's one pool, admitted at once (413 never fits, 503 + Retry-After not
 now) and cut at the request's budget. ``close()`` from the application's lifespan, after
 its ``yield``: every worker killed, so shutdown never waits for a running job.
+What each route's work costs is in costs.py, the work itself in jobs.py.
 """
 from __future__ import annotations
 
 from ..config import environment
+from . import costs, jobs
 from .pool import HeavyPool
 
 _POOL: HeavyPool | None = None
@@ -27,6 +29,16 @@ async def run_heavy(fn, *args, cost: float = 0.0, fits: str = ""):
     """``fn(*args)`` in the pool; ``cost`` its predicted seconds on one worker, ``fits``
     what would fit when it cannot (said in the 413)."""
     return await pool().run(fn, *args, cost=cost, fits=fits)
+
+
+def is_heavy(view_name: str) -> bool:
+    """Whether a view's work runs in the pool (it has an entry in costs.VIEW_COSTS)."""
+    return view_name in costs.VIEW_COSTS
+
+
+async def view_answer(view_name: str, fmt: str, query: str, settings) -> tuple[bytes, str]:
+    """A heavy view's answer (fmt json, csv or data) and media type, from the pool."""
+    return await run_heavy(jobs.view, view_name, fmt, query, settings)
 
 
 def close() -> None:

@@ -25,6 +25,7 @@ module-level function and plain data.
 from __future__ import annotations
 
 import asyncio
+import importlib
 import math
 import multiprocessing
 import os
@@ -32,19 +33,26 @@ import time
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 
-from ..errors import Busy, TooLarge
+from ..errors import Busy, ParameterError, TooLarge
 from ..integrate import budget
+from ..integrate import cost as cost_model
 
 #: worker processes and waiting places: settings BRDF_HEAVY_WORKERS, BRDF_HEAVY_QUEUE
 WORKERS_ENV, QUEUE_ENV = "BRDF_HEAVY_WORKERS", "BRDF_HEAVY_QUEUE"
 DEFAULT_WORKERS, DEFAULT_QUEUE = 1, 4
-#: seconds a killed worker is given to end after SIGTERM before SIGKILL
+#: seconds a killed worker's end is waited for (SIGKILL ends it at once; the wait reaps it)
 KILL_GRACE_SECONDS = 0.5
+#: seconds past the request's budget (BRDF_MAX_SECONDS) a job's process is killed: the
+#: job's own cooperative cuts (budget checks between chunks, in the worker) come first;
+#: the rest of cost.GRACE_SECONDS is for sending the answer
+KILL_AFTER_SECONDS = 0.5
 #: scheduling niceness added to each worker (man 2 nice): on a machine with as many busy
 #: processes as cores, the kernel gives the server's own process (cheap requests) the CPU
 #: first; without it a heavy job took its core's share from the event loop (cheap p50
 #: 2.9 → 19 ms at load 14 on 2 cores, tests/robustness/test_heavy_pool.py)
 WORKER_NICENESS = 10
+#: the module a new worker imports at once (the routes' jobs and what they use)
+WARM_MODULE = "app.work.jobs"
 #: weight of the newest job in the running mean of job seconds (Retry-After's estimate)
 MEAN_WEIGHT = 0.3
 
@@ -55,20 +63,19 @@ class _Worker:
     def __init__(self, context):
         self.context = context
         self.executor = ProcessPoolExecutor(max_workers=1, mp_context=context,
-                                            initializer=os.nice, initargs=(WORKER_NICENESS,))
+                                            initializer=_start, initargs=(WORKER_NICENESS,))
         # start the process now, not at the first job: a spawned interpreter took > 1 s
         # to start under load, which the next job's budget would pay
         self.executor.submit(int)
 
     def kill(self) -> None:
-        """End the process now (SIGTERM, then SIGKILL), without joining its job."""
+        """End the process now (SIGKILL: its work is pure computation, nothing to tidy),
+        without joining its job."""
         processes = list((self.executor._processes or {}).values())
         for p in processes:
-            p.terminate()
+            p.kill()
         for p in processes:
             p.join(KILL_GRACE_SECONDS)
-            if p.is_alive():
-                p.kill()
         self.executor.shutdown(wait=False, cancel_futures=True)
 
     def replaced(self) -> "_Worker":
@@ -93,9 +100,11 @@ class HeavyPool:
         self._closed = False
 
     # ------------------------------------------------------------------ admission
-    def _remaining(self) -> float:
+    def _budget(self) -> tuple[float, float]:
+        """(the request's whole budget, what is left of it) in seconds: the request's own
+        (its application's BRDF_MAX_SECONDS), or the pool's outside a request."""
         b = budget.current()
-        return self.max_seconds if b is None else min(self.max_seconds, b.seconds - b.elapsed())
+        return (self.max_seconds, self.max_seconds) if b is None else (b.seconds, b.seconds - b.elapsed())
 
     def _retry_after(self) -> int:
         ahead = self._running + len(self._waiters)
@@ -105,9 +114,10 @@ class HeavyPool:
         """Refuse at once what can never fit (413) or does not fit now (503)."""
         if self._closed:
             raise Busy("the server is shutting down", retry_after=5, what="heavy work pool")
-        if cost > self.max_seconds:
+        whole, left = self._budget()
+        if cost > whole:
             raise TooLarge("body", f"this work is predicted to take {cost:.1f} s; the limit is "
-                           f"{self.max_seconds:g} s (setting BRDF_MAX_SECONDS)"
+                           f"{whole:g} s (setting BRDF_MAX_SECONDS)"
                            + (f"; {fits}" if fits else ""), loc="body")
         if self._running + len(self._waiters) >= self.workers + self.queue:
             raise Busy(f"{self._running} heavy jobs run and {len(self._waiters)} wait (settings "
@@ -115,64 +125,81 @@ class HeavyPool:
                        retry_after=self._retry_after(), what="heavy work pool")
         wait = self._mean_seconds * (len(self._waiters) + max(0, self._running - self.workers + 1)) \
             if self._running >= self.workers else 0.0
-        if wait + cost > self._remaining():
+        # work of unknown cost (0) that can start now is left to the worker's own checks
+        if (wait or cost) and wait + cost > left:
             raise Busy(f"this work (~{cost:.1f} s) would start after ~{wait:.1f} s of queued "
-                       f"work and end past the time budget (BRDF_MAX_SECONDS="
-                       f"{self.max_seconds:g})", retry_after=self._retry_after(),
-                       what="heavy work pool")
+                       f"work and end past the time budget (BRDF_MAX_SECONDS={whole:g})",
+                       retry_after=self._retry_after(), what="heavy work pool")
 
     # ------------------------------------------------------------------ running
     async def run(self, fn, *args, cost: float = 0.0, fits: str = ""):
-        """``fn(*args)`` in a worker process, admitted and cut as the module says."""
+        """``fn(*args)`` in a worker process, admitted and cut as the module says. The
+        worker runs it under the request's own budget (its clock: perf_counter is the
+        system's monotonic clock, the same in every process), so its cooperative cuts
+        and its cost checks see what the server's would; what it cut is added to the
+        request's notes (the x-time-budget header)."""
         self.admit(cost, fits)
-        deadline = time.monotonic() + self._remaining()
-        worker = await self._take(deadline)
+        request_budget = budget.current()
+        start, seconds = ((request_budget.start, request_budget.seconds) if request_budget
+                          else (time.perf_counter(), self.max_seconds))
+        kill_at = start + seconds + KILL_AFTER_SECONDS
+        worker = await self._take(kill_at)
         self._busy.add(worker)
-        started = time.monotonic()
+        started, healthy = time.perf_counter(), False
         loop = asyncio.get_running_loop()
         try:
-            future = loop.run_in_executor(worker.executor, fn, *args)
+            future = loop.run_in_executor(worker.executor, _call, start, seconds,
+                                          cost_model.memory_limit(), fn, args)
             try:
-                result = await asyncio.wait_for(future, max(0.0, deadline - time.monotonic()))
+                outcome = await asyncio.wait_for(future, max(0.0, kill_at - time.perf_counter()))
             except TimeoutError:
-                worker = await asyncio.to_thread(worker.replaced)
                 raise Busy(f"this work ran past the time budget (BRDF_MAX_SECONDS="
-                           f"{self.max_seconds:g}) and was stopped; ask for less, or retry "
+                           f"{seconds:g}) and was stopped; ask for less, or retry "
                            "when the server is less busy", retry_after=self._retry_after(),
                            what="heavy work pool") from None
             except BrokenProcessPool:
-                worker = await asyncio.to_thread(worker.replaced)
                 raise Busy("the worker process running this work ended (out of memory?); "
                            "retry with less", retry_after=self._retry_after(),
                            what="heavy work pool") from None
-            except asyncio.CancelledError:     # the client left, or the server is stopping
-                worker = worker.replaced()
-                raise
-            seconds = time.monotonic() - started
-            self._mean_seconds += MEAN_WEIGHT * (seconds - self._mean_seconds)
-            return result
-        finally:
+            healthy = True
+        finally:                  # a cut, a crash, a client gone or a shutdown: a new worker
             self._busy.discard(worker)
-            self._give(worker)
+            self._give(worker) if healthy else self._renew(worker)
+        self._mean_seconds += MEAN_WEIGHT * (time.perf_counter() - started - self._mean_seconds)
+        return _unpack(outcome, request_budget)
+
+    def _renew(self, worker: _Worker) -> None:
+        """Kill ``worker`` (its job is abandoned) and, unless closing, put a new one in
+        its place (spawning returns at once: the interpreter starts in the child)."""
+        worker.kill()
+        if self._closed:
+            self._running -= 1
+        else:
+            self._give(_Worker(self._context))
 
     async def _take(self, deadline: float) -> _Worker:
-        self._running += 1
+        """An idle worker, or the first one given back before ``deadline`` (Busy after)."""
         if self._idle:
+            self._running += 1
             return self._idle.pop()
         waiter = asyncio.get_running_loop().create_future()
         self._waiters.append(waiter)
-        self._running -= 1
         try:
-            return await asyncio.wait_for(waiter, max(0.0, deadline - time.monotonic()))
+            worker = await asyncio.wait_for(waiter, max(0.0, deadline - time.perf_counter()))
         except TimeoutError:
             raise Busy("no worker became free within the time budget (BRDF_MAX_SECONDS="
                        f"{self.max_seconds:g})", retry_after=self._retry_after(),
                        what="heavy work pool") from None
+        except asyncio.CancelledError:   # gone; a worker handed over meanwhile is passed on
+            if waiter.done() and not waiter.cancelled() and waiter.exception() is None:
+                self._running += 1
+                self._give(waiter.result())
+            raise
         finally:
             if waiter in self._waiters:
                 self._waiters.remove(waiter)
-            if waiter.done() and not waiter.cancelled() and waiter.exception() is None:
-                self._running += 1
+        self._running += 1
+        return worker
 
     def _give(self, worker: _Worker) -> None:
         self._running -= 1
@@ -200,3 +227,36 @@ class HeavyPool:
     def stats(self) -> dict:
         return {"workers": self.workers, "queue": self.queue, "running": self._running,
                 "waiting": len(self._waiters), "mean_seconds": round(self._mean_seconds, 3)}
+
+
+def _start(niceness: int) -> None:
+    """A new worker: its niceness, and the jobs' modules imported before the first job
+    (a cold import of the models and data readers took seconds of that job's budget)."""
+    os.nice(niceness)
+    importlib.import_module(WARM_MODULE)
+
+
+def _call(start: float, seconds: float, memory_bytes: int, fn, args: tuple):
+    """In the worker: ``fn(*args)`` under the request's budget (the same start and
+    seconds) and memory limit. The application's errors come back as plain tuples (their
+    constructors take more than the message, which pickling cannot rebuild)."""
+    cost_model.set_memory_limit(memory_bytes)
+    with budget.limit(seconds) as own:
+        own.start = start
+        try:
+            return "ok", fn(*args), list(own.notes)
+        except Busy as exc:
+            return "busy", exc.message, exc.retry_after, exc.what
+        except ParameterError as exc:
+            return "parameter", exc.param, exc.message, exc.status, exc.loc
+
+
+def _unpack(outcome: tuple, request_budget):
+    """The job's result (its cuts noted in the request's budget), or its error raised."""
+    if outcome[0] == "busy":
+        raise Busy(outcome[1], retry_after=outcome[2], what=outcome[3])
+    if outcome[0] == "parameter":
+        raise ParameterError(*outcome[1:])
+    if request_budget is not None:
+        request_budget.notes.extend(outcome[2])
+    return outcome[1]

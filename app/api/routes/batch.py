@@ -28,6 +28,8 @@ from ...export import build
 from ...export.image import ImageRenderer
 from ...integrate import budget
 from ...views import VIEWS
+from ...work import jobs
+from ... import work
 from ..deps import RendererDep, SettingsDep
 from ..http.caching import cache_control
 from ..http.guard import json_error, query_refusal
@@ -127,6 +129,17 @@ async def _handled(request: Request, exc: Exception) -> Answer:
             response.headers.get("retry-after"))
 
 
+async def _heavy_answer(request: Request, path: str, outcome, settings: Settings) -> Answer:
+    """A heavy entry's answer from what the pool's job returned for it (jobs.views)."""
+    if isinstance(outcome, Exception):
+        return await _handled(request, outcome)
+    if outcome[0] == "ok":
+        _, body, media, cut = outcome
+        return _answer(path, Response(body, media_type=media), cut, settings.cache_max_age)
+    error = Busy(*outcome[1:]) if outcome[0] == "busy" else ParameterError(*outcome[1:])
+    return await _handled(request, error)
+
+
 def _answer(path: str, response: Response, cut: bool, max_age: int) -> Answer:
     is_json = response.media_type == "application/json"
     # an answer cut short by the time budget is not to be kept (as the guard says)
@@ -164,12 +177,25 @@ async def batch(request: Request, settings: SettingsDep, renderer: RendererDep,
             answers[k] = verdict
         else:
             judged.append((k, *verdict))
-    computed = await run_in_threadpool(_compute, [entry[1:] for entry in judged], settings, renderer)
-    for (k, *_), result in zip(judged, computed):
+    # a view with a cost model runs in the heavy pool (one job for them all, after the
+    # others, under the same budget); the rest in a worker thread
+    heavy = [entry for entry in judged if work.is_heavy(entry[1].name) and entry[2] != "svg"
+             and entry[2] != "png"]
+    light = [entry for entry in judged if entry not in heavy]
+    computed = await run_in_threadpool(_compute, [entry[1:] for entry in light], settings, renderer)
+    for (k, *_), result in zip(light, computed):
         if isinstance(result, Exception):
             answers[k] = await _handled(request, result)
         else:
             answers[k] = _answer(targets[k].path, *result, settings.cache_max_age)
+    if heavy:
+        try:
+            outcomes = await work.run_heavy(jobs.views, [
+                (view.name, fmt, targets[k].query) for k, view, fmt, _ in heavy], settings)
+        except (Busy, ParameterError) as exc:      # not admitted, or cut: each entry says so
+            outcomes = [exc] * len(heavy)
+        for (k, *_), outcome in zip(heavy, outcomes):
+            answers[k] = await _heavy_answer(request, targets[k].path, outcome, settings)
     out = [b'{"status":%d,"cache":%s,"body":%s%s}'
            % (status, json.dumps(cache).encode(), content if content is not None else b"null",
               b',"retry_after":%d' % int(retry) if status == 503 and retry and retry.isdigit() else b"")

@@ -9,14 +9,15 @@ from fastapi import APIRouter, Path, Query, Request, Response
 from pydantic import Field, create_model
 from starlette.concurrency import run_in_threadpool
 
-from ... import figures
+from ... import figures, work
 from ...config import Settings
-from ...datasets import compare, figure, formats, overlay, summary
+from ...datasets import compare, figure, formats, overlay
 from ...datasets.store import DatasetStore, content_id
 from ...errors import ParameterError, TooLarge
 from ...fit import run as fitting
 from ...model import family_of, make_spec
 from ...views import VIEWS, View, run, schemas
+from ...work import costs, jobs
 from ..deps import DatasetsDep, Route, SettingsDep
 from ..encode import json_response
 
@@ -92,12 +93,11 @@ async def upload(request: Request, settings: SettingsDep, datasets: DatasetsDep,
                  format: Annotated[Optional[_FORMAT], Query(
                      description="insist on a format instead of detecting it")] = None) -> Response:
     content = await read_upload(request, settings.max_upload_bytes)
-    data = await run_in_threadpool(formats.load, content, format)
+    seconds, fits = costs.upload_seconds(content)
+    data, info = await work.run_heavy(jobs.upload, content, format, cost=seconds, fits=fits)
     data_id = content_id(data.format, content)
-    info = datasets.get(data_id)[1] if data_id in datasets else \
-        await run_in_threadpool(summary.summarize, data)
     client = request.client.host if request.client else ""
-    token = datasets.put(data_id, data, info, client=client)
+    token = await run_in_threadpool(datasets.put, data_id, data, info, client)
     return json_response({"id": data_id, "format": data.format, "summary": info, "token": token},
                          status_code=201)
 

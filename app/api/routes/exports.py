@@ -2,12 +2,13 @@
 and ``GET /api/v1/export/model.csv`` (BRDF samples, the format POST /datasets reads)."""
 from typing import Annotated
 
-import numpy as np
 from fastapi import APIRouter, Query, Response
 from pydantic import Field
 
+from ... import work
 from ...datasets import tabulate
 from ...model import make_spec
+from ...work import jobs
 from ...views import schemas
 from ..deps import Route
 
@@ -30,20 +31,25 @@ class SamplesExportQuery(schemas.ModelQuery):
                        503: {"description": "The table would take longer than what is left of "
                                             "the request's time budget; Retry-After says about "
                                             "how long it takes"}})
-def export_merl(q: Annotated[schemas.ModelQuery, Query()]) -> Response:
-    spec = make_spec(**schemas.model_values(q))
-    content = tabulate.merl_bytes(spec.brdf())
+async def export_merl(q: Annotated[schemas.ModelQuery, Query()]) -> Response:
+    values = schemas.model_values(q)
+    make_spec(**values)                  # a bad model is a 422 here, before any queue
+    content = await work.run_heavy(jobs.model_merl, values)
     return Response(content, media_type="application/octet-stream",
                     headers={"content-disposition": 'attachment; filename="model.binary"'})
 
 
 @router.get("/export/model.csv", tags=["exports"], response_class=Response,
             summary="The model as a CSV of BRDF samples (the format POST /datasets reads)",
-            responses={200: {"content": {"text/csv": {"example": ",".join(tabulate.SAMPLE_COLUMNS)}}}})
-def export_samples(q: Annotated[SamplesExportQuery, Query()]) -> Response:
-    spec = make_spec(**schemas.model_values(q))
-    text = tabulate.samples_csv(spec.brdf(), np.linspace(0.0, 90.0, q.n_theta),
-                                np.arange(q.n_phi) * 360.0 / q.n_phi)
+            description="n_theta² × n_phi rows; their time (evaluations and encoding) is "
+                        "predicted before any work: 413 naming the n_phi that would fit.",
+            responses={200: {"content": {"text/csv": {"example": ",".join(tabulate.SAMPLE_COLUMNS)}}},
+                       413: {"description": "This table takes longer than BRDF_MAX_SECONDS"},
+                       503: {"description": "Busy: Retry-After says when to retry"}})
+async def export_samples(q: Annotated[SamplesExportQuery, Query()]) -> Response:
+    values = schemas.model_values(q)
+    make_spec(**values)
+    text = await work.run_heavy(jobs.model_csv, values, q.n_theta, q.n_phi)
     return Response(text, media_type="text/csv",
                     headers={"content-disposition": 'attachment; filename="model.csv"'})
 

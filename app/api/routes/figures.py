@@ -16,10 +16,10 @@ import re
 import time
 from typing import Annotated, Any, Optional
 
-from fastapi import APIRouter, HTTPException, Query, Response
+from fastapi import APIRouter, HTTPException, Query, Request, Response
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
 
-from ... import figures
+from ... import figures, work
 from ...errors import ParameterError
 from ...export import build
 from ...figures.titles import file_stem
@@ -98,6 +98,12 @@ def _image_route(view: View, fmt: str):
 
 def _csv_route(view: View):
     model = build.export_query(view)
+    if work.is_heavy(view.name):
+        async def heavy(request: Request, settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
+            body, media = await work.view_answer(view.name, "csv", request.url.query, settings)
+            return Response(body, media_type=media, headers={
+                "Content-Disposition": f'inline; filename="{_filename(view, q, "csv")}"'})
+        return heavy
 
     def route(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
         return csv_body(view, q, settings)
@@ -112,6 +118,11 @@ def figure_body(view: View, q, settings) -> bytes:
 
 def _figure_route(view: View):
     model = build.export_query(view)
+    if work.is_heavy(view.name):    # computed in the heavy pool (app/work), as JSON
+        async def heavy(request: Request, settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
+            body, media = await work.view_answer(view.name, "json", request.url.query, settings)
+            return Response(body, media_type=media)
+        return heavy
 
     def route(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
         return Response(figure_body(view, q, settings), media_type=MEDIA["json"])

@@ -4,10 +4,13 @@ from typing import Annotated, Any, Literal, Optional
 
 from fastapi import APIRouter, Body, Response
 from pydantic import BaseModel, ConfigDict, Field
+from starlette.concurrency import run_in_threadpool
 
+from ... import work
 from ...fit import run as fitting
 from ...fit.problem import MEASURES
 from ...integrate import budget
+from ...work import jobs
 from ..deps import DatasetsDep, Route
 from ..encode import json_response
 
@@ -45,7 +48,7 @@ FIT_SHARE = 0.8
                          "whole fitted model, to send to any endpoint as it is.",
              responses={404: {"description": "No data set has the id in `data`"},
                         410: {"description": "The data set in `data` has expired (evicted or deleted)"}})
-def fit(datasets: DatasetsDep, body: Annotated[FitBody, Body(openapi_examples={"GGX to a MERL file": {
+async def fit(datasets: DatasetsDep, body: Annotated[FitBody, Body(openapi_examples={"GGX to a MERL file": {
         "summary": "α, F0 and kd of GGX, red channel, log measure",
         "value": {"data": "3e071955855cb1a4a828bf3b009a1d2b", "model": {"ndf": "ggx", "alpha": 0.3},
                   "free": ["alpha", "f0", "kd"], "measure": "log", "channel": "r"}}})]) -> Response:
@@ -53,9 +56,11 @@ def fit(datasets: DatasetsDep, body: Annotated[FitBody, Body(openapi_examples={"
     request_budget = budget.current()
     if request_budget is not None:
         seconds = min(seconds, FIT_SHARE * (request_budget.seconds - request_budget.elapsed()))
-    data, _ = datasets.get(body.data)
-    run = fitting.fit_all if body.fit_all else fitting.fit
-    result = run(data, body.model, body.free, body.measure, body.channel, seconds, body.max_points)
+    data, _ = await run_in_threadpool(datasets.get, body.data)
+    # in the heavy pool: its own seconds bound it, the pool's cut the rest
+    result = await work.run_heavy(jobs.fit, data, body.model, body.free, body.measure,
+                                  body.channel, seconds, body.max_points, body.fit_all,
+                                  cost=seconds)
     return json_response({"data": body.data, **result})
 
 

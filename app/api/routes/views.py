@@ -3,8 +3,9 @@ views' pipeline), and ``GET /api/v1/views``: every view with its title, summary,
 (with their role) and endpoints, what the page builds its panels from."""
 from typing import Annotated
 
-from fastapi import APIRouter, Query, Response
+from fastapi import APIRouter, Query, Request, Response
 
+from ... import work
 from ...views import VIEWS, View, run, vary
 from ..deps import Route, SettingsDep
 from ..encode import json_response
@@ -57,6 +58,13 @@ def views():
 
 
 def _data_route(view: View):
+    if work.is_heavy(view.name):    # computed in the heavy pool (app/work)
+        async def heavy(request: Request, settings: SettingsDep,
+                        q: Annotated[view.query, Query()]) -> Response:
+            body, media = await work.view_answer(view.name, "data", request.url.query, settings)
+            return Response(body, media_type=media)
+        return heavy
+
     def route(settings: SettingsDep, q: Annotated[view.query, Query()]) -> Response:
         return json_response(run(view, q, settings).data)
     return route

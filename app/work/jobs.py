@@ -1,0 +1,98 @@
+"""The heavy routes' work as module-level functions of plain data, run in the pool's
+worker processes (pool.py): an upload's parsing and summary, a view with a cost model
+(costs.py) as figure JSON, CSV or data, the model's exports, a fit, a batch's heavy
+entries. Each runs under the request's budget, opened by the pool in the worker, and
+checks its predicted cost there before it starts (costs.py): 413 if it can never fit,
+503 if it does not fit what is left.
+
+A query travels as its query string and is read again here by the route's own reader
+(the dynamic query models cannot be pickled), so the worker judges it exactly as the
+route did.
+"""
+from __future__ import annotations
+
+import orjson
+from starlette.datastructures import QueryParams
+
+from ..config import Settings
+from ..datasets import formats, summary, tabulate
+from ..errors import Busy, ParameterError
+from ..export import build
+from ..export.jsonable import jsonable
+from ..fit import run as fitting
+from ..integrate import budget
+from ..views import VIEWS, run
+from ..model import make_spec
+from ..api.encode import OPTIONS
+from ..api.http.query_route import read_query
+from . import costs
+
+def upload(content: bytes, fmt: str | None) -> tuple:
+    """(data, summary) of an uploaded file."""
+    data = formats.load(content, fmt)
+    budget_check("file", "this upload's summary")
+    return data, summary.summarize(data)
+
+
+def budget_check(param: str, what: str) -> None:
+    """Stop (503) once the request's budget is spent: between an upload's parsing and
+    its summary, between a batch's entries."""
+    b = budget.current()
+    if b is not None and b.elapsed() > b.seconds:
+        raise Busy(f"{what} ran out of BRDF_MAX_SECONDS={b.seconds:g} (the server is busy): "
+                   "retry", retry_after=int(b.seconds), what="time budget")
+
+
+def view(view_name: str, fmt: str, query: str, settings: Settings) -> tuple[bytes, str]:
+    """One view's answer (fmt: json = figure, csv, data = the arrays) and its media type,
+    its cost checked first (costs.view_seconds)."""
+    v = VIEWS[view_name]
+    model = v.query if fmt == "data" else build.export_query(v)
+    q = read_query(model, QueryParams(query))
+    costs.require_view(v, q, settings)
+    if fmt == "data":
+        return orjson.dumps(jsonable(run(v, q, settings).data), option=OPTIONS), "application/json"
+    produced = build.produce(v, q, settings)
+    if fmt == "csv":
+        return produced.csv().encode(), "text/csv; charset=utf-8"
+    return build.figure_json(produced).encode(), "application/json"
+
+
+def views(entries: list[tuple[str, str, str]], settings: Settings) -> list[tuple]:
+    """A batch's heavy entries (view, fmt, query), one after another under the request's
+    one budget: each ("ok", body, media type, cut) or its error as pool.py returns one
+    (an entry that no longer fits what is left is a 503, the rest still run)."""
+    b = budget.current()
+    out = []
+    for view_name, fmt, query in entries:
+        notes = len(b.notes) if b is not None else 0
+        try:
+            body, media = view(view_name, fmt, query, settings)
+            out.append(("ok", body, media, b is not None and len(b.notes) > notes))
+        except Busy as exc:
+            out.append(("busy", exc.message, exc.retry_after, exc.what))
+        except ParameterError as exc:
+            out.append(("parameter", exc.param, exc.message, exc.status, exc.loc))
+    return out
+
+
+def model_csv(values: dict, n_theta: int, n_phi: int) -> bytes:
+    """The model's samples CSV, its cost checked first (costs.require_samples_csv)."""
+    import numpy as np
+    brdf = make_spec(**values).brdf()
+    theta, phi = np.linspace(0.0, 90.0, n_theta), np.arange(n_phi) * 360.0 / n_phi
+    costs.require_samples_csv(brdf, n_theta, n_phi)
+    return tabulate.samples_csv(brdf, theta, phi).encode()
+
+
+def model_merl(values: dict) -> bytes:
+    """The model's MERL .binary (tabulate checks its own cost)."""
+    return tabulate.merl_bytes(make_spec(**values).brdf())
+
+
+def fit(data, model: dict, free: list, measure: str, channel, seconds: float, max_points: int,
+        fit_all: bool) -> dict:
+    """A fit (or every NDF's), within ``seconds`` of its own."""
+    return (fitting.fit_all if fit_all else fitting.fit)(data, model, free, measure, channel,
+                                                         seconds, max_points)
+
