@@ -19,9 +19,7 @@ from starlette.datastructures import Headers
 from .strict import Refusal
 
 #: (method, path) → media types of operations whose body the OpenAPI does not describe
-UNDECLARED: dict[tuple[str, str], tuple[str, ...]] = {
-    ("POST", "/api/v1/lut/check"): ("image/png", "application/json"),
-}
+UNDECLARED: dict[tuple[str, str], tuple[str, ...]] = {}
 #: the methods whose body is judged here
 BODY_METHODS = frozenset({"POST", "PUT", "PATCH"})
 
