@@ -63,10 +63,16 @@ def program(spec: ModelSpec, form: str = "const") -> Program:
     return _assemble(spec, form)[0]
 
 
+def writes(family) -> bool:
+    """Whether the generator writes this model family (it writes a microfacet model's
+    choices: NDF, masking, G2, Fresnel, diffuse); /models states it as ``shader``."""
+    return "ndf" in family.own_names()
+
+
 def _assemble(spec: ModelSpec, form: str):
     if form not in FORMS:
         raise ParameterError("form", f"form must be one of {', '.join(FORMS)}; got {form!r}")
-    if "ndf" not in spec.family.own_names():        # it writes a microfacet model's choices
+    if not writes(spec.family):
         raise ParameterError("model", f"code generation writes model=microfacet only; got "
                                       f"model={spec.family.name}")
     brdf = spec.brdf()

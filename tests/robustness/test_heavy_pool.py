@@ -81,8 +81,16 @@ def test_an_overrun_is_cut_and_its_worker_replaced():
             with pytest.raises(Busy, match="BRDF_MAX_SECONDS"):
                 await pool.run(spin, 60)
             cut = time.perf_counter() - t0
-            await asyncio.sleep(2.0)                  # the replacement starting (spawn, loaded)
-            return cut, await pool.run(square, 7)
+            # the replacement starting (spawn, imports): its start counts against a job's
+            # budget, and on a loaded machine takes longer than one; ask until it answers
+            give_up = time.perf_counter() + 60.0
+            while True:
+                try:
+                    return cut, await pool.run(square, 7)
+                except Busy:
+                    if time.perf_counter() > give_up:
+                        raise
+                    await asyncio.sleep(0.5)
         cut, after = run(main())
         assert 2.0 <= cut < 2.0 + 2.0 and after == 49
     finally:

@@ -6,6 +6,7 @@ from fastapi import APIRouter
 
 from ... import __version__
 from ...model import DEFAULT, families
+from ...shader import generate
 from ...views import VIEWS
 from ..deps import Route
 
@@ -34,7 +35,8 @@ def family_entry(family) -> dict:
     return {"name": family.name, "label": family.label, "description": family.description,
             "reference": family.reference, **family.catalogue(),
             "views": [name for name in VIEWS if name not in refused], "refused_views": refused,
-            "albedo_methods": list(family.albedo_methods), "default": family.name == DEFAULT}
+            "albedo_methods": list(family.albedo_methods), "shader": generate.writes(family),
+            "default": family.name == DEFAULT}
 
 
 @router.get("/models", summary="Every model family, option and parameter with ranges and defaults",

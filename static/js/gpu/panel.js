@@ -6,6 +6,7 @@
  */
 import { API, el, apiMessage, query } from "../dom.js";
 import { modelQuery } from "../model.js";
+import { fam } from "../families.js";
 import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
 import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
@@ -139,6 +140,13 @@ export class GpuPanel {
     if (!this.dragging) {
       this.renderer.setLight(direction(state.theta_i_deg, state.phi_i_deg));
       this.user.setLight(this.renderer.light);
+    }
+    const family = fam.byName.get(state.model || fam.default);
+    if (!this.fixedModel && family && family.shader === false) {   // /models: no shader for it
+      this.modelKey = null;
+      this.say(`No GPU shader for the ${family.label} yet (/api/v1/code writes the families `
+        + "marked shader in /api/v1/models); the server's sphere panel draws it.");
+      return;
     }
     const model = this.fixedModel || modelQuery(state);
     const key = query(model);
