@@ -9,6 +9,7 @@ from __future__ import annotations
 
 import argparse
 import asyncio
+import concurrent.futures
 import inspect
 from dataclasses import dataclass
 from functools import lru_cache
@@ -97,13 +98,25 @@ def run(op: Operation, argv: list[str]) -> int:
     try:
         answer = op.endpoint(**kwargs)
         if inspect.isawaitable(answer):
-            answer = asyncio.run(answer)
+            answer = _await(answer)
     except ParameterError as e:
         raise UsageError(f"{_name_of(e.param)}: {e.message}") from None
     except Busy as e:
         raise UsageError(f"busy: {e.message}; try again in {e.retry_after} s") from None
     write(_body(answer), args.output)
     return 0
+
+
+def _await(coroutine):
+    """The coroutine's result: on a new event loop, in a thread of its own when this
+    thread already runs one (a notebook, or Playwright's sync API in the tests), where
+    asyncio.run refuses."""
+    try:
+        asyncio.get_running_loop()
+    except RuntimeError:
+        return asyncio.run(coroutine)
+    with concurrent.futures.ThreadPoolExecutor(max_workers=1) as thread:
+        return thread.submit(asyncio.run, coroutine).result()
 
 
 def _name_of(param: str) -> str:

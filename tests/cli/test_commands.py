@@ -175,6 +175,20 @@ def test_model_csv_round_trips_through_datasets(tmp_path, capsys):
     assert json.loads(capsys.readouterr().out)["format"] == "samples_csv"
 
 
+def test_commands_run_where_an_event_loop_already_runs(tmp_path):
+    """From a notebook (whose thread runs an event loop) the commands work as from a
+    shell: export-model-csv's route is a coroutine, which asyncio.run refuses there."""
+    import asyncio
+    out = tmp_path / "model.csv"
+
+    async def notebook_cell():
+        return main(["export-model-csv", "--n-theta", "2", "--n-phi", "2", "-o", str(out)])
+
+    assert asyncio.run(notebook_cell()) == 0
+    rows = list(csv.reader(io.StringIO(out.read_text())))
+    assert len(rows) > 1 and rows[0][0] == "theta_i_deg"
+
+
 def test_a_reader_that_stops_early_is_no_error():
     """``brdf-explorer figures | head -1`` exits 0 with no traceback (a closed pipe)."""
     run = subprocess.run(["bash", "-o", "pipefail", "-c", f"'{sys.executable}' -m app.cli figures | head -c 10"],
