@@ -209,29 +209,3 @@ def listing() -> dict:
     data = _data()
     return {"source": data["source"], "license": data["license"], "note": data["note"],
             "materials": [summary(m) for m in data["materials"]]}
-
-
-def lit_sphere(brdf, theta_i_deg: float, n: int) -> dict:
-    """A sphere seen along +z under a distant light at θ_i (azimuth 0), in colour:
-    L_o/E = f_rgb(l, v) cos θ_l per pixel (each pixel in its own frame n = the sphere's
-    normal, t = x projected), then the sRGB transfer curve (values above 1 clipped).
-    Returns {"rgb": (n, n, 3) 0–255 integers, "max": the largest L_o/E before clipping}."""
-    x = (np.arange(n) + 0.5) / n * 2.0 - 1.0
-    X, Y = np.meshgrid(x, -x)
-    inside = X * X + Y * Y < 1.0
-    N = np.stack([X[inside], Y[inside], np.sqrt(1.0 - X[inside] ** 2 - Y[inside] ** 2)], axis=-1)
-    t = np.array([1.0, 0.0, 0.0]) - N * N[:, :1]
-    t /= np.linalg.norm(t, axis=-1, keepdims=True)      # |t| = √(1 − N_x²) > 0 inside the disk
-    b = np.cross(N, t)
-    th = np.deg2rad(theta_i_deg)
-    light, view = np.array([np.sin(th), 0.0, np.cos(th)]), np.array([0.0, 0.0, 1.0])
-    local = lambda w: np.stack([t @ w, b @ w, N @ w], axis=-1)
-    l, v = local(light), local(view)
-    out = evaluate_rgb(brdf, l, v, ("f",))
-    f = out["f_rgb"] if "f_rgb" in out else np.repeat(out["f"][:, None], 3, axis=1)
-    radiance = np.where(np.isfinite(f), f, 0.0) * np.maximum(l[:, 2], 0.0)[:, None]
-    c = np.clip(radiance, 0.0, 1.0)
-    srgb = np.where(c <= 0.0031308, 12.92 * c, 1.055 * c ** (1 / 2.4) - 0.055)   # IEC 61966-2-1
-    image = np.full((n, n, 3), 255, dtype=np.int64)
-    image[inside] = np.round(srgb * 255).astype(np.int64)
-    return {"rgb": image, "max": float(radiance.max(initial=0.0))}

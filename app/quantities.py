@@ -6,17 +6,18 @@ degrees (API units) and are converted here, once.
 from __future__ import annotations
 
 import numpy as np
-from scipy import optimize
 
 from . import kernels
 from .adaptive import ladder, peak, refine_curve, refine_grid
 from .integrate import cost
 from .integrate.methods import albedo_by
 from .materials import evaluate_rgb
+from .model import make_spec
 from .physics.brdf import BRDF
 from .physics.masking import G1
 from .physics.numeric import where_valid
 from .physics.vectors import direction_deg
+from .shader.conventions import ALPHA_MAX, ALPHA_MIN, table
 
 
 #: Direction pairs evaluated at once. Every model's temporaries take 100–250 bytes a
@@ -270,65 +271,30 @@ def fresnel_curve(brdf: BRDF, n: int) -> dict:
     return out
 
 
-def sphere_radiance(brdf: BRDF, x, y, light) -> np.ndarray:
-    """L_o/E = f(l, v)·⟨n·l⟩ at image points (x, y) inside the unit disk (lit_sphere's
-    camera frame)."""
-    normal = np.stack([x, y, np.sqrt(np.maximum(1.0 - x * x - y * y, 0.0))], axis=-1)
-    t = np.array([1.0, 0.0, 0.0]) - normal[:, :1] * normal
-    t /= np.linalg.norm(t, axis=-1, keepdims=True)
-    frame = np.stack([t, np.cross(normal, t), normal], axis=-2)            # rows: t, b, n
-    l, v = frame @ light, frame @ np.array([0.0, 0.0, 1.0])
-    mu_l = l[:, 2]
-    lit = mu_l > 0.0
-    value = np.zeros(mu_l.shape)
-    if lit.any():
-        value[lit] = kernels.f(brdf, l[lit], v[lit]) * mu_l[lit]
-    return value
+#: Angle of incidence of the conventions' lobes (degrees) and their θ_o points.
+CONVENTIONS_THETA_I_DEG = 45.0
+CONVENTIONS_LOBE_POINTS = 361
 
 
-#: Sub-pixels per side, at most, of a pixel around the highlight (its mean is taken).
-SPHERE_SUB_MAX = 256
-
-
-def lit_sphere(brdf: BRDF, theta_i_deg: float, phi_i_deg: float, n: int) -> dict:
-    """A sphere lit by one directional light, seen by an orthographic viewer along +z:
-    radiance per unit irradiance L_o/E = f(l, v)·⟨n·l⟩ (1/sr) at n×n pixel centres
-    (rows y, columns x, in sphere radii; NaN off the sphere).
-
-    Camera frame: v = +z; the light's polar angle θ_i is measured from v, its azimuth
-    φ_i in the image plane from +x. At each pixel the surface normal is
-    n = (x, y, √(1−x²−y²)) and the tangent t is +x projected onto the tangent plane
-    (the direction of α_x). Local directions are (·t, ·b, ·n), b = n × t.
-
-    The highlight (where n = h) is narrower than a pixel at small α and falls between
-    pixel centres: the 3×3 pixels around it hold their mean over a sub-grid of spacing
-    ≤ α/2 (at most SPHERE_SUB_MAX² points each), what a camera pixel records. ``peak``
-    gives the brightest pixel against the located maximum of L_o/E (a point value: at
-    small α no pixel mean reaches it)."""
-    centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
-    y, x = np.meshgrid(centres[::-1], centres, indexing="ij")   # row 0 at the top
-    on = x * x + y * y < 1.0
-    light = direction_deg(theta_i_deg, phi_i_deg)
-    radiance = np.full(x.shape, np.nan)
-    radiance[on] = sphere_radiance(brdf, x[on], y[on], light)
-    h = light + np.array([0.0, 0.0, 1.0])
-    h /= np.linalg.norm(h)
-    pixel = 2.0 / n
-    k = int(min(SPHERE_SUB_MAX, max(1, np.ceil(2.0 * pixel / np.deg2rad(_width_deg(brdf) / 2)))))
-    near = on & (np.abs(x - h[0]) < 1.5 * pixel) & (np.abs(y - h[1]) < 1.5 * pixel)
-    offsets = (np.arange(k) + 0.5) / k * pixel - pixel / 2
-    for i, j in zip(*np.nonzero(near)):
-        sx, sy = np.meshgrid(x[i, j] + offsets, y[i, j] + offsets)
-        inside = sx * sx + sy * sy < 1.0
-        values = np.zeros(sx.shape)
-        values[inside] = sphere_radiance(brdf, sx[inside], sy[inside], light)
-        radiance[i, j] = values.mean()
-    res = optimize.minimize(lambda p: -sphere_radiance(brdf, p[:1], p[1:], light)[0], h[:2],
-                            method="Nelder-Mead", options={"xatol": 1e-9, "fatol": 0.0})
-    located = (float(res.x[0]), float(res.x[1]), float(-res.fun)) if -res.fun > 0 else None
-    return {"y": centres[::-1], "x": centres, "radiance": radiance,
-            "peak": peak(radiance, located, "radiance", "x", "y"),
-            "supersampled": {"pixels": int(near.sum()), "per_side": k}}
+def conventions_lobes(roughness: float, anisotropy: float) -> dict:
+    """The ``conventions`` figure's arrays: each ecosystem's row (app/shader/conventions)
+    with the GGX lobe f(θ_o) at its α (clipped to the evaluated range) in the plane of
+    incidence, θ_o > 0 on the mirror side, F = 1; UE4's G rows with their Schlick-GGX k."""
+    theta_o = np.linspace(-89.5, 89.5, CONVENTIONS_LOBE_POINTS)
+    l = direction_deg(CONVENTIONS_THETA_I_DEG, 0.0)
+    v = direction_deg(np.abs(theta_o), np.where(theta_o >= 0, 180.0, 0.0))
+    rows = []
+    for row in table(roughness, anisotropy):
+        ax, ay = (float(np.clip(a, ALPHA_MIN, ALPHA_MAX)) for a in (row["alpha"], row["alpha_y"]))
+        masking = "smith"
+        if row["ecosystem"].startswith("UE4, G direct"):
+            masking = "schlick_direct"
+        elif row["ecosystem"].startswith("UE4, G image"):
+            masking = "schlick_ibl"
+        spec = make_spec(ndf="ggx", alpha=ax, alpha_y=None if ay == ax else ay, masking=masking, fresnel="none")
+        f = spec.brdf().evaluate(np.broadcast_to(l, v.shape), v, ("f",))["f"]
+        rows.append({**row, "theta_o_deg": theta_o, "f": f})
+    return {"rows": rows, "theta_i_deg": CONVENTIONS_THETA_I_DEG, "alpha_range": (ALPHA_MIN, ALPHA_MAX)}
 
 
 def rusinkiewicz_directions(theta_h_deg, phi_h_deg, theta_d_deg, phi_d_deg):

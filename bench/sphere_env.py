@@ -35,14 +35,26 @@ POINT = "point light (ggx α=0.3)"
 ROOT = Path(__file__).resolve().parents[1]
 
 
+def _renderers():
+    """(render(brdf, environment, θ, φ, n, samples, seed=), render_point(brdf, θ, φ, n)) of
+    the tree on sys.path: its one lit_sphere, or a tree from before it's two functions."""
+    try:
+        from app.environment.sphere import POINT_IRRADIANCE, environment_lighting, lit_sphere, point_light
+    except ImportError:
+        from app.environment.render import render, render_point
+        return render, render_point
+    return (lambda b, env, t, p, n, s, seed=0: lit_sphere(b, environment_lighting(env, t, p), n, samples=s, seed=seed),
+            lambda b, t, p, n: lit_sphere(b, point_light(t, p, (POINT_IRRADIANCE,) * 3), n))
+
+
 def _renderer(root: Path, n: int, samples: int):
     """{case: a function rendering it once, returning its report}, from the tree at root."""
     sys.path.insert(0, str(root))
     import app
     assert Path(app.__file__).resolve().is_relative_to(root), app.__file__
     from app import kernels
-    from app.environment.render import render, render_point
     from app.model import make_spec
+    render, render_point = _renderers()
     try:
         from app.environment.evaluate import prepare
     except ImportError:                       # a tree from before it: the model's own loops
@@ -84,8 +96,8 @@ def child(root: str, n: int, samples: int) -> None:
 def accuracy(root: Path, n: int = 64, samples: int = 16, seeds: int = 4, ref_samples: int = 1024) -> None:
     import numpy as np
     sys.path.insert(0, str(root))
-    from app.environment.render import render
     from app.model import make_spec
+    render, _ = _renderers()
     lum = np.array([0.2126, 0.7152, 0.0722])
     print(f"{root}: {n}² sphere, {samples} samples/pixel × {seeds} seeds against {ref_samples}")
     print(f"{'case':<46}{'RMS error':>11}{'mean error':>12}{'stated':>9}")

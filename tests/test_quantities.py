@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from app import quantities
+from app.environment.sphere import lit_sphere, point_light
 from app.model import make_spec
 
 NDF_SHAPES = {"ggx": {}, "beckmann": {}, "blinn_phong": {}, "gtr": {"gamma": 1.5},
@@ -147,7 +148,7 @@ def test_sphere_pixels_hold_the_highlight(alpha):
     carry its energy (their mean radiance × area = the integral of L_o/E over them),
     not miss it between pixel centres."""
     brdf, n, ti, pi = make_spec(alpha=alpha).brdf(), 161, 40.3, 20.0
-    data = quantities.lit_sphere(brdf, ti, pi, n)
+    data = lit_sphere(brdf, point_light(ti, pi), n, rgb=False)
     h = direction(ti, pi) + np.array([0, 0, 1.0])
     h /= np.linalg.norm(h)
     pixel = 2.0 / n

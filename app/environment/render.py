@@ -1,7 +1,6 @@
-"""A sphere lit by an environment, rendered by multiple importance sampling.
+"""The environment's share of the lit sphere (sphere.py), by multiple importance sampling.
 
-Orthographic camera along −z (v = +z for every pixel), sphere of radius 1; per pixel the
-local frame (t, b, n) of quantities.lit_sphere. L_o = ∫ f(l, v) L(l) (n·l) dω_l is
+Per pixel, in its local frame (t, b, n; sphere.frames_at), v = +z: L_o = ∫ f(l, v) L(l) (n·l) dω_l is
 estimated with the multi-sample balance heuristic (Veach 1997, ch. 9) over three
 strategies: the environment's radiance (a piecewise-constant pdf on equal-solid-angle
 cells; N/2 samples unless the environment is uniform), cosine-weighted directions (diffuse
@@ -15,13 +14,10 @@ radiance, the image's relative RMS error) and that of the image mean. (derivatio
 from __future__ import annotations
 
 import math
-import time
 
 import numpy as np
 
-from ..physics.vectors import direction_deg
 from .evaluate import f_samples
-from .maps import ENVIRONMENTS
 
 #: Equal-solid-angle cells of the environment's pdf: rows uniform in z, columns in φ.
 PDF_ROWS, PDF_COLS = 96, 192
@@ -125,17 +121,6 @@ class EnvironmentPdf:
         return self.density[row * PDF_COLS + col]
 
 
-def sphere_frames(n: int):
-    """Pixel centres on the sphere: (mask (n, n), frames (P, 3, 3) rows t, b, n)."""
-    centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
-    y, x = np.meshgrid(centres[::-1], centres, indexing="ij")
-    on = x * x + y * y < 1.0
-    normal = np.stack([x[on], y[on], np.sqrt(1.0 - x[on] ** 2 - y[on] ** 2)], axis=-1)
-    t = np.array([1.0, 0.0, 0.0]) - normal[:, :1] * normal
-    t /= np.linalg.norm(t, axis=-1, keepdims=True)
-    return on, np.stack([t, np.cross(normal, t), normal], axis=-2), centres
-
-
 def _split(brdf, env, samples: int) -> tuple[int, int, int]:
     """(environment, cosine, visible-normal) samples per pixel: N/2 from the environment
     unless it is uniform, the rest split as the lobes' energies (:func:`_shares`)."""
@@ -148,16 +133,11 @@ def _split(brdf, env, samples: int) -> tuple[int, int, int]:
     return n_env, rest - n_vndf, n_vndf
 
 
-def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, samples: int,
-           colour=(1.0, 1.0, 1.0), seed: int = 0) -> dict:
-    """Linear RGB radiance (n, n, 3) of the sphere (NaN off it), the background radiance
-    (the environment behind the sphere, direction −z), and the sampling report."""
-    t0 = time.perf_counter()
-    env = ENVIRONMENTS[environment]
-    key = direction_deg(theta_deg, phi_deg)
+def estimate(brdf, env, key, colour, frame, samples: int, seed: int):
+    """L_o (P, 3) at the pixels of ``frame`` (P, 3, 3) under the environment ``env``
+    placed by ``key``, scaled by ``colour``; the sampling report and the noise."""
     colour = np.asarray(colour, dtype=float)
     rng = np.random.default_rng(seed)
-    on, frame, centres = sphere_frames(n)
     P = len(frame)
     split = _split(brdf, env, samples)
     env_pdf = EnvironmentPdf(env, key, colour) if split[0] else None
@@ -175,22 +155,18 @@ def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, sam
                                  [x[block] for x in u], sums[block])
     L_o, s1, s2 = sums[:, :3], sums[:, 3], sums[:, 4]
     std_error = np.sqrt(np.maximum(s2 - s1 * s1 / samples, 0.0) / (samples - 1) / samples)
-    image = np.full((n, n, 3), np.nan)
-    image[on] = L_o
     mean = float(np.mean(L_o @ LUMINANCE))
-    return {"y": centres[::-1], "x": centres, "radiance": image,   # rows (y), then columns (x)
-            "background": env.radiance(np.array([0.0, 0.0, -1.0]), key, colour),
-            "samples": {"per_pixel": samples, "environment": split[0], "cosine": split[1],
-                        "visible_normals": split[2], "pixels": P, "evaluations": evaluations},
-            "noise": {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
-                      # RMS over the pixels, relative to the mean: the image's relative RMS
-                      # error (the mean σ understated it 2.5x where a few highlight pixels
-                      # carry most of the error: a metal, a sun)
-                      "relative": float(np.sqrt(np.mean(std_error ** 2)) / mean) if mean > 0 else 0.0,
-                      "mean_radiance": mean,
-                      # every pixel's samples independent of the others': √Σσ²/P
-                      "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / P)},
-            "seconds": time.perf_counter() - t0}
+    report = {"per_pixel": samples, "environment": split[0], "cosine": split[1],
+              "visible_normals": split[2], "pixels": P, "evaluations": evaluations}
+    noise = {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
+             # RMS over the pixels, relative to the mean: the image's relative RMS
+             # error (the mean σ understated it 2.5x where a few highlight pixels
+             # carry most of the error: a metal, a sun)
+             "relative": float(np.sqrt(np.mean(std_error ** 2)) / mean) if mean > 0 else 0.0,
+             "mean_radiance": mean,
+             # every pixel's samples independent of the others': √Σσ²/P
+             "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / P)}
+    return L_o, report, noise
 
 
 def _estimate(brdf, env, key, colour, env_pdf, frame, split, u, sums) -> int:
@@ -240,27 +216,3 @@ def _vndf_pdf(ndf, l, v, pixel) -> np.ndarray:
     s = l + v[pixel]
     h = s / np.sqrt(np.einsum("mi,mi->m", s, s))[:, None]
     return ndf.D(h) / (4.0 * (v[:, 2] + ndf.mu_Lambda(v)))[pixel]
-
-
-#: The point light's irradiance at normal incidence: π, so a white Lambertian facing it
-#: has radiance 1 (the environments' scale).
-POINT_IRRADIANCE = np.pi
-
-
-def render_point(brdf, theta_deg: float, phi_deg: float, n: int, colour=(1.0, 1.0, 1.0)) -> dict:
-    """The sphere under one directional light (quantities.lit_sphere, in colour):
-    L_o = f(l, v) μ_l E per channel, E = π·colour; black background."""
-    t0 = time.perf_counter()
-    on, frame, centres = sphere_frames(n)
-    l = frame @ direction_deg(theta_deg, phi_deg)
-    v = frame[:, :, 2]
-    lit = l[:, 2] > 0
-    L_o = np.zeros((len(v), 3))
-    if lit.any():
-        f = f_samples(brdf, l[lit], v[lit], np.arange(int(lit.sum())))
-        L_o[lit] = (f if f.ndim == 2 else f[:, None]) * (l[lit, 2] * POINT_IRRADIANCE)[:, None] * colour
-    image = np.full((n, n, 3), np.nan)
-    image[on] = L_o
-    return {"y": centres[::-1], "x": centres, "radiance": image,   # rows (y), then columns (x)
-            "background": np.zeros(3),
-            "samples": None, "noise": None, "seconds": time.perf_counter() - t0}

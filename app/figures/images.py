@@ -9,6 +9,7 @@ import numpy as np
 
 from .markup import subscripted
 from .scale import ColourRange, colour_range, grid_weights, titled
+from .sphere_image import srgb_encode
 from .style import DIRECTION_COLORS, axis, base_layout, gaps, model_title
 
 # Sequential and readable with colour-vision deficiency (Nuñez, Anderton, Renslow 2018,
@@ -39,13 +40,6 @@ def _log_z(values: np.ndarray, scale: ColourRange):
     ticks = np.arange(np.ceil(top - IMAGE_DECADES), np.floor(top) + 1)
     return z, top - IMAGE_DECADES, top, {"tickvals": ticks,
                                          "ticktext": [f"10<sup>{int(k)}</sup>" for k in ticks]}
-
-
-def srgb_encode(linear: np.ndarray) -> np.ndarray:
-    """The sRGB transfer function (IEC 61966-2-1) of values clipped to [0, 1]."""
-    c = np.clip(linear, 0.0, 1.0)
-    small = c <= 0.0031308
-    return np.where(small, 12.92 * c, 1.055 * np.power(c, 1 / 2.4, where=~small, out=np.zeros_like(c)) - 0.055)
 
 
 @subscripted

@@ -7,7 +7,7 @@ from typing import Annotated
 import numpy as np
 from pydantic import Field
 
-from ..principled.figure import stacked_albedo_figure
+from ..figures.lobe_albedo import stacked_albedo_figure
 from . import schemas
 from .view import View
 

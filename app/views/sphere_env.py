@@ -1,16 +1,18 @@
-"""A sphere of any model under a point light or a procedural environment, in colour
-(app/environment/: multiple importance sampling, its samples and noise stated)."""
+"""A sphere of any model under a point light or a procedural environment, in colour,
+over the environment behind it (app/environment/sphere.py: multiple importance sampling,
+its samples and noise stated)."""
 from __future__ import annotations
 
 from typing import Annotated, Literal
 
+import numpy as np
 from pydantic import Field
 
 from ..config import Settings
-from ..environment.display import sphere_figure
 from ..environment.maps import ENVIRONMENTS
-from ..environment.render import render, render_point
+from ..environment.sphere import POINT_IRRADIANCE, environment_lighting, lit_sphere, point_light
 from ..errors import ParameterError
+from ..figures.sphere_image import environment_sphere_figure
 from ..principled.colour import parse_color
 from . import schemas
 from .view import View
@@ -53,14 +55,14 @@ def light_colour(q):
 
 def compute(spec, q) -> dict:
     colour = light_colour(q)
-    if q.environment == "point":
-        return render_point(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n, colour)
-    return render(spec.brdf(), q.environment, q.theta_i_deg, q.phi_i_deg, q.n, q.samples, colour, q.seed)
+    lighting = (point_light(q.theta_i_deg, q.phi_i_deg, np.multiply(POINT_IRRADIANCE, colour)) if q.environment == "point"
+                else environment_lighting(q.environment, q.theta_i_deg, q.phi_i_deg, colour))
+    return lit_sphere(spec.brdf(), lighting, q.n, samples=q.samples, seed=q.seed)
 
 
 def figure(data, spec, q) -> dict:
     label = "a point light" if q.environment == "point" else ENVIRONMENTS[q.environment].label
-    return sphere_figure(data, q.exposure, f"Sphere under {label}")
+    return environment_sphere_figure(data, spec.values, label, q.exposure)
 
 
 VIEW = View(

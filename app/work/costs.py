@@ -87,14 +87,13 @@ def _family(values: dict) -> tuple:
 def _sphere_rate(family: tuple, values: tuple, environment: str, samples: int) -> float:
     """Seconds per pixel of a sphere under ``environment`` at ``samples`` per pixel for
     this model family: a probe image's CPU time (this thread) over its pixels."""
-    from ..environment.render import render, render_point
+    from ..environment.sphere import environment_lighting, lit_sphere, point_light
     from ..model import make_spec
     brdf = make_spec(**dict(values)).brdf()
+    lighting = (point_light(40.0, 135.0) if environment == "point"
+                else environment_lighting(environment, 40.0, 135.0))
     t0 = time.thread_time()
-    if environment == "point":
-        render_point(brdf, 40.0, 135.0, SPHERE_PROBE_N)
-    else:
-        render(brdf, environment, 40.0, 135.0, SPHERE_PROBE_N, samples)
+    lit_sphere(brdf, lighting, SPHERE_PROBE_N, samples=samples)
     return (time.thread_time() - t0) / (math.pi / 4 * SPHERE_PROBE_N ** 2)
 
 

@@ -6,7 +6,9 @@ import numpy as np
 import pytest
 
 from app import quantities
-from app.datasets import figure, formats, overlay, summary
+from app.environment.sphere import lit_sphere, point_light
+from app.figures import data_overlay as figure
+from app.datasets import formats, overlay, summary
 from app.errors import ParameterError
 from app.model import make_spec
 
@@ -30,7 +32,7 @@ def brdf():
     ("lobe", lambda b: quantities.lobe_curve(b, 30.0, 0.0, 181, False)),
     ("lobe3d", lambda b: quantities.lobe_grid(b, 30.0, 0.0, 19, 37)),
     ("slice", lambda b: quantities.half_difference_slice(b, 0.0, 90.0, 46, False)),
-    ("sphere", lambda b: quantities.lit_sphere(b, 30.0, 0.0, 32)),
+    ("sphere", lambda b: lit_sphere(b, point_light(30.0, 0.0), 32, rgb=False)),
 ])
 def test_the_table_of_a_model_lies_on_its_view(merl_data, brdf, view, arrays):
     """Away from grazing the interpolated table is the model to ~0.1 % (the format's 1°

@@ -5,6 +5,7 @@ from __future__ import annotations
 import numpy as np
 
 from app.environment.maps import ENVIRONMENTS
+from app.environment.sphere import environment_lighting, lit_sphere
 from app.physics.vectors import direction_deg
 
 
@@ -15,3 +16,10 @@ def uniform_radiance(environment: str, theta_deg: float, phi_deg: float, n: int,
     w /= np.linalg.norm(w, axis=1, keepdims=True)
     L = ENVIRONMENTS[environment].radiance(w, direction_deg(theta_deg, phi_deg), np.ones(3))[:, 0]
     return w, L
+
+
+def render(brdf, environment: str, theta_deg: float, phi_deg: float, n: int, samples: int,
+           colour=(1.0, 1.0, 1.0), seed: int = 0) -> dict:
+    """The lit sphere (app/environment/sphere.py) under the procedural ``environment``."""
+    return lit_sphere(brdf, environment_lighting(environment, theta_deg, phi_deg, colour), n,
+                      samples=samples, seed=seed)

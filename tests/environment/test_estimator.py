@@ -10,11 +10,11 @@ import pytest
 from app import kernels
 from app.environment.evaluate import f_samples, prepare
 from app.environment.maps import ENVIRONMENTS
-from app.environment.render import render, sphere_frames
+from app.environment.sphere import sphere_frames
 from app.integrate.methods import albedo_by
 from app.model import make_spec
 from app.physics.vectors import direction_deg
-from tests.environment.brute_force import uniform_radiance
+from tests.environment.brute_force import render, uniform_radiance
 
 MODELS = [
     dict(alpha=0.3, kd=0.5),

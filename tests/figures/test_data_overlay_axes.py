@@ -3,7 +3,7 @@ widened to the data's peak (a MERL-like set peaking at 3.75 was drawn on a lobe 
 1.47 and an albedo axis sized to the model alone)."""
 import numpy as np
 
-from app.datasets.figure import with_data
+from app.figures.data_overlay import with_data
 from app.figures.curves import albedo_figure
 from app.figures.lobes import lobe_figure
 

@@ -7,9 +7,10 @@ from __future__ import annotations
 import numpy as np
 import pytest
 
-from app.environment.render import render, sphere_frames
+from app.environment.sphere import sphere_frames
 from app.integrate.methods import albedo_by
 from app.model import make_spec
+from tests.environment.brute_force import render
 
 
 def test_lambertian_sphere_under_uniform_is_albedo_times_radiance():

@@ -11,8 +11,9 @@ from pydantic import Field
 
 from ... import figures
 from ...errors import ParameterError
+from ...figures.conventions import conventions_figure
+from ...quantities import conventions_lobes
 from ...shader import conventions
-from ...shader.conventions_figure import conventions_figure
 from ...views import schemas
 from ..deps import Route
 from ..encode import json_response
@@ -44,7 +45,8 @@ def conventions_route(roughness: Roughness = 0.5, anisotropy: Anisotropy = 0.0) 
 
 @router.get("/conventions/figure", tags=["figures"], summary="Plotly figure: the α of each ecosystem and its lobe")
 def conventions_figure_route(roughness: Roughness = 0.5, anisotropy: Anisotropy = 0.0) -> Response:
-    figure = conventions_figure(_unit("roughness", roughness), _unit("anisotropy", anisotropy))
+    r, a = _unit("roughness", roughness), _unit("anisotropy", anisotropy)
+    figure = conventions_figure(conventions_lobes(r, a), r, a)
     return Response(figures.to_json(figure), media_type="application/json")
 
 

@@ -11,7 +11,8 @@ from starlette.concurrency import run_in_threadpool
 
 from ... import figures, work
 from ...config import Settings
-from ...datasets import compare, figure, formats, overlay
+from ...datasets import compare, formats, overlay
+from ...figures import data_overlay as figure
 from ...datasets.store import DatasetStore, content_id
 from ...errors import ParameterError, TooLarge
 from ...fit import run as fitting

@@ -9,6 +9,8 @@ from fastapi import APIRouter, Query, Response
 from pydantic import Field
 
 from ... import materials
+from ...environment.sphere import lit_sphere, point_light
+from ...figures.sphere_image import srgb8_sphere
 from ...integrate.albedo import albedo_average
 from ...model import make_spec
 from ...views import schemas
@@ -63,4 +65,4 @@ class MaterialSphereQuery(schemas.ModelQuery):
             responses={200: {"content": {"application/json": {"example": {"rgb": [[[255, 255, 255]]], "max": 0.8}}}}})
 def material_sphere_route(q: Annotated[MaterialSphereQuery, Query()]) -> Response:
     spec = make_spec(**schemas.model_values(q))
-    return json_response(materials.lit_sphere(spec.brdf(), q.theta_i_deg, q.n))
+    return json_response(srgb8_sphere(lit_sphere(spec.brdf(), point_light(q.theta_i_deg, 0.0), q.n)))

@@ -10,8 +10,8 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..figures.scale import colour_range, grid_weights, titled
-from ..figures.style import axis, base_layout, gaps
+from .scale import colour_range, grid_weights, titled
+from .style import axis, base_layout, gaps
 
 #: the data trace's colour: black markers read against every palette colour of a model
 DATA_COLOR = "#000000"
