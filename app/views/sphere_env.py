@@ -26,7 +26,7 @@ class SphereEnvQuery(schemas.ModelQuery):
                                                             "angle from the viewer, degrees")] = 40.0
     phi_i_deg: Annotated[schemas.Phi, Field(description="its azimuth in the image plane from +x, "
                                                         "degrees")] = 135.0
-    n: Annotated[int, Field(ge=8, le=512, description="pixels across the sphere (n×n image)")] = 128
+    n: Annotated[int, Field(ge=8, le=512, description="pixels across the sphere (n×n image)")] = 256
     samples: Annotated[int, Field(ge=4, le=256, description="samples per pixel (environments)")] = 16
     seed: Annotated[int, Field(ge=0, le=2**31 - 1, description="random seed of the samples")] = 0
     light_color: Annotated[str, Field(description="light / environment colour r,g,b in [0, 1]",
