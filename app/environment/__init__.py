@@ -1,1 +1,3 @@
-"""A sphere lit by an environment map: the maps, the multiple-importance renderer and its figure."""
+"""The lit sphere: one renderer (sphere.py) for a point light, procedural environments
+(maps.py) and both together, its multiple-importance estimator (render.py), f at its
+samples (evaluate.py); HDR files (hdr.py)."""

@@ -81,12 +81,12 @@ def sphere_frames(n: int):
 def lit_sphere(brdf, lighting: Lighting, n: int, *, rgb: bool = True, samples: int = 16,
                seed: int = 0) -> dict:
     """The sphere's radiance (n, n, 3) — or (n, n) with ``rgb=False``: f of the model's
-    own channel, deltas of grey irradiance only — NaN off the sphere; in colour
-    ``background``, the environment behind it (n, n, 3, every pixel: the sphere is drawn
-    over it; black (3,) without one); with an
-    environment ``samples`` and ``noise`` (render.py), else None; with one delta and no
-    environment ``peak`` (the brightest pixel against the located maximum of L_o; a point
-    value: at small α no pixel mean reaches it) and ``supersampled``."""
+    own channel, deltas of grey irradiance only — NaN off the sphere. In colour also
+    ``background``: the environment behind the sphere at every pixel (n, n, 3; the
+    sphere is drawn over it), black (3,) without one. With an environment ``samples``
+    and ``noise`` (render.py), else None. Per delta ``supersampled``; with one delta, no
+    environment and ``rgb=False``, ``peak`` (the brightest pixel against the located
+    maximum of L_o: a point value, which at small α no pixel mean reaches)."""
     on, frame, centres = sphere_frames(n)
     shape = (n, n, 3) if rgb else (n, n)
     radiance = np.full(shape, np.nan)
