@@ -21,14 +21,17 @@ AGREEMENT = 3e-5
 MU = np.array([0.003, 0.041, 0.23, 0.61, 0.93])
 
 # Each NDF's declared shape range, both ends and between (app/physics/ndf/*.py):
-# GTR γ ∈ [0.5, 10], exp_power p ∈ [0.25, 4], Student-t γ ∈ (1.5, 1000] from 1.52 (below,
-# E's fall from 1 at grazing lies at μ < 1e-100, beyond the quadrature: docs/tables.md §5).
+# GTR γ ∈ [0.5, 10], exp_power p ∈ [0.25, 4], Student-t γ ∈ (1.5, 1000] from the first
+# double above 1.5 (its E falls from 1 at μ ~ e^{−1/(2γ−3)}, for γ < 1.5007 below the
+# smallest double, where the slice takes E's grazing asymptote: docs/tables.md §5).
+STUDENT_T_LOWEST = float(np.nextafter(1.5, 2.0))
 SHAPES = [("ggx", {}), ("beckmann", {}), ("blinn_phong", {}),
           ("gtr", {"gamma": 0.5}), ("gtr", {"gamma": 1.0}), ("gtr", {"gamma": 1.05}),
           ("gtr", {"gamma": 1.5}), ("gtr", {"gamma": 1.9}), ("gtr", {"gamma": 10.0}),
           ("exp_power", {"p": 0.25}), ("exp_power", {"p": 0.3}), ("exp_power", {"p": 1.763}),
           ("exp_power", {"p": 3.0}), ("exp_power", {"p": 4.0}),
-          ("student_t", {"gamma": 1.52}), ("student_t", {"gamma": 1.55}),
+          ("student_t", {"gamma": STUDENT_T_LOWEST}), ("student_t", {"gamma": 1.500001}),
+          ("student_t", {"gamma": 1.501}), ("student_t", {"gamma": 1.51}), ("student_t", {"gamma": 1.55}),
           ("student_t", {"gamma": 1.6}), ("student_t", {"gamma": 1.8}),
           ("student_t", {"gamma": 3.0}), ("student_t", {"gamma": 1000.0})]
 

@@ -122,19 +122,20 @@ def _mu_from_x(x, alpha: float, q: float):
 
 
 def _E_avg(x_nodes: np.ndarray, alpha: float, q: float, E) -> float:
-    """2 ∫₀¹ E(μ) μ dμ by Gauss-Legendre in x on every cell of the nodes (E is a cubic
-    there): y = x^{1/q}, μ = μ(y), dμ/dx = dμ/dy · y/(q x), dμ/dy as table._E_avg."""
+    """2 ∫₀¹ E(μ) μ dμ by Gauss-Legendre in y on every cell of the nodes' y = x^{1/q}, μ = μ(y).
+    In y, not x: for q below ~1e-12 the cells near x = 1 are a few ulps wide, and Gauss
+    nodes inside them round (Ē came out 3e-3 for E ≈ 1e-15 at γ = 1.5 + 1 ulp); in y
+    they are distinct cells, or none (nodes rounding to the same y hold no μ)."""
     t, w = gauss_legendre_01(E_AVG_NODES_PER_CELL)
-    lo, hi = x_nodes[:-1, None], x_nodes[1:, None]
-    x = (lo + (hi - lo) * t).ravel()
-    wx = ((hi - lo) * w).ravel()
-    y = x ** (1.0 / q)
+    y_nodes = np.unique(x_nodes ** (1.0 / q))
+    lo, hi = y_nodes[:-1, None], y_nodes[1:, None]
+    y = (lo + (hi - lo) * t).ravel()
+    wy = ((hi - lo) * w).ravel()
     mu = mu_from_y(y, alpha)
-    # dμ/dy = 2αy (1 − y)³ / ((1 − y)⁴ + α²y⁴)^{3/2}: μ(y) of table.mu_from_y differentiated,
-    # in the form that stays finite as y → 1 (y rounds to 1 below x = 1 for tiny q)
-    dmu_dy = 2.0 * alpha * y * (1.0 - y) ** 3 / ((1.0 - y) ** 4 + (alpha * y * y) ** 2) ** 1.5
-    dmu = dmu_dy * (y / (q * x))
-    return float(2.0 * np.sum(E(mu) * mu * dmu * wx))
+    # dμ/dy = 2αy (1 − y)³ / ((1 − y)⁴ + α²y⁴)^{3/2}: table.mu_from_y differentiated, in
+    # the form that stays finite as y → 1
+    dmu = 2.0 * alpha * y * (1.0 - y) ** 3 / ((1.0 - y) ** 4 + (alpha * y * y) ** 2) ** 1.5
+    return float(2.0 * np.sum(E(mu) * mu * dmu * wy))
 
 
 def _log_mu_from_x(x, alpha: float, q: float):
