@@ -8,7 +8,11 @@ quadrature (albedo.py), a not-a-knot cubic spline through them, and every cell c
 its quarter points (CHECK_AT) against the quadrature there; a cell whose miss (× SAFETY,
 + the nodes' own quadrature error) is above GOAL is halved — its midpoint becomes a node —
 and the new spline is checked again in every cell, until every cell passes. For
-Student-t below γ = 2 the axis is x = y^q (grazing_exponent), where E is smooth. Heavy tails and grazing μ get more nodes, light ones stay at the first grid.
+Student-t below γ = 2 the axis is x = y^q (grazing_exponent), where E is smooth, and
+below MU_TAIL its nodes take E's grazing asymptote 1 − A μ^q (grazing_tail), computed in
+logs: the quadrature does not reach μ < 1e-150, nor μ below the smallest double, where E
+still falls for γ near 1.5. Heavy tails and grazing μ get more nodes, light ones stay at
+the first grid.
 
 ``error`` = SAFETY × the largest check-point miss of the final spline + the largest node
 error: a bound on |Ê − E| at every μ (a cubic spline's error in a cell peaks near its
@@ -29,8 +33,8 @@ from scipy.interpolate import CubicSpline
 
 from ...physics.gauss import gauss_legendre_01
 from ..albedo import albedo
-from ..cache import complete_only
 from ...physics.numeric import where_valid
+from ..cache import complete_only
 from .table import E_AVG_NODES_PER_CELL, Y_GRADING, lobe_at, mu_from_y, y_from_mu
 
 #: Largest reported error a slice is refined to: below the 1e-4 the API promises for
@@ -51,8 +55,10 @@ NODE_TOL = 3e-6
 #: First grid: FIRST_CELLS cells of y = (k/FIRST_CELLS)^Y_GRADING (table.py's grading).
 FIRST_CELLS = 16
 #: Halvings at most, and nodes at most: a slice that has not met GOAL by then reports
-#: what it has (its error says so). Student-t below γ ≈ 1.52 does: its E falls from 1
-#: at μ below 1e-100, where the quadrature's disk radius overflows (docs/tables.md §5).
+#: what it has (its error says so). 40 rounds, not 6: for Student-t near γ = 1.5, the
+#: bulk of E (μ ≳ 1e-6) lies in a band of width ~q at x → 1, which the halvings reach
+#: from the first grid's first cell (γ = 1.501: 10 rounds, 55 nodes at α = 0.05); a round
+#: that halves one cell costs the quadrature at three μ.
 MAX_ROUNDS = 40
 MAX_NODES = 257
 #: Slices kept per process (each a few kB).
@@ -147,7 +153,7 @@ def _log_mu_from_x(x, alpha: float, q: float):
         ln_y = np.log(x) / q
         y = np.exp(ln_y)
         ln_aa = 2.0 * (ln_y - np.log1p(-y)) + np.log(alpha)     # aa = a α (mu_from_y)
-        return ln_aa - 0.5 * np.log1p(np.exp(2.0 * np.minimum(ln_aa, 300.0)))
+        return ln_aa - 0.5 * np.logaddexp(0.0, 2.0 * ln_aa)     # μ = aa/√(1 + aa²)
     return where_valid((x > 0) & (x < 1), [x], positive, np.where(x > 0, 0.0, -np.inf))
 
 
