@@ -203,10 +203,11 @@ class Integral:
     note: str = ""
 
 
-def refine(level, floor: float = ROUNDING_FLOOR, label: str = "quadrature") -> Integral:
+def refine(level, floor: float = ROUNDING_FLOOR, label: str = "quadrature",
+           target: float = TARGET_ERROR) -> Integral:
     """``level(n) -> (value, Σ|terms|, evaluations, bound of a part left out)``:
     compare n with 2n, doubling n
-    while the error is above TARGET_ERROR, ORDER_MAX allows it, and the time budget
+    while the error is above ``target``, ORDER_MAX allows it, and the time budget
     affords the next level (predicted at 4× the last: N² nodes a piece).
 
     Error of I_2N: ERROR_SAFETY × Δ, Δ = |I_2N − I_N|, or — where the last two
@@ -231,7 +232,7 @@ def refine(level, floor: float = ROUNDING_FLOOR, label: str = "quadrature") -> I
             elif rate > RATE_SLOW:
                 error = max(error, delta * rate / (1.0 - rate))
         error += rounding + dropped
-        if error <= TARGET_ERROR or 2 * n >= ORDER_MAX:
+        if error <= target or 2 * n >= ORDER_MAX:
             return Integral(fine, error, evaluations, 2 * n)
         b = budget.current()
         if b is not None and not b.affords(4.0 * last_seconds):

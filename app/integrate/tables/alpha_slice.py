@@ -8,7 +8,11 @@ quadrature (albedo.py), a not-a-knot cubic spline through them, and every cell c
 its quarter points (CHECK_AT) against the quadrature there; a cell whose miss (× SAFETY,
 + the nodes' own quadrature error) is above GOAL is halved — its midpoint becomes a node —
 and the new spline is checked again in every cell, until every cell passes. For
-Student-t below γ = 2 the axis is x = y^q (grazing_exponent), where E is smooth. Heavy tails and grazing μ get more nodes, light ones stay at the first grid.
+Student-t below γ = 2 the axis is x = y^q (grazing_exponent), where E is smooth, and
+below MU_TAIL its nodes take E's grazing asymptote 1 − A μ^q (grazing_tail), computed in
+logs: the quadrature does not reach μ < 1e-150, nor μ below the smallest double, where E
+still falls for γ near 1.5. Heavy tails and grazing μ get more nodes, light ones stay at
+the first grid.
 
 ``error`` = SAFETY × the largest check-point miss of the final spline + the largest node
 error: a bound on |Ê − E| at every μ (a cubic spline's error in a cell peaks near its
@@ -29,6 +33,7 @@ from scipy.interpolate import CubicSpline
 
 from ...physics.gauss import gauss_legendre_01
 from ..albedo import albedo
+from ...physics.numeric import where_valid
 from ..cache import complete_only
 from .table import E_AVG_NODES_PER_CELL, Y_GRADING, lobe_at, mu_from_y, y_from_mu
 
@@ -50,12 +55,24 @@ NODE_TOL = 3e-6
 #: First grid: FIRST_CELLS cells of y = (k/FIRST_CELLS)^Y_GRADING (table.py's grading).
 FIRST_CELLS = 16
 #: Halvings at most, and nodes at most: a slice that has not met GOAL by then reports
-#: what it has (its error says so). Student-t below γ ≈ 1.52 does: its E falls from 1
-#: at μ below 1e-100, where the quadrature's disk radius overflows (docs/tables.md §5).
-MAX_ROUNDS = 6
+#: what it has (its error says so). 40 rounds, not 6: for Student-t near γ = 1.5, the
+#: bulk of E (μ ≳ 1e-6) lies in a band of width ~q at x → 1, which the halvings reach
+#: from the first grid's first cell (γ = 1.501: 10 rounds, 55 nodes at α = 0.05); a round
+#: that halves one cell costs the quadrature at three μ.
+MAX_ROUNDS = 40
 MAX_NODES = 257
 #: Slices kept per process (each a few kB).
 CACHE_SIZE = 512
+#: Below this μ, for a slice whose axis has q < 1 (Student-t below γ = 2), E is not
+#: computed by quadrature but from its grazing asymptote E = 1 − A μ^q, A from the
+#: quadrature at MU_TAIL itself (docs/tables.md §5): the next term is O(μ) (measured:
+#: (1 − E)/μ^q constant to 1e-10 from μ = 1e-10 to 1e-150 at γ = 1.51 and 1.55), and the
+#: quadrature's disk radius ~1/μ overflows float64 below μ ≈ 1e-150, where E still
+#: falls for γ < 1.52 (and below μ = 5e-324 for γ < 1.5007: unrepresentable μ, which
+#: the asymptote reaches in logs through x).
+MU_TAIL = 1e-100
+#: Where the asymptote is checked against the quadrature (its miss enters the error).
+MU_TAIL_CHECK = 1e-140
 
 
 @dataclass(frozen=True, eq=False)   # hashed by identity
@@ -111,17 +128,61 @@ def _mu_from_x(x, alpha: float, q: float):
 
 
 def _E_avg(x_nodes: np.ndarray, alpha: float, q: float, E) -> float:
-    """2 ∫₀¹ E(μ) μ dμ by Gauss-Legendre in x on every cell of the nodes (E is a cubic
-    there): y = x^{1/q}, μ = μ(y), dμ/dx = dμ/dy · y/(q x), dμ/dy as table._E_avg."""
+    """2 ∫₀¹ E(μ) μ dμ by Gauss-Legendre in y on every cell of the nodes' y = x^{1/q}, μ = μ(y).
+    In y, not x: for q below ~1e-12 the cells near x = 1 are a few ulps wide, and Gauss
+    nodes inside them round (Ē came out 3e-3 for E ≈ 1e-15 at γ = 1.5 + 1 ulp); in y
+    they are distinct cells, or none (nodes rounding to the same y hold no μ)."""
     t, w = gauss_legendre_01(E_AVG_NODES_PER_CELL)
-    lo, hi = x_nodes[:-1, None], x_nodes[1:, None]
-    x = (lo + (hi - lo) * t).ravel()
-    wx = ((hi - lo) * w).ravel()
-    y = x ** (1.0 / q)
+    y_nodes = np.unique(x_nodes ** (1.0 / q))
+    lo, hi = y_nodes[:-1, None], y_nodes[1:, None]
+    y = (lo + (hi - lo) * t).ravel()
+    wy = ((hi - lo) * w).ravel()
     mu = mu_from_y(y, alpha)
-    a = (y / (1.0 - y)) ** 2
-    dmu = alpha / (1.0 + (a * alpha) ** 2) ** 1.5 * 2.0 * y / (1.0 - y) ** 3 * (y / (q * x))
-    return float(2.0 * np.sum(E(mu) * mu * dmu * wx))
+    # dμ/dy = 2αy (1 − y)³ / ((1 − y)⁴ + α²y⁴)^{3/2}: table.mu_from_y differentiated, in
+    # the form that stays finite as y → 1
+    dmu = 2.0 * alpha * y * (1.0 - y) ** 3 / ((1.0 - y) ** 4 + (alpha * y * y) ** 2) ** 1.5
+    return float(2.0 * np.sum(E(mu) * mu * dmu * wy))
+
+
+def _log_mu_from_x(x, alpha: float, q: float):
+    """ln μ at x = y^q, computed in logs (μ underflows for y below ~1e-162, and x = y^q
+    reaches such y at x ~ 1e-162^q, well inside [0, 1] for small q): −inf at x = 0."""
+    x = np.asarray(x, dtype=float)
+
+    def positive(x):
+        ln_y = np.log(x) / q
+        y = np.exp(ln_y)
+        ln_aa = 2.0 * (ln_y - np.log1p(-y)) + np.log(alpha)     # aa = a α (mu_from_y)
+        return ln_aa - 0.5 * np.logaddexp(0.0, 2.0 * ln_aa)     # μ = aa/√(1 + aa²)
+    return where_valid((x > 0) & (x < 1), [x], positive, np.where(x > 0, 0.0, -np.inf))
+
+
+@dataclass(frozen=True)
+class GrazingTail:
+    """E = 1 − A μ^q below MU_TAIL (docs/tables.md §5): A from the quadrature at MU_TAIL,
+    ``error`` bounds its miss below MU_TAIL (that node's error, plus the miss and the
+    node error at MU_TAIL_CHECK)."""
+    A: float
+    q: float
+    error: float
+    evaluations: int
+
+    def E(self, log_mu):
+        return 1.0 - self.A * np.exp(self.q * np.asarray(log_mu, dtype=float))
+
+
+def grazing_tail(lobe, q: float) -> GrazingTail:
+    """Fit A at MU_TAIL and check the asymptote at MU_TAIL_CHECK (one quadrature call).
+    The error below MU_TAIL: with E = 1 − A_true μ^q + r(μ), r = O(μ), the fitted A is off
+    by (δ + r(MU_TAIL))/MU_TAIL^q, δ the node's quadrature error, so Ê is off by at most
+    (δ + |r(MU_TAIL)|)(μ/MU_TAIL)^q + |r(μ)| ≤ δ + 2 |r(MU_TAIL)|; the check's miss
+    (with its own node error) stands for r."""
+    res = albedo(lobe, np.array([MU_TAIL, MU_TAIL_CHECK]), tol=NODE_TOL)
+    A = (1.0 - float(res.E[0])) / MU_TAIL ** q
+    tail = GrazingTail(A, q, 0.0, res.evaluations)
+    miss = abs(float(res.E[1]) - float(tail.E(np.log(MU_TAIL_CHECK))))
+    error = float(res.E_error[0]) + 2.0 * (miss + float(res.E_error[1]))
+    return GrazingTail(A, q, error, res.evaluations)
 
 
 def build(key: tuple, alpha: float) -> ESlice:
@@ -130,19 +191,28 @@ def build(key: tuple, alpha: float) -> ESlice:
     lobe = lobe_at(key, alpha)
     q = grazing_exponent(lobe.ndf)
     known: dict[float, tuple[float, float]] = {}     # x → (E, its quadrature error)
-    evaluations = 0
+    tail = grazing_tail(lobe, q) if q < 1.0 else None
+    evaluations = 0 if tail is None else tail.evaluations
 
     def compute(xs):
         nonlocal evaluations
         new = np.array(sorted({float(v) for v in xs} - known.keys()))
+        if not new.size:
+            return
+        if tail is not None:
+            log_mu = _log_mu_from_x(new, alpha, q)
+            deep = log_mu < np.log(MU_TAIL)
+            known.update(zip(new[deep].tolist(), ((e, tail.error) for e in tail.E(log_mu[deep]).tolist())))
+            new = new[~deep]
         if new.size:
             res = albedo(lobe, _mu_from_x(new, alpha, q), tol=NODE_TOL)
             evaluations += res.evaluations
             known.update(zip(new.tolist(), zip(res.E.tolist(), res.E_error.tolist())))
 
     # the first grid: table.py's y nodes (the same μ for every q)
-    x = (np.linspace(0.0, 1.0, FIRST_CELLS + 1) ** Y_GRADING) ** q
-    for _ in range(MAX_ROUNDS + 1):
+    # (unique: for q below ~1e-15, at γ within a few ulps of 1.5, the last nodes round to 1)
+    x = np.unique((np.linspace(0.0, 1.0, FIRST_CELLS + 1) ** Y_GRADING) ** q)
+    for round_ in range(MAX_ROUNDS + 1):
         h = np.diff(x)
         checks = np.concatenate([x[:-1] + CHECK_AT[0] * h, x[:-1] + CHECK_AT[1] * h])
         compute(np.concatenate([x, checks]))    # one quadrature call per round
@@ -152,9 +222,9 @@ def build(key: tuple, alpha: float) -> ESlice:
         miss = np.maximum(cell_miss[:h.size], cell_miss[h.size:])
         node_error = max(e for _, e in known.values())
         bad = SAFETY * miss + node_error > GOAL
-        if not bad.any() or x.size + bad.sum() > MAX_NODES:
-            break
-        x = np.sort(np.concatenate([x, 0.5 * (x[:-1] + x[1:])[bad]]))
+        if not bad.any() or round_ == MAX_ROUNDS or x.size + bad.sum() > MAX_NODES:
+            break     # x, values and spline stay those just checked
+        x = np.unique(np.concatenate([x, 0.5 * (x[:-1] + x[1:])[bad]]))   # a cell one ulp wide stays
     measured = float(np.max(miss))
     E_avg = _E_avg(x, alpha, q, lambda m: np.clip(spline(y_from_mu(m, alpha) ** q), 0.0, 1.0))
     return ESlice(key, alpha, x, values, spline, SAFETY * measured + node_error, measured,
