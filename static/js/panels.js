@@ -94,7 +94,10 @@ export class Panel {
 
   shown(s = ctx.state) { return s.show.includes(this.name); }
   takesModel(s = ctx.state) { return viewTakes(this.name, s); }
-  wanted() { return this.shown() && this.inView && this.takesModel(); }
+  /** Shown and drawing this model (in view or not): its requests in flight are kept. */
+  shows() { return this.shown() && this.takesModel(); }
+  /** Shows it and is in view: it asks for what it draws. */
+  wanted() { return this.shows() && this.inView; }
 
   /** A view that does not take the chosen model: a note in place of the plot, which
    * stays as it was drawn, for when the model it takes is chosen again. */
