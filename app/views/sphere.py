@@ -14,4 +14,5 @@ VIEW = View(
     lambda spec, q: quantities.lit_sphere(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n),
     lambda data, spec, q: lit_sphere_figure(data, spec.values, q.theta_i_deg, q.phi_i_deg,
                                             q.display, q.exposure),
-    square_grid_limits)
+    square_grid_limits,
+    heavy=True)

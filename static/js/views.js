@@ -79,6 +79,8 @@ export const fieldRole = (f) => f.role || (f.type === "boolean" ? "display" : "s
 /** A heavy image (fetched coarser while a slider is held): the server's `heavy` flag on the
  * view (GET /api/v1/views), else this page's table until every server declares it. */
 export const isHeavy = (view) => view.heavy ?? !!hintOf(view.name).heavy;
+/** The room a view takes: the server's `layout` (half | wide | strip), else this table's. */
+export const layoutOf = (view) => view.layout ?? (hintOf(view.name).wide ? (hintOf(view.name).short ? "strip" : "wide") : "half");
 /** Whether a view overlays models or values (pins, vary): the server's `overlayable`, or
  * null when it does not say (the page then learns it from the refusal). */
 export const overlayable = (view) => (typeof view.overlayable === "boolean" ? view.overlayable : null);
