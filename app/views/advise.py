@@ -79,4 +79,5 @@ VIEW = View(
     "largest albedo error and measured relative cost, and the cheapest within tol.",
     AdviseQuery, AdviseQuery, _compute,
     lambda data, spec, q: advise_figure(data, spec.values),
-    _check_advise)
+    _check_advise,
+    layout="strip")

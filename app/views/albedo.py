@@ -81,4 +81,5 @@ VIEW = View(
     "single-scattering E.",
     schemas.AlbedoQuery, schemas.AlbedoFigureQuery, compute,
     lambda data, spec, q: albedo_figure(data, spec.values, getattr(q, "y_range", "fit")),
-    limits)
+    limits,
+    overlayable=True)

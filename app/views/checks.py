@@ -47,4 +47,5 @@ VIEW = View(
     ChecksQuery, ChecksQuery,
     lambda spec, q: checks.checks(spec, q.theta_deg, q.phi_deg, q.ids),
     lambda data, spec, q: checks_figure(data, spec.values),
-    _check)
+    _check,
+    layout="wide")

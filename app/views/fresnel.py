@@ -13,4 +13,5 @@ VIEW = View(
     schemas.FresnelQuery, schemas.FresnelQuery,
     lambda spec, q: quantities.fresnel_curve(spec.brdf(), q.n),
     lambda data, spec, q: fresnel_figure(data, spec.values),
-    curve_limits)
+    curve_limits,
+    overlayable=True)

@@ -12,4 +12,5 @@ VIEW = View(
     schemas.CurveQuery, schemas.CurveQuery,
     lambda spec, q: quantities.g1_curve(spec.brdf(), q.phi_deg, q.n),
     lambda data, spec, q: g1_figure(data, spec.values),
-    curve_limits)
+    curve_limits,
+    overlayable=True)

@@ -12,4 +12,5 @@ VIEW = View(
     schemas.LobeQuery, schemas.LobeFigureQuery,
     lambda spec, q: quantities.lobe_curve(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n, q.cosine),
     lambda data, spec, q: lobe_figure(data, spec.values, q.theta_i_deg, q.log),
-    curve_limits)
+    curve_limits,
+    overlayable=True)

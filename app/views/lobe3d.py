@@ -12,4 +12,5 @@ VIEW = View(
     schemas.Lobe3dQuery, schemas.Lobe3dFigureQuery,
     lambda spec, q: quantities.lobe_grid(spec.brdf(), q.theta_i_deg, q.phi_i_deg, q.n_theta, q.n_phi),
     lambda data, spec, q: lobe3d_figure(data, spec.values, q.theta_i_deg, q.phi_i_deg, q.log),
-    grid_limits)
+    grid_limits,
+    heavy=True, layout="wide")

@@ -13,4 +13,5 @@ VIEW = View(
     schemas.NdfQuery, schemas.NdfFigureQuery,
     lambda spec, q: quantities.ndf_curve(spec.brdf(), q.phi_deg, q.n, q.cosine),
     lambda data, spec, q: ndf_figure(data, spec.values, q.log),
-    curve_limits)
+    curve_limits,
+    overlayable=True)

@@ -28,4 +28,5 @@ VIEW = View(
     "E(θ_v) of each lobe (diffuse, sheen, specular, clearcoat), stacked to the total: how much "
     "each reflects.",
     PrincipledAlbedoQuery, PrincipledAlbedoQuery, compute,
-    lambda data, spec, q: stacked_albedo_figure(data, "Principled BRDF: albedo by lobe"))
+    lambda data, spec, q: stacked_albedo_figure(data, "Principled BRDF: albedo by lobe"),
+    overlayable=True)

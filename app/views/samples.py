@@ -27,4 +27,5 @@ VIEW = View(
     schemas.SamplesQuery, schemas.SamplesQuery,
     lambda spec, q: quantities.samples(spec.brdf(), q.sampler, q.n, q.seed, q.theta_i_deg, q.phi_i_deg),
     lambda data, spec, q: samples_figure(data, spec.values, q.theta_i_deg),
-    _check_samples)
+    _check_samples,
+    heavy=True)

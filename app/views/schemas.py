@@ -116,29 +116,31 @@ class NdfQuery(CurveQuery):
 
 
 class NdfFigureQuery(NdfQuery):
-    log: bool = True
+    log: Annotated[bool, Field(description="draw the values on a log axis (decades) instead of a linear one")] = True
 
 
 class LobeQuery(ModelQuery):
     theta_i_deg: Theta = 45.0
     phi_i_deg: Phi = 0.0
     n: Annotated[int, Field(ge=3, description="number of θ_o samples over [−90°, 90°]")] = 181
-    cosine: bool = False
+    cosine: Annotated[bool, Field(description="f·cos θ_o (the radiance leaving each way per "
+                                              "unit irradiance) instead of f")] = False
 
 
 class LobeFigureQuery(LobeQuery):
-    log: bool = False
+    log: Annotated[bool, Field(description="draw the values on a log axis (decades) instead of a linear one")] = False
 
 
 class Lobe3dQuery(ModelQuery):
     theta_i_deg: Theta = 45.0
     phi_i_deg: Phi = 0.0
-    n_theta: Annotated[int, Field(ge=2)] = 46
-    n_phi: Annotated[int, Field(ge=3)] = 91
+    n_theta: Annotated[int, Field(ge=2, description="rows θ_o = 0..90°, both ends included")] = 46
+    n_phi: Annotated[int, Field(ge=3, description="columns φ_o over a full turn, both ends "
+                                                  "included")] = 91
 
 
 class Lobe3dFigureQuery(Lobe3dQuery):
-    log: bool = False
+    log: Annotated[bool, Field(description="draw the values on a log axis (decades) instead of a linear one")] = False
 
 
 class AlbedoQuery(ModelQuery):
@@ -207,7 +209,7 @@ class SliceQuery(ModelQuery):
 
 
 class SliceFigureQuery(SliceQuery):
-    log: bool = True
+    log: Annotated[bool, Field(description="colour by log10 f (decades) instead of f")] = True
 
 
 class SamplesQuery(ModelQuery):

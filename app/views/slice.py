@@ -14,4 +14,5 @@ VIEW = View(
     lambda spec, q: quantities.half_difference_slice(spec.brdf(), q.phi_h_deg, q.phi_d_deg,
                                                      q.n, q.cosine),
     lambda data, spec, q: slice_figure(data, spec.values, q.phi_d_deg, q.log),
-    square_grid_limits)
+    square_grid_limits,
+    heavy=True)

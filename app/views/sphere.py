@@ -14,4 +14,5 @@ VIEW = View(
     lambda spec, q: lit_sphere(spec.brdf(), point_light(q.theta_i_deg, q.phi_i_deg), q.n, rgb=False),
     lambda data, spec, q: lit_sphere_figure(data, spec.values, q.theta_i_deg, q.phi_i_deg,
                                             q.display, q.exposure),
-    square_grid_limits)
+    square_grid_limits,
+    heavy=True)

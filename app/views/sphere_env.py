@@ -70,4 +70,5 @@ VIEW = View(
     "Any model on a sphere, in colour, under a point light or a procedural environment "
     "(sampled; the noise is stated).",
     SphereEnvQuery, SphereEnvFigureQuery, compute, figure, limits,
-    roles={"environment": "geometry", "light_color": "geometry"})
+    roles={"environment": "geometry", "light_color": "geometry"},
+    heavy=True)

@@ -79,4 +79,5 @@ VIEW = View(
     "of budgets, max |E − E_ref| over μ versus evaluations and seconds.",
     TradeoffQuery, TradeoffFigureQuery, _compute,
     lambda data, spec, q: tradeoff_figure(data, spec.values, getattr(q, "x", "evaluations")),
-    _check)
+    _check,
+    overlayable=True, layout="wide")

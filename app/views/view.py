@@ -16,6 +16,9 @@ from ..model import ModelSpec
 from . import schemas
 
 ROLES = ("geometry", "shape", "resolution", "method", "display")
+#: half: one cell of a two-column grid; wide: the whole width, two rows high (a surface,
+#: a table); strip: the whole width, one row (a short table)
+LAYOUTS = ("half", "wide", "strip")
 
 #: The role of a field by its name, the same in every view; a view may override it.
 ROLE_BY_NAME = {
@@ -53,6 +56,21 @@ class View:
     figure: Callable[[dict, ModelSpec, Any], dict]
     limits: Callable[[Any, Settings], None] = no_limits
     roles: Mapping[str, str] = field(default_factory=dict)
+    #: an image costly enough that a client asks for it coarser while a slider moves
+    heavy: bool = False
+    #: its figure is curves, which pins and `vary` overlay (several models in one figure)
+    overlayable: bool = False
+    #: room it wants beside others: one of LAYOUTS
+    layout: str = "half"
+
+    def __post_init__(self):
+        if self.layout not in LAYOUTS:
+            raise ValueError(f"view {self.name}: layout {self.layout!r} is not one of {', '.join(LAYOUTS)}")
+
+    def declared(self) -> dict:
+        """What the view declares of itself for clients (GET /api/v1/views): heavy,
+        overlayable, layout."""
+        return {"heavy": self.heavy, "overlayable": self.overlayable, "layout": self.layout}
 
     def fields(self) -> list[str]:
         """The figure query's own fields (not the model's): geometry, resolution…"""

@@ -189,7 +189,7 @@ async function overlay(name, div) {
   // title, and says in one corner what it shows; the largest error goes to the box.
   const own = data.difference || ["slice", "sphere"].includes(name);
   const layout = own ? { ...body.layout, height: div.layout.height, width: div.layout.width, margin: div.layout.margin }
-                     : { ...div.layout };
+                     : rangeOverAll({ ...div.layout });
   const label = data.difference ? "(data − model)/model" : `data ${channelLabel()}`;
   layout.title = { text: "" };
   // the page's own annotations stay; this module's label of an earlier overlay (another
@@ -206,6 +206,22 @@ async function overlay(name, div) {
   largestList.set(name, largest);
   showLargest();
   div.dispatchEvent(new CustomEvent("brdf-data-drawn", { detail: { largest } }));
+}
+
+/** The page fixed its value axes to the model's curves; with the data beside them they
+ * range over both (Plotly's autorange over every trace): a measured peak far above the
+ * model is drawn, not cut off at the model's top. */
+function rangeOverAll(layout) {
+  for (const k of Object.keys(layout)) {
+    if (!/^yaxis\d*$/.test(k)) continue;
+    const { range, ...axis } = layout[k];
+    layout[k] = { ...axis, autorange: true };
+  }
+  if (layout.polar) {
+    const { range, ...radial } = layout.polar.radialaxis || {};
+    layout.polar = { ...layout.polar, radialaxis: { ...radial, autorange: true } };
+  }
+  return layout;
 }
 
 const channelLabel = () => `(${data.summary.channels.length === 3 ? data.channel : data.summary.channels[0]})`;

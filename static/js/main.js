@@ -7,7 +7,7 @@ import { setModels, setMaterials, reg, modelDefaults, fixApplicability, choiceDe
 import { ctx } from "./ctx.js";
 import { stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "./state.js";
 import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
-import { HINTS, PANEL_ORDER, PAGE_DEFAULTS } from "./views.js";
+import { HINTS, PANEL_ORDER, PAGE_DEFAULTS, panelList } from "./views.js";
 import { lightDrag } from "./spheredrag.js";
 import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows, controls } from "./sidebar.js";
 import { Panel } from "./panels.js";
@@ -100,7 +100,7 @@ function syncLocals() {
     else loc.input.value = String(state[key]);
     loc.input.parentElement.hidden = !fieldApplies(loc.view, loc.field, state);
   }
-  for (const v of ctx.views) document.getElementById(`show-${v.name}`).checked = state.show.includes(v.name);
+  for (const v of ctx.panelList) document.getElementById(`show-${v.name}`).checked = state.show.includes(v.name);
   $("#compare").hidden = !state.vary;
   $("#compare-text").textContent = state.vary
     ? `Comparing ${state.vary} = ${state.values.split(",").join(", ")} (one curve each, where a panel can overlay curves).` : "";
@@ -126,7 +126,7 @@ function onStateChange() {
     p.syncModel();
     scheduler.touch(p);
   }
-  gpu?.sync(state);
+  syncGpu();
   scheduleUrlWrite();
   for (const loc of ctx.locals.values()) setIf(loc.input.parentElement, "hidden", !fieldApplies(loc.view, loc.field, state));
 }
@@ -203,14 +203,13 @@ async function boot() {
   }
   const rank = (v) => (PANEL_ORDER.includes(v.name) ? PANEL_ORDER.indexOf(v.name) : PANEL_ORDER.length);
   ctx.views = viewList.map((v, i) => ({ ...v, i })).sort((a, b) => rank(a) - rank(b) || a.i - b.i);
+  ctx.panelList = panelList(ctx.views);
   const box = $("#panels");
   panels = ctx.views.map((view) => {
     const p = new Panel(view, { onChange: onStateChange, onPin: pinCurrent, onTails: compareTails });
     box.append(p.section);
     return p;
   });
-  // the live GPU sphere after the panels the page opens with (they fill the first screen)
-  gpu = mountGpu(box, panels.find((p) => !PANEL_ORDER.includes(p.name))?.section ?? null);
   for (const p of panels) p.report = report(p);
   for (const p of panels) {
     if (!HINTS[p.name]?.lightDrag) continue;
@@ -221,21 +220,26 @@ async function boot() {
       onStateChange();
     } });
   }
-  panelBar(ctx.views, (name, on) => {
-    state.show = ctx.views.map((v) => v.name).filter((n) => (n === name ? on : state.show.includes(n)));
+  panelBar(ctx.panelList, (name, on) => {
+    state.show = ctx.panelList.map((v) => v.name).filter((n) => (n === name ? on : state.show.includes(n)));
     onStateChange();
-    const p = panels.find((x) => x.name === name);
-    if (on) p.section.scrollIntoView({ behavior: "smooth", block: "nearest" });
+    const section = name === "gpu" ? gpu?.section : panels.find((x) => x.name === name)?.section;
+    if (on) section?.scrollIntoView({ behavior: "smooth", block: "nearest" });
   });
   Object.assign(ctx.defaultState, modelDefaults(), { model: fam.default, families: allFamilyDefaults(),
     pins: [], vary: null, values: null, extra: {},
-    show: ctx.views.map((v) => v.name).filter((n) => HINTS[n]?.shown) });
+    show: ctx.panelList.map((v) => v.name).filter((n) => HINTS[n]?.shown) });
   for (const [key, loc] of ctx.locals) ctx.defaultState[key] = PAGE_DEFAULTS[loc.view]?.[loc.field.name] ?? loc.field.default;
   if (reg.models.version) $("#version").textContent = `v${reg.models.version}`;
   buildSidebar({ change: onStateChange, hold: onHold, notices: showNotices, pin: pinCurrent,
                  clearPins: () => setPins([]) });
+  window.__brdf.declareExtra([USER_BRDF_KEY]);
   const { s, notes } = stateFromSearch(location.search);
   Object.assign(state, s);
+  // a link to the user's own BRDF is a link to the GPU panel, which draws it
+  if (state.extra[USER_BRDF_KEY] && !state.show.includes("gpu")) {
+    state.show = ctx.panelList.map((v) => v.name).filter((n) => n === "gpu" || state.show.includes(n));
+  }
   showNotices(notes);
   syncAll();
   $("#boot-status").hidden = true;
@@ -244,15 +248,30 @@ async function boot() {
     inViewObserver.observe(p.section);
   }
   booting = false;
-  if (gpu.failed) showServerSphere();
+  syncGpu();
   if (state.extra[USER_BRDF_KEY]) gpu.user.fromLink(state.extra[USER_BRDF_KEY]);
   onStateChange();
 }
 
 // ------------------------------------------------------------ GPU panel ----
-// The live sphere (js/gpu/): its drag writes the light at the release; where WebGL2 is
-// missing the server's sphere panel is shown instead.
+// The live sphere (js/gpu/), a panel of the PANELS bar (views.js PAGE_PANELS): made when
+// first shown (its WebGL context and shader cost nothing until then); its drag writes
+// the light at the release; where WebGL2 is missing the server's sphere panel is shown.
 let gpu = null;
+function syncGpu() {
+  if (booting) return;
+  const on = state.show.includes("gpu");
+  if (on && !gpu) {
+    const next = ctx.panelList.slice(ctx.panelList.findIndex((v) => v.name === "gpu") + 1);
+    const before = next.map((v) => panels.find((p) => p.name === v.name)?.section).find(Boolean) ?? null;
+    gpu = mountGpu($("#panels"), before);
+  }
+  if (!gpu) return;
+  setIf(gpu.section, "hidden", !on);
+  if (!on) return;
+  if (gpu.failed) showServerSphere();
+  gpu.sync(state);
+}
 function mountGpu(box, before) {
   const g = new GpuPanel({
     onLight: (theta, phi) => {
@@ -260,12 +279,11 @@ function mountGpu(box, before) {
       for (const k of ["theta_i_deg", "phi_i_deg"]) controls.get(k)?.set(state[k]);
       onStateChange();
     },
-    onFallback: () => { if (!booting) showServerSphere(); },
+    onFallback: () => { if (!booting && state.show.includes("gpu")) showServerSphere(); },
     onLink: (key, text) => {
       if ((state.extra[key] ?? null) !== text) window.__brdf.setExtra({ [key]: text });
     },
   });
-  window.__brdf.declareExtra([USER_BRDF_KEY]);
   box.insertBefore(g.section, before);
   window.__gpu = g.hook();
   window.__gpuPanel = g;

@@ -3,7 +3,7 @@
 import { el, $, richText } from "./dom.js";
 import { reg } from "./model.js";
 import { ctx } from "./ctx.js";
-import { hintOf, viewTitle, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
+import { hintOf, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
 
 /** The view's fields a panel sets itself: toggles, menus and bounded numbers that are
  * not geometry (the sidebar's θ_i, φ_i) nor resolution (left at the API's defaults). */
@@ -59,15 +59,15 @@ export function localControl(view, f, onChange) {
   return label;
 }
 
-/** The list of panels, at the top of the figures: one toggle per view. */
-export function panelBar(views, onToggle) {
+/** The list of panels, at the top of the figures: one toggle per panel (views.js panelList). */
+export function panelBar(list, onToggle) {
   const bar = $("#panel-bar");
   bar.textContent = "";
   bar.append(el("span", { class: "panel-bar-label", text: "Panels" }));
-  for (const v of views) {
+  for (const v of list) {
     const box = el("input", { type: "checkbox", id: `show-${v.name}`, name: `show-${v.name}` });
     box.addEventListener("change", () => onToggle(v.name, box.checked));
-    bar.append(el("label", { class: "chip", for: `show-${v.name}`, title: hintOf(v.name).caption || v.summary },
-      box, el("span", {}, richText(viewTitle(v)))));
+    bar.append(el("label", { class: "chip", for: `show-${v.name}`, title: v.caption || "" },
+      box, el("span", {}, richText(v.title))));
   }
 }

@@ -8,7 +8,7 @@ import { API, el, richText, replaceText, apiMessage, errorLoc, query, setIf } fr
 import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
 import { ctx } from "./ctx.js";
 import { compareModels } from "./pins.js";
-import { hintOf, viewTitle, fieldRole, isHeavy, overlayable } from "./views.js";
+import { hintOf, viewTitle, fieldRole, isHeavy, overlayable, layoutOf } from "./views.js";
 import { panelFields, localControl, fieldApplies } from "./panelcontrols.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
@@ -87,14 +87,18 @@ export class Panel {
     buttons.append(bar);
     this.actions = el("div", { class: "panel-actions" }, tools, buttons);
     this.wrap = el("div", { class: "plot-wrap" }, this.div, this.status);
-    this.section = el("section", { class: `panel${this.hint.wide ? " panel-wide" : ""}${this.hint.short ? " panel-short" : ""}`,
+    const layout = layoutOf(view);
+    this.section = el("section", { class: `panel${layout !== "half" ? " panel-wide" : ""}${layout === "strip" ? " panel-short" : ""}`,
                                    "data-panel": view.name, "aria-labelledby": hid, "aria-describedby": caption.id, hidden: true },
       el("header", { class: "panel-head" }, this.heading, this.actions), this.wrap, this.modelNote, caption);
   }
 
   shown(s = ctx.state) { return s.show.includes(this.name); }
   takesModel(s = ctx.state) { return viewTakes(this.name, s); }
-  wanted() { return this.shown() && this.inView && this.takesModel(); }
+  /** Shown and drawing this model (in view or not): its requests in flight are kept. */
+  shows() { return this.shown() && this.takesModel(); }
+  /** Shows it and is in view: it asks for what it draws. */
+  wanted() { return this.shows() && this.inView; }
 
   /** A view that does not take the chosen model: a note in place of the plot, which
    * stays as it was drawn, for when the model it takes is chosen again. */

@@ -18,7 +18,11 @@
  * the server said, for the state as it is then; up to MAX_BUSY_TRIES times, after which
  * the server's message is shown as the error. A change meanwhile asks at once.
  *
- * The panel supplies: wanted(), request() -> {key, url, init}, batchable(req), receive(req, res, body)
+ * A panel that leaves the viewport keeps its requests in flight (a scroll, or another panel
+ * shown above it, is no reason to throw away an answer on its way); one hidden, or whose
+ * view no longer takes the model, has them aborted.
+ *
+ * The panel supplies: wanted(), shows() (shown and taking the model, in view or not), request() -> {key, url, init}, batchable(req), receive(req, res, body)
  * -> {retry: true} | drawable (throws an Error to show), draw(drawable) -> Promise,
  * fail(message), busy(message).
  */
@@ -64,11 +68,14 @@ export class Scheduler {
     const flights = (panel.flights ||= []);
     if (!panel.wanted()) {
       this.unwait(panel);
+      panel.dirty = false;
+      // out of view only (scrolled away, or moved by another panel's change of size): what
+      // it asked lands and is drawn; it asks for nothing new until it is back in view
+      if (panel.shows?.()) return;
       for (const f of flights) f.ctrl.abort();
       flights.length = 0;
       panel.inflight = null;
       this.flying.delete(panel);
-      panel.dirty = false;
       return;
     }
     // waiting for the held interval: it asks then, for the state as it is by then (what

@@ -30,7 +30,7 @@ export function stateToSearch(s) {
   }
   for (const p of reg.models.geometry) if (s[p.name] !== p.default) q.set(p.name, String(s[p.name]));
   for (const key of ctx.locals.keys()) if (s[key] !== ctx.defaultState[key]) q.set(key, String(s[key]));
-  const shown = ctx.views.filter((v) => s.show.includes(v.name)).map((v) => v.name);
+  const shown = ctx.panelList.filter((v) => s.show.includes(v.name)).map((v) => v.name);
   if (shown.join(",") !== ctx.defaultState.show.join(",")) q.set("show", shown.join(",") || "none");
   if (s.vary) {
     q.set("vary", s.vary);
@@ -143,7 +143,7 @@ export function stateFromSearch(search) {
     const raw = q.get(key);
     if (raw !== null) readLocal(s, key, loc.field, raw, notes);
   }
-  const names = ctx.views.map((v) => v.name);
+  const names = ctx.panelList.map((v) => v.name);
   if (q.has("show")) {
     const want = q.get("show").split(",").map((x) => x.trim()).filter(Boolean);
     const unknown = want.filter((n) => n !== "none" && !names.includes(n));

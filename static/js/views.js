@@ -40,6 +40,24 @@ export const HINTS = {
 };
 export const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
 
+/* The page's own panels (not views of the API), each after the view it is placed beside
+ * in the PANELS bar and the grid; shown and linked like the others (show=). */
+export const PAGE_PANELS = [
+  { name: "gpu", title: "Live sphere (GPU)", after: "sphere",
+    caption: "The lit sphere drawn per pixel in your browser (WebGL2) from the generated shader; drag on it to move the light." },
+];
+
+/** Every panel of the PANELS bar, in order: the API's views (sorted already) with the
+ * page's own inserted after the view each names. */
+export function panelList(views) {
+  const list = views.map((v) => ({ name: v.name, title: viewTitle(v), caption: hintOf(v.name).caption || v.summary }));
+  for (const p of PAGE_PANELS) {
+    const at = list.findIndex((x) => x.name === p.after);
+    list.splice(at < 0 ? list.length : at + 1, 0, p);
+  }
+  return list;
+}
+
 /* Where the page starts a panel's field elsewhere than the API's default. The albedo:
  * auto, the cheapest method whose bound meets the panel's tol (the E(μ, α) table of the
  * default models, 9.8e-6 ≤ 1e-5, in 0.5–1 ms against the quadrature's 9 ms; the legend
@@ -61,6 +79,8 @@ export const fieldRole = (f) => f.role || (f.type === "boolean" ? "display" : "s
 /** A heavy image (fetched coarser while a slider is held): the server's `heavy` flag on the
  * view (GET /api/v1/views), else this page's table until every server declares it. */
 export const isHeavy = (view) => view.heavy ?? !!hintOf(view.name).heavy;
+/** The room a view takes: the server's `layout` (half | wide | strip), else this table's. */
+export const layoutOf = (view) => view.layout ?? (hintOf(view.name).wide ? (hintOf(view.name).short ? "strip" : "wide") : "half");
 /** Whether a view overlays models or values (pins, vary): the server's `overlayable`, or
  * null when it does not say (the page then learns it from the refusal). */
 export const overlayable = (view) => (typeof view.overlayable === "boolean" ? view.overlayable : null);

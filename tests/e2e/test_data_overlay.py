@@ -77,6 +77,13 @@ def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_pa
     page.set_input_files("#data-file", str(path))
     page.wait_for_function(OVERLAID, arg="plot-lobe", timeout=60_000)
     assert "merl" in page.text_content("#data-status")
+    # the data's peak (its α = 0.06 lobe, far above the model's α = 0.3) is on the axis
+    # drawn, not cut off at the model's top
+    top, peak = page.evaluate("""() => { const d = document.getElementById('plot-lobe');
+        const r = d._fullData.filter((t) => t.name && t.name.startsWith('data')).flatMap((t) => Array.from(t.r))
+          .filter(Number.isFinite);
+        return [d._fullLayout.polar.radialaxis.range[1], Math.max(...r)]; }""")
+    assert peak > 0.1 and top >= peak, (top, peak)
     page.select_option("#data-channel", "r")
     page.click("#data-fit")
     page.wait_for_selector("#data-fit-use", timeout=60_000)

@@ -149,11 +149,44 @@ def test_hidden_panels_are_not_fetched_until_shown(page, page_log, base_url):
     page.select_option("#sphere-display", "render")
     wait_quiet(page, ids=(*PANELS, "plot-sphere"))
     assert api_requests(page_log, "sphere")[-1]["display"] == "render"
+    # a request in flight is kept when its panel leaves the view (a scroll, a panel
+    # above it grown): it lands and is drawn, and is not asked for again (the sphere
+    # below the fold of a short window)
+    size = page.viewport_size
+    page.set_viewport_size({"width": size["width"], "height": 560})
+    wait_quiet(page, ids=("plot-sphere",))
+    held = []
+    page.route("**/api/v1/figures/sphere?*", lambda route: held.append(route))
+    n = len(api_requests(page_log, "sphere"))
+    page.fill("#alpha", "0.4")
+    for _ in range(200):
+        if held:
+            break
+        page.wait_for_timeout(50)
+    page.evaluate("() => { document.getElementById('panels').scrollTop = 0; }")
+    page.wait_for_function("() => !window.__brdf.panels().find((p) => p.name === 'sphere').inView")
+    for route in held:
+        route.continue_()
+    page.wait_for_function("""() => { const p = window.__brdf.panels().find((x) => x.name === 'sphere');
+        return !p.inflight && p.current && !p.inView; }""", timeout=15_000)
+    assert len(api_requests(page_log, "sphere")) == n + 1 and len(held) == 1
+    page.unroute("**/api/v1/figures/sphere?*")
+    page.set_viewport_size(size)
     page.uncheck("#show-ndf")
     n = len(api_requests(page_log, "ndf"))
     page.fill("#alpha", "0.5")
     wait_quiet(page, ids=("plot-lobe", "plot-sphere"))
     assert len(api_requests(page_log, "ndf")) == n          # hidden: not fetched
+    # the live GPU sphere is a panel like the others: off at first, a toggle in PANELS,
+    # named in show=, one row of the grid like the sphere beside it (no empty block)
+    assert not page.is_visible("#panel-gpu") and not page.is_checked("#show-gpu")
+    page.check("#show-gpu")
+    page.wait_for_function("() => window.__gpu && window.__gpu.ok", timeout=60_000)
+    wait_quiet(page, ids=("plot-sphere",))
+    assert parse_qs(urlparse(page.url).query)["show"] == ["lobe,g1,albedo,sphere,gpu"]
+    heights = page.evaluate("""() => ['#panel-gpu', '[data-panel="sphere"]'].map(
+        (s) => document.querySelector(s).getBoundingClientRect().height)""")
+    assert heights[0] == pytest.approx(heights[1], abs=1)
     assert page_log.problems() == []
 
 
