@@ -37,7 +37,7 @@ def views_payload() -> list[dict]:
         fields = [{**_field_info(n, props[n]), "role": view.role(n)} for n in view.fields()]
         curves = vary.vary_choices(view)
         out.append({"name": view.name, "title": view.title, "summary": view.summary,
-                    "fields": fields,
+                    **view.declared(), "fields": fields,
                     "vary": list(curves),
                     "data": f"/api/v1/{view.name}", "figure": f"/api/v1/figures/{view.name}",
                     "exports": {ext: f"/api/v1/figures/{view.name}.{ext}"
