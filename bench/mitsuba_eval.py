@@ -1,9 +1,12 @@
 """Mitsuba 3's roughconductor (LLVM backend) on direction pairs, in a process of its own.
 
 Called by bench/throughput.py (drjit's worker threads, once imported, compete with ours
-in the same process). Usage: ``mitsuba_eval.py PAIRS.npz ALPHA REPEAT [OUT.npy]``:
+in the same process). With REPEAT = serve it evaluates once (compiling), prints "ready",
+then evaluates once per line read from stdin and prints the seconds it took: the
+benchmark times it interleaved with its own rounds. Otherwise
+``mitsuba_eval.py PAIRS.npz ALPHA REPEAT [OUT.npy]``:
 PAIRS.npz holds l and v (n, 3); prints one JSON line {"seconds": median of REPEAT timed
-evaluations after one untimed (which compiles the kernel)}; with OUT.npy also saves
+evaluations after one untimed (which compiles the kernel), "times": each of them}; with OUT.npy also saves
 f·cos θ_l (float64) there. GGX, α, η = 0, κ = 1 (the plugin's default material: F = 1).
 """
 from __future__ import annotations
@@ -17,7 +20,8 @@ import numpy as np
 
 
 def main(argv: list[str]) -> int:
-    pairs, alpha, repeat = argv[0], float(argv[1]), int(argv[2])
+    pairs, alpha = argv[0], float(argv[1])
+    repeat = 0 if argv[2] == "serve" else int(argv[2])
     import drjit as dr
     import mitsuba as mi
     mi.set_variant("llvm_ad_rgb")
@@ -37,6 +41,13 @@ def main(argv: list[str]) -> int:
         return value
 
     value = run()               # compiles (or loads from drjit's cache)
+    if argv[2] == "serve":
+        print("ready", flush=True)
+        for _ in sys.stdin:
+            t0 = time.perf_counter()
+            run()
+            print(time.perf_counter() - t0, flush=True)
+        return 0
     times = []
     for _ in range(repeat):
         t0 = time.perf_counter()
@@ -44,7 +55,7 @@ def main(argv: list[str]) -> int:
         times.append(time.perf_counter() - t0)
     if len(argv) > 3:
         np.save(argv[3], np.asarray(value[0], dtype=np.float64))   # the red channel (all alike)
-    print(json.dumps({"seconds": statistics.median(times) if times else None}))
+    print(json.dumps({"seconds": statistics.median(times) if times else None, "times": times}))
     return 0
 
 

@@ -11,7 +11,7 @@ directions → BRDF.evaluate, as GET/POST /eval do). Side by side in one run:
 * ``quantities``  app.quantities.evaluate, degrees in: the compiled loop that builds the
                   directions itself (f_deg_loop, app/kernels/compose.py), one block per core
 * ``mitsuba``     Mitsuba 3's LLVM backend (optional, float32) on the same pairs, timed in a
-                  process of its own (bench/mitsuba_eval.py) started between our rounds:
+                  process of its own (bench/mitsuba_eval.py) interleaved with our rounds:
                   drjit's worker threads in this process halved our 2-thread numbers.
                   ``roughconductor``, GGX, α as ours, η = 0, κ = 1 (its default: a
                   perfect conductor, F = 1 computed by its conductor Fresnel), its separable
@@ -33,7 +33,7 @@ Directions: uniform on the upper hemisphere (μ uniform in [0, 1], φ uniform).
 """
 from __future__ import annotations
 
-import json
+import contextlib
 import subprocess
 import sys
 import tempfile
@@ -89,17 +89,18 @@ def run(quick: bool = False) -> dict:
     common.log(f"  {n:,} pairs, {repeat} interleaved rounds ...")
     cpu: dict = {}
     load0 = common.loadavg()
-    times = common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu)
-    mitsuba_s, why = mitsuba_times(l, v, same.ndf.alpha_x, rounds=repeat)
-    if mitsuba_s:
-        times["mitsuba"] = mitsuba_s
-        cpu["mitsuba"] = mitsuba_s    # its own process: wall clock only
+    with mitsuba_process(l, v, same.ndf.alpha_x) as (mitsuba, why):
+        if mitsuba is not None:
+            functions["mitsuba"] = mitsuba
+        times = common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu)
     out = {"throughput_pairs": n, "throughput_compiled": have_fast,
            "throughput_loadavg": [load0, common.loadavg()]}
     for name, ts in times.items():
         out[f"evals_per_s_{name}"] = n / common.median(ts)
         # per second of CPU of this process: what a core does when it gets to run
-        out[f"evals_per_cpu_s_{name}"] = n / common.median(cpu[name])
+        # (not for Mitsuba, whose CPU time is another process's)
+        if name != "mitsuba":
+            out[f"evals_per_cpu_s_{name}"] = n / common.median(cpu[name])
     out["evals_per_s"] = out.pop("evals_per_s_fast")
     ref = brdf.evaluate(l, v, ("f",))["f"]
     got = kernels.f(brdf, l, v)
@@ -107,7 +108,7 @@ def run(quick: bool = False) -> dict:
     out["throughput_max_rel_diff"] = float(np.max(np.abs(got[finite] - ref[finite]) / ref[finite]))
     out["throughput_speedup"] = out["evals_per_s"] / out["evals_per_s_numpy"]
     out["quantities_over_fast"] = out["evals_per_s_quantities"] / out["evals_per_s"]
-    if mitsuba is not None:
+    if "mitsuba" in times:
         out["ours_over_mitsuba"] = out["evals_per_s_fast_mitsuba_model"] / out["evals_per_s_mitsuba"]
         out["mitsuba_max_rel_diff"] = mitsuba_check(same, l, v)
     else:
@@ -119,23 +120,34 @@ def run(quick: bool = False) -> dict:
 MITSUBA_SCRIPT = Path(__file__).with_name("mitsuba_eval.py")
 
 
-def mitsuba_times(l, v, alpha: float, rounds: int) -> tuple[list[float], str | None]:
-    """Seconds per evaluation of Mitsuba's roughconductor on the pairs, timed by
-    bench/mitsuba_eval.py in a process of its own, then our loop on the same model once
-    more in this one, alternately, ``rounds`` times (so that both see the same load):
-    ([seconds], None), or ([], why not). Mitsuba is optional, never a dependency."""
+@contextlib.contextmanager
+def mitsuba_process(l, v, alpha: float):
+    """(a function that has Mitsuba's roughconductor evaluate the pairs once, in a process
+    of its own kept waiting between calls (bench/mitsuba_eval.py serve), and returns when it
+    is done; None) — or (None, why not). Timed by ``common.interleaved`` among our own
+    functions; its pipe round trip (~0.1 ms) is in the time. Mitsuba is optional, never a
+    dependency."""
     with tempfile.TemporaryDirectory() as tmp:
         pairs = Path(tmp) / "pairs.npz"
         np.savez(pairs, l=l, v=v)
-        times: list[float] = []
-        for _ in range(rounds):
-            run = subprocess.run([sys.executable, str(MITSUBA_SCRIPT), str(pairs), repr(alpha), "3"],
-                                 capture_output=True, text=True, timeout=600)
-            if run.returncode != 0:
-                lines = (run.stderr or run.stdout).strip().splitlines()
-                return [], lines[-1] if lines else f"exit status {run.returncode}"
-            times.append(json.loads(run.stdout.strip().splitlines()[-1])["seconds"])
-        return times, None
+        proc = subprocess.Popen([sys.executable, str(MITSUBA_SCRIPT), str(pairs), repr(alpha), "serve"],
+                                stdin=subprocess.PIPE, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True)
+        try:
+            first = proc.stdout.readline().strip()
+            if first != "ready":
+                err = proc.communicate(timeout=60)[1].strip().splitlines()
+                yield None, err[-1] if err else f"exit status {proc.returncode}"
+                return
+
+            def run():
+                proc.stdin.write("run\n")
+                proc.stdin.flush()
+                float(proc.stdout.readline())
+            yield run, None
+        finally:
+            if proc.poll() is None:
+                proc.stdin.close()
+                proc.wait(timeout=60)
 
 
 def mitsuba_check(brdf, l, v, n: int = 2000) -> float | None:
