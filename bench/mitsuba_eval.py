@@ -7,7 +7,7 @@ benchmark times it interleaved with its own rounds. Otherwise
 ``mitsuba_eval.py PAIRS.npz ALPHA REPEAT [OUT.npy]``:
 PAIRS.npz holds l and v (n, 3); prints one JSON line {"seconds": median of REPEAT timed
 evaluations after one untimed (which compiles the kernel), "times": each of them}; with OUT.npy also saves
-f·cos θ_l (float64) there. GGX, α, η = 0, κ = 1 (the plugin's default material: F = 1).
+f·cos θ_l (float64) there. GGX, α, the plugin's default material ("none": F = 1).
 """
 from __future__ import annotations
 

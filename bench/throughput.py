@@ -13,8 +13,8 @@ directions → BRDF.evaluate, as GET/POST /eval do). Side by side in one run:
 * ``mitsuba``     Mitsuba 3's LLVM backend (optional, float32) on the same pairs, timed in a
                   process of its own (bench/mitsuba_eval.py) interleaved with our rounds:
                   drjit's worker threads in this process halved our 2-thread numbers.
-                  ``roughconductor``, GGX, α as ours, η = 0, κ = 1 (its default: a
-                  perfect conductor, F = 1 computed by its conductor Fresnel), its separable
+                  ``roughconductor``, GGX, α as ours, its default material ("none": F = 1;
+                  the report checks the values against ours to float32 precision), its separable
                   Smith G2 = G1(l) G1(v); it returns f·cos θ_l. Timed against our compiled
                   loop on the same model (GGX, smith, separable, fresnel=none; float64) as
                   ``fast_mitsuba_model``. Both sides: the same 10⁶ direction pairs already in
