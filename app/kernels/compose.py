@@ -86,7 +86,7 @@ register_scalars()
 {imports}
 JIT = dict(cache=True, nogil=True, error_model="numpy")
 HALF_VECTOR_MIN_NORM = {half_min!r}
-#: pairs whose directions are built at once by f_deg_loop (6 × 8 bytes each, in cache)
+#: pairs whose directions are built at once by f_deg_loop (6 × 8 bytes each, in L1)
 BLOCK = 256
 DEG = math.pi / 180.0
 #: 1.5·2^52: (x + ROUND) − ROUND is x rounded to an integer (|x| < 2^51), no call
@@ -104,10 +104,18 @@ C0, C1, C2, C3, C4, C5, C6 = C
 
 
 @device
+def positive(x):
+    # max(x, 0.0) as Python's max answers it (x unless 0.0 > x: -0.0 and NaN stay), spelled
+    # as a select: numba's max() is a call that LLVM inlines too late to vectorise the loop
+    return 0.0 if 0.0 > x else x
+
+
+@device
 def mu_Lambda(wx, wy, wz, ax, ay, p_ndf, p_mask):
-    s = math.sqrt((ax * wx) ** 2 + (ay * wy) ** 2)
+    sx, sy = ax * wx, ay * wy
+    s = math.sqrt(sx * sx + sy * sy)
     sin_t = math.sqrt(wx * wx + wy * wy)
-    return MASK_ML(max(wz, 0.0), s, sin_t, p_mask, p_ndf, NDF_ML, NDF_CCDF, NDF_CCDF_INV)
+    return MASK_ML(positive(wz), s, sin_t, p_mask, p_ndf, NDF_ML, NDF_CCDF, NDF_CCDF_INV)
 
 
 @device
@@ -128,7 +136,7 @@ def f_pair(lx, ly, lz, vx, vy, vz, ax, ay, inv_ax2, inv_ay2, inv_axay, rho,
     DF = D * FRESNEL_F(vx * hx + vy * hy + vz * hz, p_fresnel)
     ml_l = mu_Lambda(lx, ly, lz, ax, ay, p_ndf, p_mask)
     ml_v = mu_Lambda(vx, vy, vz, ax, ay, p_ndf, p_mask)
-    spec = DF * G2_V(max(lz, 0.0), max(vz, 0.0), ml_l, ml_v, weight_phi(lx, ly, vx, vy), p_g2)
+    spec = DF * G2_V(positive(lz), positive(vz), ml_l, ml_v, weight_phi(lx, ly, vx, vy), p_g2)
     spec = spec if DF > 0.0 else 0.0
     spec = spec if norm > HALF_VECTOR_MIN_NORM else 0.0
     # the diffuse term f_d(ρ = kd; μ_l, μ_v, l·v) (physics/diffuse/base.py's signature)
@@ -138,10 +146,16 @@ def f_pair(lx, ly, lz, vx, vy, vz, ax, ay, inv_ax2, inv_ay2, inv_axay, rho,
 
 @numba.njit(**JIT)
 def f_loop(l, v, out, start, stop, ax, ay, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
+    # l, v: the (n, 3) directions flattened (x0 y0 z0 x1 ...), read at 3k, 3k + 1, 3k + 2
+    # of zero-based slices: the compiler sees a constant stride and indices that cannot be
+    # negative (no wrap-around), and evaluates 4 pairs at once (AVX2) where the formulas
+    # have no call in a branch; rows of an (n, 3) array, or indices start + k, were loaded
+    # one pair at a time and the loop was never vectorised.
     inv_ax2, inv_ay2, inv_axay = 1.0 / (ax * ax), 1.0 / (ay * ay), 1.0 / (ax * ay)
-    for i in range(start, stop):
-        out[i] = f_pair(l[i, 0], l[i, 1], l[i, 2], v[i, 0], v[i, 1], v[i, 2], ax, ay,
-                        inv_ax2, inv_ay2, inv_axay, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
+    lb, vb, o = l[3 * start:3 * stop], v[3 * start:3 * stop], out[start:stop]
+    for k in range(stop - start):
+        o[k] = f_pair(lb[3 * k], lb[3 * k + 1], lb[3 * k + 2], vb[3 * k], vb[3 * k + 1], vb[3 * k + 2],
+                      ax, ay, inv_ax2, inv_ay2, inv_axay, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
 
 
 @device
@@ -165,18 +179,18 @@ def sincos_deg(a):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={{"contract"}})
-def directions_deg(theta_l, phi_l, theta_v, phi_v, w, b0, n):
-    # l and v of pairs b0 .. b0 + n - 1 into w[0:3, :n], w[3:6, :n]: arithmetic only,
-    # which the compiler vectorises; "contract" lets it fuse the polynomials' multiply-adds
-    # (one rounding instead of two; nothing else here has an add after a multiply)
+def directions_deg(theta_l, phi_l, theta_v, phi_v, w, n):
+    # l and v of the pairs of one block (slices) into w[0:3, :n], w[3:6, :n]: arithmetic
+    # only, which the compiler vectorises; "contract" lets it fuse the polynomials'
+    # multiply-adds (one rounding instead of two; nothing else here has an add after a multiply)
     for k in range(n):
-        st, ct = sincos_deg(theta_l[b0 + k])
-        sp, cp = sincos_deg(phi_l[b0 + k])
+        st, ct = sincos_deg(theta_l[k])
+        sp, cp = sincos_deg(phi_l[k])
         w[0, k] = st * cp
         w[1, k] = st * sp
         w[2, k] = ct
-        st, ct = sincos_deg(theta_v[b0 + k])
-        sp, cp = sincos_deg(phi_v[b0 + k])
+        st, ct = sincos_deg(theta_v[k])
+        sp, cp = sincos_deg(phi_v[k])
         w[3, k] = st * cp
         w[4, k] = st * sp
         w[5, k] = ct
@@ -186,16 +200,18 @@ def directions_deg(theta_l, phi_l, theta_v, phi_v, w, b0, n):
 def f_deg_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, ax, ay, rho,
                p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
     # f at angles in degrees, ω = (sinθ cosφ, sinθ sinφ, cosθ): per block of pairs the
-    # directions first (a loop of arithmetic only, which the compiler vectorises), then
-    # f_pair on them; the same values as directions built by direction_deg and f_loop.
+    # directions first, then f_pair as in f_loop, both loops over zero-based slices (so
+    # vectorised); the same values as directions built by direction_deg and f_loop.
     inv_ax2, inv_ay2, inv_axay = 1.0 / (ax * ax), 1.0 / (ay * ay), 1.0 / (ax * ay)
     w = np.empty((6, BLOCK))
     for b0 in range(start, stop, BLOCK):
         n = min(BLOCK, stop - b0)
-        directions_deg(theta_l, phi_l, theta_v, phi_v, w, b0, n)
+        e = b0 + n
+        directions_deg(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
+        o = out[b0:e]
         for k in range(n):
-            out[b0 + k] = f_pair(w[0, k], w[1, k], w[2, k], w[3, k], w[4, k], w[5, k], ax, ay,
-                                 inv_ax2, inv_ay2, inv_axay, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
+            o[k] = f_pair(w[0, k], w[1, k], w[2, k], w[3, k], w[4, k], w[5, k], ax, ay,
+                          inv_ax2, inv_ay2, inv_axay, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
 
 
 @numba.njit(**JIT)

@@ -86,8 +86,8 @@ class Kernel:
         broadcastable (..., 3)."""
         l, v = np.broadcast_arrays(np.asarray(l, dtype=float), np.asarray(v, dtype=float))
         shape = l.shape[:-1]
-        l2, v2 = inputs(l.reshape(-1, 3), v.reshape(-1, 3))
-        out = np.empty(l2.shape[0])
+        l2, v2 = inputs(l.reshape(-1), v.reshape(-1))     # flat: x0 y0 z0 x1 ... (f_loop)
+        out = np.empty(l2.size // 3)
         ndf = lobe.ndf
         _split(self._f_loop, out.size, out.size, (l2, v2, out),
                (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd), *self.params(lobe),
@@ -138,7 +138,7 @@ class Kernel:
         for smith_h), with the argument types the calls above use."""
         l, = inputs([[0.0, 0.0, 1.0]])
         p, = inputs(np.zeros(1))
-        self._f_loop(l, l, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
+        self._f_loop(p, p, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
         self._f_deg_loop(p, p, p, p, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
         node, = inputs([[0.5]])
         rule, = inputs([0.5])
