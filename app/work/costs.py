@@ -38,11 +38,13 @@ UPLOAD_SECONDS_PER_BYTE = 1e-7
 SPHERE_PROBE_N = 64
 #: rows of the probe of a samples CSV's encoding (np.savetxt, one Python call a row)
 CSV_PROBE_ROWS = 20_000
-#: share of the time budget what a 413 suggests ("at n=…, samples ≤ 18 would fit") is
-#: predicted to take: the probes of a cost vary ~20 % from one run to the next and a busy
-#: machine slows the work itself, so a suggestion at the very edge was refused again, or
-#: admitted and cut (tests/robustness/test_fits_margin.py)
-FITS_MARGIN = 0.7
+#: share of the time budget what a 413 suggests ("at samples=61, n ≤ 128 would fit") is
+#: predicted to take: the probes of a cost vary ~20 % from one run to the next (up to
+#: 50 % at load 17 on 2 cores: a principled sphere's probe read 1.3 s, then 2.0 s), so a
+#: suggestion at the very edge was refused again by the next probe, or admitted and cut
+#: (tests/robustness/test_fits_margin.py: the suggestion admitted under a budget 1.2×
+#: smaller, which refused it in 2 of 3 runs at the edge)
+FITS_MARGIN = 0.6
 
 
 def require(predicted: float, param: str, what: str, fits) -> None:

@@ -30,11 +30,11 @@ QueryState = tuple[dict, set]
 
 def query_state(q) -> QueryState:
     """A validated query model's values and the names the request gave: plain data
-    (numbers, strings, lists) a worker rebuilds the same query from (:func:`_query`)."""
+    (numbers, strings, lists) a worker rebuilds the same query from (:func:`rebuilt`)."""
     return {**q.__dict__, **(q.__pydantic_extra__ or {})}, set(q.model_fields_set)
 
 
-def _query(model, state: QueryState):
+def rebuilt(model, state: QueryState):
     """``model`` holding ``state``'s values as they were validated in the server."""
     values, given = state
     return model.model_construct(_fields_set=given, **values)
@@ -63,7 +63,7 @@ def view(view_name: str, fmt: str, state: QueryState, settings: Settings):
     v = VIEWS[view_name]
     model = {"data": v.query, "svg": build.image_query(v), "png": build.image_query(v)}.get(
         fmt) or build.export_query(v)
-    q = _query(model, state)
+    q = rebuilt(model, state)
     costs.require_view(v, q, settings)
     if fmt == "data":
         return orjson.dumps(jsonable(run(v, q, settings).data), option=OPTIONS), "application/json"
