@@ -6,6 +6,7 @@ within its graceful timeout (serve's default: BRDF_MAX_SECONDS + 1 s).
     python bench/worst_heavy.py                 # every request, then SIGTERM during five
     python bench/worst_heavy.py --no-sigterm    # the requests only
     python bench/worst_heavy.py --only upload   # the cases whose name holds a word
+    python bench/worst_heavy.py --workers2      # an upload's id on 2 workers and a restart
 
 "cold" is the first request after /api/v1/health answers (the pool's worker may still be
 starting); the rest run one after another on the same server, each timed from its first
@@ -155,11 +156,60 @@ def stop(proc: subprocess.Popen) -> float:
     return time.perf_counter() - t0
 
 
+def two_workers(env: dict) -> None:
+    """`serve --workers 2`: an upload, then 100 GETs of its id (the kernel spreads the
+    connections over both workers), then a restart on the same cache directory and one
+    GET more (200, or 410 with the reason if it was evicted)."""
+    def serve():
+        port = free_port()
+        base = f"http://127.0.0.1:{port}"
+        proc = subprocess.Popen([sys.executable, "-m", "app.cli", "serve", "--host", "127.0.0.1",
+                                 "--port", str(port), "--workers", "2"], cwd=common.ROOT,
+                                stdout=subprocess.DEVNULL, stderr=subprocess.DEVNULL,
+                                env={**os.environ, "PYTHONPATH": str(common.ROOT), **env})
+        deadline = time.monotonic() + 120
+        while not healthy(base):
+            if proc.poll() is not None or time.monotonic() > deadline:
+                raise RuntimeError("the server did not start")
+            time.sleep(0.2)
+        return base, proc
+    base, proc = serve()
+    try:
+        body = samples_csv(2000, 5)
+        for _ in range(30):                   # the pools' workers may still be starting
+            req = urllib.request.Request(base + "/api/v1/datasets", data=body, method="POST",
+                                         headers={"content-type": "text/csv"})
+            try:
+                with urllib.request.urlopen(req, timeout=TIMEOUT) as res:
+                    data_id = json.loads(res.read())["id"]
+                    break
+            except urllib.error.HTTPError as e:
+                e.read()
+                time.sleep(1)
+        statuses = [request(base, "GET", f"/api/v1/datasets/{data_id}")[0] for _ in range(100)]
+    finally:
+        stop(proc)
+    base, proc = serve()
+    try:
+        after = request(base, "GET", f"/api/v1/datasets/{data_id}")
+    finally:
+        stop(proc)
+    print(f"\n--workers 2: {statuses.count(200)} of {len(statuses)} GETs of a just-uploaded id "
+          f"answered 200 (others: {sorted(set(statuses) - {200})}); after a restart: {after[0]} {after[2]}")
+
+
 def main(argv=None) -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--no-sigterm", action="store_true")
     parser.add_argument("--only", default="")
+    parser.add_argument("--workers2", action="store_true",
+                        help="only the --workers 2 check of an upload's id")
     args = parser.parse_args(argv)
+    if args.workers2:
+        import tempfile
+        with tempfile.TemporaryDirectory() as cache:
+            two_workers({"BRDF_CACHE_DIR": cache})
+        return
     limit = Settings().max_seconds + GRACE
     todo = {k: v for k, v in cases().items() if args.only in k}
     print(f"load average at start: {common.loadavg()}; limit {limit:g} s")

@@ -47,10 +47,11 @@ WORKERS_ENV, QUEUE_ENV = "BRDF_HEAVY_WORKERS", "BRDF_HEAVY_QUEUE"
 DEFAULT_WORKERS, DEFAULT_QUEUE = 1, 4
 #: seconds a killed worker's end is waited for (SIGKILL ends it at once; the wait reaps it)
 KILL_GRACE_SECONDS = 0.5
-#: seconds past the request's budget (BRDF_MAX_SECONDS) a job's process is killed: the
-#: job's own cooperative cuts (budget checks between chunks, in the worker) come first;
-#: the rest of cost.GRACE_SECONDS is for sending the answer
-KILL_AFTER_SECONDS = 0.5
+#: seconds past the request's budget (BRDF_MAX_SECONDS) a job's process is killed: none,
+#: so that all of cost.GRACE_SECONDS (1 s) is left to answer. With 0.5 s, the answer of a
+#: cut upload or LUT check came 11.9 and 11.4 s after the request under c = 8 cheap load
+#: (the server's threads share its GIL with the event loop; bench/worst_mix.py)
+KILL_AFTER_SECONDS = 0.0
 #: scheduling niceness added to each worker (man 2 nice): on a machine with as many busy
 #: processes as cores, the kernel gives the server's own process (cheap requests) the CPU
 #: first; without it a heavy job took its core's share from the event loop (cheap p50
@@ -214,8 +215,15 @@ class HeavyPool:
 
     def _renew(self, worker: _Worker) -> None:
         """Kill ``worker`` (its job is abandoned) and, unless closing, put a new one in
-        its place (spawning returns at once: the interpreter starts in the child)."""
+        its place once the caller's answer is on its way (spawning takes the GIL for a
+        moment, which a loaded server's loop would make the answer wait for)."""
         worker.kill()
+        if self._closed:
+            self._running -= 1
+        else:
+            asyncio.get_running_loop().call_soon(self._replace)
+
+    def _replace(self) -> None:
         if self._closed:
             self._running -= 1
         else:
