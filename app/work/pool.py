@@ -166,11 +166,13 @@ class HeavyPool:
         loop = asyncio.get_running_loop()
         try:
             if not worker.ready.done():
+                healthy = True    # a starting worker left (refused, a client gone) is kept
                 try:
                     await self._started(worker, kill_at - KILL_AFTER_SECONDS - cost)
-                except Busy:
-                    healthy = worker.ready.exception() is None if worker.ready.done() else True
+                except Busy:      # ... unless it died as it started
+                    healthy = not worker.ready.done() or worker.ready.exception() is None
                     raise
+                healthy = False
             try:      # a worker that died while idle refuses the job here, not in the await
                 future = loop.run_in_executor(worker.executor, _call, start, seconds,
                                               cost_model.memory_limit(), fn, args)
