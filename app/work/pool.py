@@ -47,11 +47,11 @@ WORKERS_ENV, QUEUE_ENV = "BRDF_HEAVY_WORKERS", "BRDF_HEAVY_QUEUE"
 DEFAULT_WORKERS, DEFAULT_QUEUE = 1, 4
 #: seconds a killed worker's end is waited for (SIGKILL ends it at once; the wait reaps it)
 KILL_GRACE_SECONDS = 0.5
-#: seconds past the request's budget (BRDF_MAX_SECONDS) a job's process is killed: none,
-#: so that all of cost.GRACE_SECONDS (1 s) is left to answer. With 0.5 s, the answer of a
-#: cut upload or LUT check came 11.9 and 11.4 s after the request under c = 8 cheap load
-#: (the server's threads share its GIL with the event loop; bench/worst_mix.py)
-KILL_AFTER_SECONDS = 0.0
+#: seconds past the request's budget (BRDF_MAX_SECONDS) a job's process is killed: the
+#: job's own cost checks and cooperative cuts come first (a 413 from a worker's cost
+#: probe needs ~0.1-0.3 s, which a kill at the budget itself took from a tiny budget);
+#: the rest of cost.GRACE_SECONDS is for sending the answer
+KILL_AFTER_SECONDS = 0.5
 #: scheduling niceness added to each worker (man 2 nice): on a machine with as many busy
 #: processes as cores, the kernel gives the server's own process (cheap requests) the CPU
 #: first; without it a heavy job took its core's share from the event loop (cheap p50
