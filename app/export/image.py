@@ -195,9 +195,9 @@ class ImageRenderer:
             try:
                 return future.result(wait)
             except TimeoutError:
+                if cut:   # left to finish: a drawing cancelled mid-way can leave its tab
+                    raise _past_budget() from None    # stuck for every later one
                 future.cancel()
-                if cut:
-                    raise _past_budget() from None
                 raise ExportUnavailable(f"rendering took longer than {WAIT_TIMEOUT_S:g} s") from None
             except Exception:
                 # A crashed or closed browser: start a fresh one, once.
