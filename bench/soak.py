@@ -191,8 +191,8 @@ def _export(url: str, rec: Recorder, k: int, phase: str = "mixed") -> None:
 
 
 def _workers_rss(master: int) -> dict[int, int]:
-    """Resident bytes of each of the master's child processes (the uvicorn workers), each
-    with its own children (its heavy pool's processes, app/work), from /proc."""
+    """Resident bytes of each of the master's child processes (the uvicorn workers): its
+    own, and its children's (its heavy pool's processes, app/work), from /proc."""
     parent, rss = {}, {}
     for d in Path("/proc").iterdir():
         if not d.name.isdigit():
@@ -206,7 +206,7 @@ def _workers_rss(master: int) -> dict[int, int]:
         except (OSError, ValueError, IndexError):
             continue
     workers = [p for p, pp in parent.items() if pp == master]
-    return {w: rss.get(w, 0) + sum(rss.get(c, 0) for c, pp in parent.items() if pp == w)
+    return {w: (rss.get(w, 0), sum(rss.get(c, 0) for c, pp in parent.items() if pp == w))
             for w in workers}
 
 
@@ -223,6 +223,7 @@ def main() -> None:
     rec, phase, stop = Recorder(), ["warmup"], threading.Event()
     rss: list[tuple[float, str, int]] = []
     per_worker: list[tuple[float, list[int]]] = []     # (t, each worker's MB), every sample
+    with_pool: list[tuple[float, list[int]]] = []      # the same, each with its pool's processes
     # stopped by the helper on the way out (SIGTERM, SIGKILL after 10 s)
     with running_server(("--workers", "2", "--timeout-worker-healthcheck", str(WORKER_HEALTHCHECK_S)),
                         env={"BRDF_CACHE_DIR": cache}, log_path=log_path, seconds=300) as (url, proc):
@@ -235,7 +236,7 @@ def main() -> None:
         warming = threading.Thread(target=_warm_up, args=(url, rec, body), daemon=True)
         warming.start()
         while warming.is_alive() or time.monotonic() - t_start < warmup:
-            rss.append((round(time.monotonic() - t_start, 1), "warmup", sum(_workers_rss(proc.pid).values())))
+            rss.append((round(time.monotonic() - t_start, 1), "warmup", sum(map(sum, _workers_rss(proc.pid).values()))))
             time.sleep(2.0)
         warmup = time.monotonic() - t_start          # the run is extended by a long warm-up
         total = warmup + 0.9 * args.minutes * 60
@@ -245,8 +246,9 @@ def main() -> None:
         while (now := time.monotonic() - t_start) < total:
             phase[0] = "baseline" if now < warmup + baseline else "mixed"
             workers = _workers_rss(proc.pid)
-            rss.append((round(now, 1), phase[0], sum(workers.values())))
-            per_worker.append((round(now, 1), [round(v / 2**20) for _, v in sorted(workers.items())]))
+            rss.append((round(now, 1), phase[0], sum(map(sum, workers.values()))))
+            per_worker.append((round(now, 1), [round(v[0] / 2**20) for _, v in sorted(workers.items())]))
+            with_pool.append((round(now, 1), [round(sum(v) / 2**20) for _, v in sorted(workers.items())]))
             if phase[0] == "mixed" and now >= next_worst:
                 side.append(threading.Thread(target=_worst, args=(url, rec, body, k_worst), daemon=True))
                 side[-1].start()
@@ -281,6 +283,7 @@ def main() -> None:
                    "max": max(after_warmup) / 2**20 if after_warmup else None,
                    "mixed_second_half_mb_per_min": _slope_mb_per_min(mixed[len(mixed) // 2:]),
                    "per_worker_second_half_mb_per_min": _per_worker_slopes(per_worker, total),
+                   "with_pool_second_half_mb_per_min": _per_worker_slopes(with_pool, total),
                    "warmup_s": round(warmup, 1),
                    "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]],
                    "per_worker": per_worker[::5]},
@@ -303,8 +306,10 @@ def main() -> None:
     r = result["rss_mb"]
     print(f"workers' RSS: after warm-up ({r['warmup_s']:.0f} s) {r['after_warmup']:.0f} MB, end "
           f"{r['end']:.0f} MB, max {r['max']:.0f} MB; mixed phase's second half "
-          f"{r['mixed_second_half_mb_per_min']:+.1f} MB/min; per worker (with its pool) "
-          f"{', '.join(f'{v:+.1f}' for v in r['per_worker_second_half_mb_per_min'] if v is not None)} MB/min")
+          f"{r['mixed_second_half_mb_per_min']:+.1f} MB/min; per process "
+          f"{', '.join(f'{v:+.1f}' for v in r['per_worker_second_half_mb_per_min'] if v is not None)} MB/min, "
+          f"with its pool's processes "
+          f"{', '.join(f'{v:+.1f}' for v in r['with_pool_second_half_mb_per_min'] if v is not None)} MB/min")
     for e in rec.errors:
         print("error:", e)
 
