@@ -18,8 +18,8 @@ Reported: status counts (every 5xx, and the 503s that said "busy" with Retry-Aft
 apart), cheap-request p50/p99 in the baseline and in the mixed phase and their ratio, the
 worst cases' times, and the workers' resident memory (from /proc) sampled every few
 seconds: after warm-up, at the end, the largest, and the slope over the mixed phase's
-second half (a leak keeps a slope; a cache filling to its bound flattens). Not a test: it
-measures.
+second half (a leak keeps a slope; a cache filling to its bound flattens), in all and per
+worker (each uvicorn worker with its heavy pool's processes). Not a test: it measures.
 """
 from __future__ import annotations
 
@@ -58,6 +58,9 @@ WORST = [
     ("GET", "/api/v1/figures/sphere?n=500"),
     ("GET", "/api/v1/albedo?n=9&multiscatter=kulla_conty&ndf=student_t&gamma={g}"),
     ("POST", "/api/v1/eval"),
+    # issue 36's heavy routes, in the heavy pool's processes
+    ("GET", "/api/v1/export/model.csv?n_theta=91&n_phi=60&masking=smith_numeric"),
+    ("GET", "/api/v1/figures/sphere_env?n=256&samples=16&environment=studio&model=principled&sheen=1"),
 ]
 WORST_EVERY = 20.0
 BURST_EVERY = 60.0
@@ -161,6 +164,14 @@ def _slope_mb_per_min(samples: list[tuple[float, int]]) -> float | None:
     return 60.0 * sum((x - tm) * (y - bm) for x, y in zip(t, b)) / var if var else None
 
 
+def _per_worker_slopes(per_worker: list[tuple[float, list[int]]], total: float) -> list:
+    """Each uvicorn worker's (with its pool's) RSS slope over the run's last 45 %: the
+    mixed phase's second half, in MB/min."""
+    late = [(t, mbs) for t, mbs in per_worker if t >= total * 0.55]
+    width = min((len(m) for _, m in late), default=0)
+    return [_slope_mb_per_min([(t, mbs[k] * 2**20) for t, mbs in late]) for k in range(width)]
+
+
 def _export(url: str, rec: Recorder, k: int, phase: str = "mixed") -> None:
     """One PNG export by a client that honours Retry-After (at most 5 tries)."""
     path = f"/api/v1/figures/lobe.png?alpha={0.05 + 0.01 * (k % 90):.2f}&width=800&height=500"
@@ -180,22 +191,23 @@ def _export(url: str, rec: Recorder, k: int, phase: str = "mixed") -> None:
 
 
 def _workers_rss(master: int) -> dict[int, int]:
-    """Resident bytes of the master's child processes (the workers), from /proc."""
-    out = {}
+    """Resident bytes of each of the master's child processes (the uvicorn workers): its
+    own, and its children's (its heavy pool's processes, app/work), from /proc."""
+    parent, rss = {}, {}
     for d in Path("/proc").iterdir():
         if not d.name.isdigit():
             continue
         try:
             stat = (d / "stat").read_text()
-            ppid = int(stat.rsplit(")", 1)[1].split()[1])
-            if ppid != master:
-                continue
+            parent[int(d.name)] = int(stat.rsplit(")", 1)[1].split()[1])
             for line in (d / "status").read_text().splitlines():
                 if line.startswith("VmRSS:"):
-                    out[int(d.name)] = int(line.split()[1]) * 1024
+                    rss[int(d.name)] = int(line.split()[1]) * 1024
         except (OSError, ValueError, IndexError):
             continue
-    return out
+    workers = [p for p, pp in parent.items() if pp == master]
+    return {w: (rss.get(w, 0), sum(rss.get(c, 0) for c, pp in parent.items() if pp == w))
+            for w in workers}
 
 
 def main() -> None:
@@ -211,6 +223,7 @@ def main() -> None:
     rec, phase, stop = Recorder(), ["warmup"], threading.Event()
     rss: list[tuple[float, str, int]] = []
     per_worker: list[tuple[float, list[int]]] = []     # (t, each worker's MB), every sample
+    with_pool: list[tuple[float, list[int]]] = []      # the same, each with its pool's processes
     # stopped by the helper on the way out (SIGTERM, SIGKILL after 10 s)
     with running_server(("--workers", "2", "--timeout-worker-healthcheck", str(WORKER_HEALTHCHECK_S)),
                         env={"BRDF_CACHE_DIR": cache}, log_path=log_path, seconds=300) as (url, proc):
@@ -223,7 +236,7 @@ def main() -> None:
         warming = threading.Thread(target=_warm_up, args=(url, rec, body), daemon=True)
         warming.start()
         while warming.is_alive() or time.monotonic() - t_start < warmup:
-            rss.append((round(time.monotonic() - t_start, 1), "warmup", sum(_workers_rss(proc.pid).values())))
+            rss.append((round(time.monotonic() - t_start, 1), "warmup", sum(map(sum, _workers_rss(proc.pid).values()))))
             time.sleep(2.0)
         warmup = time.monotonic() - t_start          # the run is extended by a long warm-up
         total = warmup + 0.9 * args.minutes * 60
@@ -233,8 +246,9 @@ def main() -> None:
         while (now := time.monotonic() - t_start) < total:
             phase[0] = "baseline" if now < warmup + baseline else "mixed"
             workers = _workers_rss(proc.pid)
-            rss.append((round(now, 1), phase[0], sum(workers.values())))
-            per_worker.append((round(now, 1), [round(v / 2**20) for _, v in sorted(workers.items())]))
+            rss.append((round(now, 1), phase[0], sum(map(sum, workers.values()))))
+            per_worker.append((round(now, 1), [round(v[0] / 2**20) for _, v in sorted(workers.items())]))
+            with_pool.append((round(now, 1), [round(sum(v) / 2**20) for _, v in sorted(workers.items())]))
             if phase[0] == "mixed" and now >= next_worst:
                 side.append(threading.Thread(target=_worst, args=(url, rec, body, k_worst), daemon=True))
                 side[-1].start()
@@ -268,6 +282,8 @@ def main() -> None:
                    "end": after_warmup[-1] / 2**20 if after_warmup else None,
                    "max": max(after_warmup) / 2**20 if after_warmup else None,
                    "mixed_second_half_mb_per_min": _slope_mb_per_min(mixed[len(mixed) // 2:]),
+                   "per_worker_second_half_mb_per_min": _per_worker_slopes(per_worker, total),
+                   "with_pool_second_half_mb_per_min": _per_worker_slopes(with_pool, total),
                    "warmup_s": round(warmup, 1),
                    "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]],
                    "per_worker": per_worker[::5]},
@@ -290,7 +306,10 @@ def main() -> None:
     r = result["rss_mb"]
     print(f"workers' RSS: after warm-up ({r['warmup_s']:.0f} s) {r['after_warmup']:.0f} MB, end "
           f"{r['end']:.0f} MB, max {r['max']:.0f} MB; mixed phase's second half "
-          f"{r['mixed_second_half_mb_per_min']:+.1f} MB/min")
+          f"{r['mixed_second_half_mb_per_min']:+.1f} MB/min; per process "
+          f"{', '.join(f'{v:+.1f}' for v in r['per_worker_second_half_mb_per_min'] if v is not None)} MB/min, "
+          f"with its pool's processes "
+          f"{', '.join(f'{v:+.1f}' for v in r['with_pool_second_half_mb_per_min'] if v is not None)} MB/min")
     for e in rec.errors:
         print("error:", e)
 

@@ -7,10 +7,7 @@ from __future__ import annotations
 import orjson
 from fastapi import Response
 
-from ..export.jsonable import jsonable
-
-#: int keys as text, as json.dumps writes them
-OPTIONS = orjson.OPT_NON_STR_KEYS
+from ..export.jsonable import OPTIONS, jsonable
 
 
 def json_response(payload, status_code: int = 200) -> Response:

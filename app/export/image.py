@@ -20,12 +20,12 @@ import atexit
 import sys
 import threading
 import time
+from concurrent.futures import Future
 from contextlib import contextmanager
 
 from ..config import environment
 from ..errors import Busy
-
-from ..errors import Busy
+from ..integrate import budget
 
 # Tabs rendering in parallel in the one browser. One: every tab is a renderer process,
 # and the service runs on small machines; requests queue for the tab.
@@ -77,6 +77,7 @@ class ImageRenderer:
         self._lock = threading.Lock()
         self._loop: asyncio.AbstractEventLoop | None = None
         self._kaleido = None
+        self._starting: Future | None = None      # the browser's start under way
         self.started_seconds: float | None = None   # how long the start took
         self.places = TABS + WAITING
         self._places = threading.BoundedSemaphore(self.places)
@@ -147,16 +148,55 @@ class ImageRenderer:
         with self.slot():
             return self._render(figure, opts)
 
+    def _browser(self):
+        """(loop, kaleido) of the running browser: started by a thread of its own (once,
+        whoever asks), waited for within what is left of the request's time budget (a
+        first export under load waited the browser's start, 2-8 s, past it): Busy after,
+        while the start goes on for the next request."""
+        with self._lock:
+            if self.running:
+                return self._loop, self._kaleido
+            if self._starting is None:
+                self._starting = Future()
+                threading.Thread(target=self._start_into, args=(self._starting,),
+                                 name="kaleido-start", daemon=True).start()
+            starting = self._starting
+        wait, cut = _wait_seconds()
+        try:
+            starting.result(min(wait, START_TIMEOUT_S))
+        except TimeoutError:
+            if cut:
+                raise Busy("the image renderer (a headless Chromium) is starting; retry in a "
+                           "few seconds", retry_after=EXPORT_SECONDS, what="image export") from None
+            raise ExportUnavailable(f"Chromium did not start within {START_TIMEOUT_S:g} s. "
+                                    f"{INSTALL_HINT}") from None
+        with self._lock:
+            if not self.running:      # closed meanwhile (a crash): the caller's retry starts it
+                raise ExportUnavailable(f"Chromium stopped as it started. {INSTALL_HINT}")
+            return self._loop, self._kaleido
+
+    def _start_into(self, started: Future) -> None:
+        try:
+            self._start()
+            started.set_result(None)
+        except BaseException as exc:  # noqa: BLE001 - handed to every request waiting for it
+            started.set_exception(exc)
+        finally:
+            with self._lock:
+                self._starting = None
+
     def _render(self, figure: dict, opts: dict) -> bytes:
         for attempt in (1, 2):
-            with self._lock:
-                if not self.running:
-                    self._start()
-                loop, k = self._loop, self._kaleido
+            loop, k = self._browser()
+            wait, cut = _wait_seconds()
+            if cut and wait <= 0:
+                raise _past_budget()
             future = asyncio.run_coroutine_threadsafe(k.calc_fig(figure, opts=opts), loop)
             try:
-                return future.result(WAIT_TIMEOUT_S)
+                return future.result(wait)
             except TimeoutError:
+                if cut:   # left to finish: a drawing cancelled mid-way can leave its tab
+                    raise _past_budget() from None    # stuck for every later one
                 future.cancel()
                 raise ExportUnavailable(f"rendering took longer than {WAIT_TIMEOUT_S:g} s") from None
             except Exception:
@@ -177,6 +217,22 @@ class ImageRenderer:
         except Exception:  # noqa: BLE001 - closing a browser that already died
             pass
         loop.call_soon_threadsafe(loop.stop)
+
+
+def _wait_seconds() -> tuple[float, bool]:
+    """(seconds a render may be waited for, whether the request's time budget sets it):
+    WAIT_TIMEOUT_S, or what is left of BRDF_MAX_SECONDS when less, so that an image whose
+    figure took most of the budget (or that queued for the tab) ends with the request."""
+    b = budget.current()
+    left = float("inf") if b is None else b.seconds - b.elapsed()
+    return (max(left, 0.0), True) if left < WAIT_TIMEOUT_S else (WAIT_TIMEOUT_S, False)
+
+
+def _past_budget() -> Busy:
+    b = budget.current()
+    return Busy(f"the image was not drawn within the time budget (BRDF_MAX_SECONDS="
+                f"{b.seconds:g}): retry, or ask for a smaller figure", retry_after=EXPORT_SECONDS,
+                what="image export")
 
 
 _renderer: ImageRenderer | None = None

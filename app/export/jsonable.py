@@ -2,6 +2,10 @@
 from __future__ import annotations
 
 import numpy as np
+import orjson
+
+#: orjson's options for every JSON answer: int keys as text, as json.dumps writes them
+OPTIONS = orjson.OPT_NON_STR_KEYS
 
 
 def jsonable(value):

@@ -9,8 +9,11 @@ What each route's work costs is in costs.py, the work itself in jobs.py.
 from __future__ import annotations
 
 from ..config import environment
-from . import costs, jobs
 from .pool import HeavyPool
+
+# costs and jobs (the models, the views, the data readers) are imported where used: a
+# worker process unpickling pool._call imports this package first, and a pool of plain
+# jobs (the tests') should not pay the whole application's import to start
 
 _POOL: HeavyPool | None = None
 
@@ -33,12 +36,15 @@ async def run_heavy(fn, *args, cost: float = 0.0, fits: str = ""):
 
 def is_heavy(view_name: str) -> bool:
     """Whether a view's work runs in the pool (it has an entry in costs.VIEW_COSTS)."""
+    from . import costs
     return view_name in costs.VIEW_COSTS
 
 
-async def view_answer(view_name: str, fmt: str, query: str, settings) -> tuple[bytes, str]:
-    """A heavy view's answer (fmt json, csv or data) and media type, from the pool."""
-    return await run_heavy(jobs.view, view_name, fmt, query, settings)
+async def view_answer(view_name: str, fmt: str, q, settings):
+    """A heavy view's answer to the validated query ``q`` from the pool: (body, media
+    type) for fmt json, csv or data; the figure (a dict) to render for svg or png."""
+    from . import jobs
+    return await run_heavy(jobs.view, view_name, fmt, jobs.query_state(q), settings)
 
 
 def close() -> None:

@@ -5,27 +5,40 @@ entries. Each runs under the request's budget, opened by the pool in the worker,
 checks its predicted cost there before it starts (costs.py): 413 if it can never fit,
 503 if it does not fit what is left.
 
-A query travels as its query string and is read again here by the route's own reader
-(the dynamic query models cannot be pickled), so the worker judges it exactly as the
-route did.
+A query travels as its validated values (:func:`query_state`) and is rebuilt here as
+the same model without validating again (the dynamic query models cannot be pickled;
+their values can), so the worker computes exactly what the route judged.
 """
 from __future__ import annotations
 
 import orjson
-from starlette.datastructures import QueryParams
 
 from ..config import Settings
 from ..datasets import formats, summary, tabulate
 from ..errors import Busy, ParameterError
 from ..export import build
-from ..export.jsonable import jsonable
+from ..export.jsonable import OPTIONS, jsonable
 from ..fit import run as fitting
 from ..integrate import budget
 from ..views import VIEWS, run
 from ..model import make_spec
-from ..api.encode import OPTIONS
-from ..api.http.query_route import read_query
 from . import costs
+
+#: what a route sends for its query: (field values, the names given in the request)
+QueryState = tuple[dict, set]
+
+
+def query_state(q) -> QueryState:
+    """A validated query model's values and the names the request gave: plain data
+    (numbers, strings, lists) a worker rebuilds the same query from (:func:`rebuilt`)."""
+    return {**q.__dict__, **(q.__pydantic_extra__ or {})}, set(q.model_fields_set)
+
+
+def rebuilt(model, state: QueryState):
+    """``model`` holding ``state``'s values as they were validated in the server."""
+    values, given = state
+    return model.model_construct(_fields_set=given, **values)
+
 
 def upload(content: bytes, fmt: str | None) -> tuple:
     """(data, summary) of an uploaded file."""
@@ -43,31 +56,39 @@ def budget_check(param: str, what: str) -> None:
                    "retry", retry_after=int(b.seconds), what="time budget")
 
 
-def view(view_name: str, fmt: str, query: str, settings: Settings) -> tuple[bytes, str]:
+def view(view_name: str, fmt: str, state: QueryState, settings: Settings):
     """One view's answer (fmt: json = figure, csv, data = the arrays) and its media type,
-    its cost checked first (costs.view_seconds)."""
+    its cost checked first (costs.require_view); fmt svg or png: the figure to render
+    (a dict: the server's renderer draws it)."""
     v = VIEWS[view_name]
-    model = v.query if fmt == "data" else build.export_query(v)
-    q = read_query(model, QueryParams(query))
+    model = {"data": v.query, "svg": build.image_query(v), "png": build.image_query(v)}.get(
+        fmt) or build.export_query(v)
+    q = rebuilt(model, state)
     costs.require_view(v, q, settings)
     if fmt == "data":
         return orjson.dumps(jsonable(run(v, q, settings).data), option=OPTIONS), "application/json"
+    if fmt in ("svg", "png"):
+        build.check_image_size(q, settings)
     produced = build.produce(v, q, settings)
+    if fmt in ("svg", "png"):
+        return produced.figure
     if fmt == "csv":
         return produced.csv().encode(), "text/csv; charset=utf-8"
     return build.figure_json(produced).encode(), "application/json"
 
 
-def views(entries: list[tuple[str, str, str]], settings: Settings) -> list[tuple]:
-    """A batch's heavy entries (view, fmt, query), one after another under the request's
-    one budget: each ("ok", body, media type, cut) or its error as pool.py returns one
+def views(entries: list[tuple[str, str, QueryState]], settings: Settings) -> list[tuple]:
+    """A batch's heavy entries (view, fmt, query state), one after another under the request's
+    one budget: each ("ok", body, media type, cut) (an image's figure with the media type
+    "figure", for the server's renderer) or its error as pool.py returns one
     (an entry that no longer fits what is left is a 503, the rest still run)."""
     b = budget.current()
     out = []
-    for view_name, fmt, query in entries:
+    for view_name, fmt, state in entries:
         notes = len(b.notes) if b is not None else 0
         try:
-            body, media = view(view_name, fmt, query, settings)
+            answer = view(view_name, fmt, state, settings)
+            body, media = (answer, "figure") if isinstance(answer, dict) else answer
             out.append(("ok", body, media, b is not None and len(b.notes) > notes))
         except Busy as exc:
             out.append(("busy", exc.message, exc.retry_after, exc.what))

@@ -26,12 +26,17 @@ from __future__ import annotations
 
 import asyncio
 import importlib
+import logging
 import math
 import multiprocessing
 import os
+import threading
 import time
+import traceback
 from concurrent.futures import ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
+
+from pydantic import ValidationError
 
 from ..errors import Busy, ParameterError, TooLarge
 from ..integrate import budget
@@ -43,7 +48,8 @@ DEFAULT_WORKERS, DEFAULT_QUEUE = 1, 4
 #: seconds a killed worker's end is waited for (SIGKILL ends it at once; the wait reaps it)
 KILL_GRACE_SECONDS = 0.5
 #: seconds past the request's budget (BRDF_MAX_SECONDS) a job's process is killed: the
-#: job's own cooperative cuts (budget checks between chunks, in the worker) come first;
+#: job's own cost checks and cooperative cuts come first (a 413 from a worker's cost
+#: probe needs ~0.1-0.3 s, which a kill at the budget itself took from a tiny budget);
 #: the rest of cost.GRACE_SECONDS is for sending the answer
 KILL_AFTER_SECONDS = 0.5
 #: scheduling niceness added to each worker (man 2 nice): on a machine with as many busy
@@ -55,44 +61,55 @@ WORKER_NICENESS = 10
 WARM_MODULE = "app.work.jobs"
 #: weight of the newest job in the running mean of job seconds (Retry-After's estimate)
 MEAN_WEIGHT = 0.3
+#: Retry-After of a job refused while its worker starts: a spawned worker's start took
+#: 2-8 s here under load
+START_RETRY_SECONDS = 3
 
 
 class _Worker:
     """One process that runs one job at a time, and can be killed alone."""
 
-    def __init__(self, context):
-        self.context = context
+    def __init__(self, context, warm: str | None):
+        self.context, self.warm = context, warm
         self.executor = ProcessPoolExecutor(max_workers=1, mp_context=context,
-                                            initializer=_start, initargs=(WORKER_NICENESS,))
+                                            initializer=_start, initargs=(WORKER_NICENESS, warm))
         # start the process now, not at the first job: a spawned interpreter took > 1 s
-        # to start under load, which the next job's budget would pay
-        self.executor.submit(int)
+        # to start under load, which the next job's budget would pay; done once started
+        self.ready = self.executor.submit(int)
 
-    def kill(self) -> None:
+    def kill(self, wait: bool = False) -> None:
         """End the process now (SIGKILL: its work is pure computation, nothing to tidy),
-        without joining its job."""
+        without joining its job. Reaped by a thread unless ``wait``: a killed process
+        holding a large heap took ~0.3-0.5 s to go under load, which the event loop (and
+        the answer of the request it ran for) waited in join()."""
         processes = list((self.executor._processes or {}).values())
         for p in processes:
             p.kill()
-        for p in processes:
-            p.join(KILL_GRACE_SECONDS)
+        if wait:
+            for p in processes:
+                p.join(KILL_GRACE_SECONDS)
+        elif processes:
+            threading.Thread(target=_reap, args=(processes,), daemon=True).start()
         self.executor.shutdown(wait=False, cancel_futures=True)
 
-    def replaced(self) -> "_Worker":
-        self.kill()
-        return _Worker(self.context)
+
+def _reap(processes) -> None:
+    for p in processes:
+        p.join(KILL_GRACE_SECONDS)
 
 
 class HeavyPool:
-    """``workers`` processes, ``queue`` waiting places, jobs cut at ``max_seconds``."""
+    """``workers`` processes, ``queue`` waiting places, jobs cut at ``max_seconds``;
+    ``warm``: the module each worker imports as it starts."""
 
     def __init__(self, workers: int = DEFAULT_WORKERS, queue: int = DEFAULT_QUEUE,
-                 max_seconds: float = 10.0, start_method: str = "spawn"):
+                 max_seconds: float = 10.0, start_method: str = "spawn",
+                 warm: str | None = WARM_MODULE):
         if workers < 1 or queue < 0:
             raise ValueError(f"{WORKERS_ENV} must be ≥ 1 and {QUEUE_ENV} ≥ 0")
         self.workers, self.queue, self.max_seconds = workers, queue, float(max_seconds)
-        self._context = multiprocessing.get_context(start_method)
-        self._idle = [_Worker(self._context) for _ in range(workers)]
+        self._context, self._warm = multiprocessing.get_context(start_method), warm
+        self._idle = [_Worker(self._context, warm) for _ in range(workers)]
         self._busy: set[_Worker] = set()
         self._running = 0
         self._waiters: list[asyncio.Future] = []
@@ -148,9 +165,17 @@ class HeavyPool:
         started, healthy = time.perf_counter(), False
         loop = asyncio.get_running_loop()
         try:
-            future = loop.run_in_executor(worker.executor, _call, start, seconds,
-                                          cost_model.memory_limit(), fn, args)
-            try:
+            if not worker.ready.done():
+                healthy = True    # a starting worker left (refused, a client gone) is kept
+                try:
+                    await self._started(worker, kill_at - KILL_AFTER_SECONDS - cost)
+                except Busy:      # ... unless it died as it started
+                    healthy = not worker.ready.done() or worker.ready.exception() is None
+                    raise
+                healthy = False
+            try:      # a worker that died while idle refuses the job here, not in the await
+                future = loop.run_in_executor(worker.executor, _call, start, seconds,
+                                              cost_model.memory_limit(), fn, args)
                 outcome = await asyncio.wait_for(future, max(0.0, kill_at - time.perf_counter()))
             except TimeoutError:
                 raise Busy(f"this work ran past the time budget (BRDF_MAX_SECONDS="
@@ -168,14 +193,43 @@ class HeavyPool:
         self._mean_seconds += MEAN_WEIGHT * (time.perf_counter() - started - self._mean_seconds)
         return _unpack(outcome, request_budget)
 
+    async def _started(self, worker: _Worker, until: float) -> None:
+        """Wait for ``worker``'s start (spawned at startup or after a cut: ~1-8 s, an
+        interpreter importing the application) until ``until``, the latest moment the
+        job could start and still end within its budget; Busy with the start's estimate
+        after (a cold upload waited past its budget and was cut at 13.7 s)."""
+        try:
+            await asyncio.wait_for(asyncio.shield(asyncio.wrap_future(worker.ready)),
+                                   max(0.0, until - time.perf_counter()))
+        except BrokenProcessPool:
+            raise Busy("the heavy-work process ended while it started; retry",
+                       retry_after=START_RETRY_SECONDS, what="heavy work pool") from None
+        except TimeoutError:
+            raise Busy("the heavy-work process is still starting (a fresh interpreter "
+                       "importing the application); retry in a few seconds",
+                       retry_after=START_RETRY_SECONDS, what="heavy work pool") from None
+
+    async def started(self, seconds: float = 120.0) -> None:
+        """Wait until every idle worker has started (tests, warm-up)."""
+        pending = [asyncio.wrap_future(w.ready) for w in self._idle if not w.ready.done()]
+        if pending:
+            await asyncio.wait_for(asyncio.gather(*pending), seconds)
+
     def _renew(self, worker: _Worker) -> None:
         """Kill ``worker`` (its job is abandoned) and, unless closing, put a new one in
-        its place (spawning returns at once: the interpreter starts in the child)."""
+        its place once the caller's answer is on its way (spawning takes the GIL for a
+        moment, which a loaded server's loop would make the answer wait for)."""
         worker.kill()
         if self._closed:
             self._running -= 1
         else:
-            self._give(_Worker(self._context))
+            asyncio.get_running_loop().call_soon(self._replace)
+
+    def _replace(self) -> None:
+        if self._closed:
+            self._running -= 1
+        else:
+            self._give(_Worker(self._context, self._warm))
 
     async def _take(self, deadline: float) -> _Worker:
         """An idle worker, or the first one given back before ``deadline`` (Busy after)."""
@@ -217,7 +271,7 @@ class HeavyPool:
         """Kill every worker now (a shutdown does not wait for running jobs)."""
         self._closed = True
         for worker in [*self._idle, *self._busy]:
-            worker.kill()
+            worker.kill(wait=True)
         self._idle.clear()
         for waiter in self._waiters:
             if not waiter.done():
@@ -229,17 +283,21 @@ class HeavyPool:
                 "waiting": len(self._waiters), "mean_seconds": round(self._mean_seconds, 3)}
 
 
-def _start(niceness: int) -> None:
-    """A new worker: its niceness, and the jobs' modules imported before the first job
-    (a cold import of the models and data readers took seconds of that job's budget)."""
+def _start(niceness: int, warm: str | None) -> None:
+    """A new worker: its niceness, and the jobs' modules (``warm``) imported before the
+    first job (a cold import of the models and data readers took seconds of that job's
+    budget)."""
     os.nice(niceness)
-    importlib.import_module(WARM_MODULE)
+    if warm:
+        importlib.import_module(warm)
 
 
 def _call(start: float, seconds: float, memory_bytes: int, fn, args: tuple):
     """In the worker: ``fn(*args)`` under the request's budget (the same start and
-    seconds) and memory limit. The application's errors come back as plain tuples (their
-    constructors take more than the message, which pickling cannot rebuild)."""
+    seconds) and memory limit. Every error comes back as a plain tuple: the application's
+    own (their constructors take more than the message, which pickling cannot rebuild:
+    the result thread failed to unpickle one and took the pool for broken), a validation
+    error as the 422 naming its field, anything else as the internal error it is."""
     cost_model.set_memory_limit(memory_bytes)
     with budget.limit(seconds) as own:
         own.start = start
@@ -249,6 +307,16 @@ def _call(start: float, seconds: float, memory_bytes: int, fn, args: tuple):
             return "busy", exc.message, exc.retry_after, exc.what
         except ParameterError as exc:
             return "parameter", exc.param, exc.message, exc.status, exc.loc
+        except ValidationError as exc:        # a model built in the job (make_spec, vary)
+            e = exc.errors(include_url=False)[0]
+            name = ".".join(str(part) for part in e.get("loc", ())) or "body"
+            return "parameter", name, f"{name}: {e.get('msg', '')}", 422, "query"
+        except Exception as exc:  # noqa: BLE001 - a bug: the server answers 500 and logs it
+            return "error", f"{type(exc).__name__}: {exc}", traceback.format_exc()
+
+
+class WorkerError(RuntimeError):
+    """An unexpected error in a heavy job (a bug): the server's 500, its traceback logged."""
 
 
 def _unpack(outcome: tuple, request_budget):
@@ -257,6 +325,9 @@ def _unpack(outcome: tuple, request_budget):
         raise Busy(outcome[1], retry_after=outcome[2], what=outcome[3])
     if outcome[0] == "parameter":
         raise ParameterError(*outcome[1:])
+    if outcome[0] == "error":
+        logging.getLogger("uvicorn.error").error("heavy job failed:\n%s", outcome[2])
+        raise WorkerError(outcome[1])
     if request_budget is not None:
         request_budget.notes.extend(outcome[2])
     return outcome[1]

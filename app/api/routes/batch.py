@@ -179,8 +179,7 @@ async def batch(request: Request, settings: SettingsDep, renderer: RendererDep,
             judged.append((k, *verdict))
     # a view with a cost model runs in the heavy pool (one job for them all, after the
     # others, under the same budget); the rest in a worker thread
-    heavy = [entry for entry in judged if work.is_heavy(entry[1].name) and entry[2] != "svg"
-             and entry[2] != "png"]
+    heavy = [entry for entry in judged if work.is_heavy(entry[1].name)]
     light = [entry for entry in judged if entry not in heavy]
     computed = await run_in_threadpool(_compute, [entry[1:] for entry in light], settings, renderer)
     for (k, *_), result in zip(light, computed):
@@ -191,10 +190,17 @@ async def batch(request: Request, settings: SettingsDep, renderer: RendererDep,
     if heavy:
         try:
             outcomes = await work.run_heavy(jobs.views, [
-                (view.name, fmt, targets[k].query) for k, view, fmt, _ in heavy], settings)
+                (view.name, fmt, jobs.query_state(q)) for k, view, fmt, q in heavy], settings)
         except (Busy, ParameterError) as exc:      # not admitted, or cut: each entry says so
             outcomes = [exc] * len(heavy)
-        for (k, *_), outcome in zip(heavy, outcomes):
+        for (k, view, fmt, q), outcome in zip(heavy, outcomes):
+            if not isinstance(outcome, Exception) and outcome[0] == "ok" and outcome[2] == "figure":
+                # an image: its figure computed in the pool, drawn here within what is left
+                try:
+                    drawn = await run_in_threadpool(figures.rendered, view, fmt, q, outcome[1], renderer, 0.0)
+                    outcome = ("ok", drawn.body, drawn.media_type, outcome[3])
+                except Exception as exc:        # answered by the application's handler for it
+                    outcome = exc
             answers[k] = await _heavy_answer(request, targets[k].path, outcome, settings)
     out = [b'{"status":%d,"cache":%s,"body":%s%s}'
            % (status, json.dumps(cache).encode(), content if content is not None else b"null",

@@ -18,6 +18,7 @@ from typing import Annotated, Any, Optional
 
 from fastapi import APIRouter, HTTPException, Query, Request, Response
 from pydantic import BaseModel, ConfigDict, Field, ValidationError
+from starlette.concurrency import run_in_threadpool
 
 from ... import figures, work
 from ...errors import ParameterError
@@ -73,12 +74,17 @@ def image_body(view: View, fmt: str, q, settings, renderer) -> Response:
     with renderer.slot():
         t0 = time.perf_counter()
         produced = build.produce(view, q, settings)
-        t1 = time.perf_counter()
-        body = renderer.render(produced.figure, fmt, q.width, q.height, q.scale)
-        t2 = time.perf_counter()
+        return rendered(view, fmt, q, produced.figure, renderer, time.perf_counter() - t0)
+
+
+def rendered(view: View, fmt: str, q, figure: dict, renderer, compute_seconds: float) -> Response:
+    """The image answer of ``figure`` (computed here, or in the heavy pool), rendered
+    within what is left of the request's time budget."""
+    t0 = time.perf_counter()
+    body = renderer.render(figure, fmt, q.width, q.height, q.scale)
     return Response(body, media_type=MEDIA[fmt], headers={
         "Content-Disposition": f'inline; filename="{_filename(view, q, fmt)}"',
-        "Server-Timing": _timing(compute=t1 - t0, render=t2 - t1)})
+        "Server-Timing": _timing(compute=compute_seconds, render=time.perf_counter() - t0)})
 
 
 def csv_body(view: View, q, settings) -> Response:
@@ -90,6 +96,15 @@ def csv_body(view: View, q, settings) -> Response:
 
 def _image_route(view: View, fmt: str):
     model = build.image_query(view)
+    if work.is_heavy(view.name):    # the figure computed in the heavy pool, drawn here
+        async def heavy(settings: SettingsDep, renderer: RendererDep,
+                        q: Annotated[model, Query()]) -> Response:
+            build.check_image_size(q, settings)
+            t0 = time.perf_counter()
+            figure = await work.view_answer(view.name, fmt, q, settings)
+            return await run_in_threadpool(rendered, view, fmt, q, figure, renderer,
+                                           time.perf_counter() - t0)
+        return heavy
 
     def route(settings: SettingsDep, renderer: RendererDep, q: Annotated[model, Query()]) -> Response:
         return image_body(view, fmt, q, settings, renderer)
@@ -99,8 +114,8 @@ def _image_route(view: View, fmt: str):
 def _csv_route(view: View):
     model = build.export_query(view)
     if work.is_heavy(view.name):
-        async def heavy(request: Request, settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
-            body, media = await work.view_answer(view.name, "csv", request.url.query, settings)
+        async def heavy(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
+            body, media = await work.view_answer(view.name, "csv", q, settings)
             return Response(body, media_type=media, headers={
                 "Content-Disposition": f'inline; filename="{_filename(view, q, "csv")}"'})
         return heavy
@@ -119,8 +134,8 @@ def figure_body(view: View, q, settings) -> bytes:
 def _figure_route(view: View):
     model = build.export_query(view)
     if work.is_heavy(view.name):    # computed in the heavy pool (app/work), as JSON
-        async def heavy(request: Request, settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
-            body, media = await work.view_answer(view.name, "json", request.url.query, settings)
+        async def heavy(settings: SettingsDep, q: Annotated[model, Query()]) -> Response:
+            body, media = await work.view_answer(view.name, "json", q, settings)
             return Response(body, media_type=media)
         return heavy
 

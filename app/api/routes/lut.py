@@ -8,8 +8,9 @@ from fastapi import APIRouter, Query, Request, Response
 from pydantic import Field
 from starlette.concurrency import run_in_threadpool
 
+from ... import work
 from ...errors import TooLarge
-from ...lut import build, check, export, infer
+from ...lut import build, check, export, infer, png
 from ...lut.table import KINDS, QUANTISATIONS, make, model_label, orientation
 from ...model import make_spec
 from ...physics.ndf import NDFS
@@ -131,7 +132,16 @@ async def lut_check(request: Request, q: Annotated[LutQuery, Query()]) -> Respon
     body = await request.body()
     if len(body) > UPLOAD_MAX_BYTES:
         raise TooLarge("body", f"the upload has {len(body)} bytes; the limit is {UPLOAD_MAX_BYTES}", loc="body")
-    return json_response(await run_in_threadpool(_check, q, body, request.headers.get("content-type", "")))
+    # the conventions inferred in the heavy pool: a 256² table took ~8 s of the server's
+    # GIL in a thread that could not be stopped (SIGTERM waited it out past the graceful
+    # timeout). A PNG is read here (bounded: its size from its header before a byte is
+    # inflated, so a bomb costs no pool place), a JSON table there (its 3 MB took seconds
+    # of a server thread at load 19, which shutdown waited for)
+    ctype = request.headers.get("content-type", "")
+    if body.startswith(png.SIGNATURE) or ctype.startswith("image/png"):
+        raw, bits = await run_in_threadpool(_parsed, q, body, ctype)
+        return json_response(await work.run_heavy(_check, q, raw, bits))
+    return json_response(await work.run_heavy(_check_body, q, body, ctype))
 
 
 #: what an arrangement difference is called in the query's own axes (the words /lut/check
@@ -148,10 +158,27 @@ def _expected(q: LutQuery, spec, dims: int, channels: int) -> dict:
     return infer.describe(model, infer.Arrangement("roughness", True, True, False))
 
 
-def _check(q: LutQuery, body: bytes, content_type: str) -> dict:
-    dims, channels = (1 if q.kind == "kc_E_avg" else 2), len(KINDS[q.kind][0])
+def _shape(q: LutQuery) -> tuple[int, int]:
+    """(axes, channels) of the table the query names."""
+    return (1 if q.kind == "kc_E_avg" else 2), len(KINDS[q.kind][0])
+
+
+def _parsed(q: LutQuery, body: bytes, content_type: str):
+    """(values, PNG bit depth or None) of an uploaded table, its size checked."""
+    dims, channels = _shape(q)
     raw, bits = check.parse(body, content_type, channels, dims)
     infer.check_size(raw.shape[0])
+    return raw, bits
+
+
+def _check_body(q: LutQuery, body: bytes, content_type: str) -> dict:
+    """The answer of /lut/check for an uploaded body (read here: a JSON table)."""
+    return _check(q, *_parsed(q, body, content_type))
+
+
+def _check(q: LutQuery, raw, bits: int) -> dict:
+    """The answer of /lut/check for the uploaded table ``raw`` (read by check.parse)."""
+    dims, channels = _shape(q)
     values, stored = infer.storage(raw, bits)
     given = schemas.model_values(q)
     specs = {g2: make_spec(**{**given, "g2": g2}) for g2 in infer.G2_CANDIDATES}

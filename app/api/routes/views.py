@@ -59,9 +59,8 @@ def views():
 
 def _data_route(view: View):
     if work.is_heavy(view.name):    # computed in the heavy pool (app/work)
-        async def heavy(request: Request, settings: SettingsDep,
-                        q: Annotated[view.query, Query()]) -> Response:
-            body, media = await work.view_answer(view.name, "data", request.url.query, settings)
+        async def heavy(settings: SettingsDep, q: Annotated[view.query, Query()]) -> Response:
+            body, media = await work.view_answer(view.name, "data", q, settings)
             return Response(body, media_type=media)
         return heavy
 
