@@ -44,6 +44,7 @@ async def view_answer(view_name: str, fmt: str, q, settings):
     """A heavy view's answer to the validated query ``q`` from the pool: (body, media
     type) for fmt json, csv or data; the figure (a dict) to render for svg or png."""
     from . import jobs
+    jobs.judge(view_name, q, settings)
     return await run_heavy(jobs.view, view_name, fmt, jobs.query_state(q), settings)
 
 

@@ -20,7 +20,8 @@ from ..export import build
 from ..export.jsonable import OPTIONS, jsonable
 from ..fit import run as fitting
 from ..integrate import budget
-from ..views import VIEWS, run
+from ..views import VIEWS, run, vary
+from ..views.pipeline import refuse
 from ..model import make_spec
 from . import costs
 
@@ -54,6 +55,18 @@ def budget_check(param: str, what: str) -> None:
     if b is not None and b.elapsed() > b.seconds:
         raise Busy(f"{what} ran out of BRDF_MAX_SECONDS={b.seconds:g} (the server is busy): "
                    "retry", retry_after=int(b.seconds), what="time budget")
+
+
+def judge(view_name: str, q, settings: Settings) -> None:
+    """The refusals that cost nothing, made in the server before a pool place is taken:
+    a family the view does not draw, an albedo method it does not take, the view's own
+    rules (each query of a ``vary``). A request that can never be answered gets its 422
+    at once, never a 503 to retry because the pool is busy."""
+    v = VIEWS[view_name]
+    expanded = vary.expand(v, q)
+    for one in expanded[0] if expanded else [q]:
+        refuse(v, one)
+        v.check(one, settings)
 
 
 def view(view_name: str, fmt: str, state: QueryState, settings: Settings):

@@ -181,6 +181,12 @@ async def batch(request: Request, settings: SettingsDep, renderer: RendererDep,
     # others, under the same budget); the rest in a worker thread
     heavy = [entry for entry in judged if work.is_heavy(entry[1].name)]
     light = [entry for entry in judged if entry not in heavy]
+    for entry in list(heavy):    # what can never be answered: its 422 now, no pool place
+        try:
+            jobs.judge(entry[1].name, entry[3], settings)
+        except ParameterError as exc:
+            heavy.remove(entry)
+            answers[entry[0]] = await _handled(request, exc)
     computed = await run_in_threadpool(_compute, [entry[1:] for entry in light], settings, renderer)
     for (k, *_), result in zip(light, computed):
         if isinstance(result, Exception):
