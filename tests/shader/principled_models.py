@@ -27,6 +27,18 @@ def principled_models() -> list[dict]:
     return out
 
 
+def covering_models() -> list[dict]:
+    """Fewer programs for the browser (SwiftShader compiles each for seconds): every value
+    of every option at least once, each diffuse model with both G2 forms, both encodings
+    and both multiple-scattering choices; then the lobes and corners as above."""
+    rows = [("burley", "separable", "none", "linear"), ("burley", "height_correlated", "kulla_conty", "srgb"),
+            ("lambert", "separable", "kulla_conty", "linear"), ("lambert", "height_correlated", "none", "srgb"),
+            ("eon", "separable", "none", "srgb"), ("eon", "height_correlated", "kulla_conty", "linear")]
+    out = [{**BUSY, "principled_diffuse": d, "principled_g2": g2, "principled_multiscatter": ms,
+            "base_color_space": space, "anisotropic": 0.5 if ms == "none" else 0.0} for d, g2, ms, space in rows]
+    return out + principled_models()[24:]
+
+
 #: Two materials one compiled shader draws by its uniforms alone (same options).
 TWO_MATERIALS = ({**BUSY, "principled_diffuse": "eon", "anisotropic": 0.4},
                  {"model": "principled", "base_color": "0.1,0.5,0.9", "metallic": 0.9, "specular": 0.2,
