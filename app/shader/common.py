@@ -21,6 +21,11 @@ F_MAX = 1e30
 HALF_MAX, HALF_EPS = 65504.0, 2.0 ** -11
 
 
+#: The float32 statement every program's precision notes start with.
+FLOAT32_NOTE = ["float32 (highp) suffices: every term is checked against the float64 reference to 1e-5 relative",
+                "in WebGL2 (tests/e2e/test_shader_webgl.py) on directions up to 88° from the normal."]
+
+
 def guard_consts() -> list[Const]:
     return [Const("PI", np.pi, "π"),
             Const("HALF_VECTOR_MIN_NORM", HALF_VECTOR_MIN_NORM,

@@ -25,7 +25,7 @@ from .emit import write
 from .library import ERFCX_MAX_RELATIVE_ERROR, LIBRARY
 
 from .common import (F_MAX, FRAME_MIN, HALF_VECTOR_MIN_NORM, SPEC, GEOMETRY, guard_consts,  # noqa: F401
-                     half_note, world_fn)
+                     FLOAT32_NOTE, half_note, world_fn)
 
 
 def model_query(spec: ModelSpec) -> str:
@@ -247,10 +247,6 @@ def precision_notes(brdf) -> list[str]:
     """Where float32 suffices and where half precision breaks, from the model's values."""
     single = brdf.single() if getattr(brdf, "multiscatter", None) is not None else brdf
     return FLOAT32_NOTE + [half_note(f"lobe {k}", lobe.ndf) for k, (_, lobe) in enumerate(single.lobes(), start=1)]
-
-
-FLOAT32_NOTE = ["float32 (highp) suffices: every term is checked against the float64 reference to 1e-5 relative",
-                "in WebGL2 (tests/e2e/test_shader_webgl.py) on directions up to 88° from the normal."]
 
 
 def generate(spec: ModelSpec, lang: str, form: str = "const") -> str:

@@ -21,7 +21,7 @@ from ..principled import lobes as P
 from ..principled.params import PARAMS
 from ..principled.spec import ROUGHNESS, material
 from . import embed
-from .common import GEOMETRY, SPEC, guard_consts, half_note, world_fn
+from .common import FLOAT32_NOTE, GEOMETRY, SPEC, guard_consts, half_note, world_fn
 from .dsl import Const, Fn, Program
 from .terms import formula_consts, formula_fn
 
@@ -185,7 +185,6 @@ def _unique(items):
 
 
 def precision_notes(m) -> list[str]:
-    from .generate import FLOAT32_NOTE
     notes = list(FLOAT32_NOTE)
     notes.append(half_note("the specular lobe", m.specular_brdf(FRESNELS["none"]()).ndf))
     if m.clearcoat:
