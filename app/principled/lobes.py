@@ -12,12 +12,14 @@ import numpy as np
 
 from .. import kernels
 from ..physics.diffuse import DIFFUSES
-from ..physics.diffuse.base import schlick_weight, times_rho
+from ..physics.diffuse.base import schlick_weight, schlick_weight_body, times_rho
+from ..physics.formula import Formula
 from ..physics.fresnel import FRESNELS
 from ..physics.masking import MASKINGS
 from ..physics.ndf import NDFS
 from ..physics.numeric import where_valid
 from ..physics.vectors import dot
+from ..integrate.compensation import MIN_ENERGY_LOSS
 from .compensation import f_ms_rgb
 
 #: The clearcoat's masking roughness, fixed by the paper ("α_g = 0.25").
@@ -41,15 +43,20 @@ def subsurface(roughness: float, mu_l, mu_v, l_dot_v) -> np.ndarray:
     return 1.25 * (f_ss * (inv - 0.5) + 0.5) / np.pi
 
 
+#: principled_diffuse → (the registry's diffuse model, its values at the principled
+#: roughness r, its formula's p as expressions of r: what generated code passes when r is
+#: a uniform). Burley's p is its perceptual roughness √α = r; EON's r is the roughness.
+DIFFUSE_CHOICES = {
+    "burley": ("burley", lambda r: {"alpha": r * r}, ("r",)),
+    "eon": ("eon", lambda r: {"diffuse_roughness": r}, ("r",)),
+    "lambert": ("lambert", lambda r: {}, ()),
+}
+
+
 def diffuse_model(material):
     """The registry's diffuse model the option names, at the material's roughness."""
-    r = material.roughness
-    choice = material.options["principled_diffuse"]
-    if choice == "burley":
-        return DIFFUSES["burley"](alpha=r * r)
-    if choice == "eon":
-        return DIFFUSES["eon"](diffuse_roughness=r)
-    return DIFFUSES["lambert"]()
+    name, values, _ = DIFFUSE_CHOICES[material.options["principled_diffuse"]]
+    return DIFFUSES[name](**values(material.roughness))
 
 
 def diffuse_rho(material, rho: float, mu_l, mu_v, l_dot_v) -> np.ndarray:
@@ -124,3 +131,52 @@ def clearcoat(material, l, v, w=None) -> np.ndarray:
 
 
 LOBE_FUNCTIONS = {"diffuse": diffuse, "sheen": sheen, "specular": specular, "clearcoat": clearcoat}
+
+
+# The same lobes written once in the expression language (app/physics/formula.py) for
+# generated code (app/shader/principled.py); each beside the registry's own formulas it
+# is combined with (GGX, Smith, the G2 forms, Schlick, GTR, the diffuse models). The
+# numpy functions above stay the reference these are tested against.
+PI_CONST = (("PI", np.pi, "π"),)
+
+#: Burley 2012 (appendix; disney.brdf): lum = 0.3 R + 0.6 G + 0.1 B, C_tint = C/lum.
+TINT_FORMULA = Formula("principled_tint", ("c", "lum"), "sel(lum > 0.0, c / lum, 1.0)",
+                       doc="C_tint = C/lum(C), 1 where lum = 0 (Burley 2012, appendix).")
+#: C_spec0 = mix(0.08 specular mix(1, C_tint, specular_tint), C, metallic).
+SPEC0_FORMULA = Formula(
+    "principled_spec0", ("c", "tint"),
+    "(1.0 - metallic) * 0.08 * specular * ((1.0 - specular_tint) + specular_tint * tint) + metallic * c",
+    p=("metallic", "specular", "specular_tint"),
+    doc="C_spec0 = mix(0.08 specular mix(1, C_tint, specular_tint), C, metallic) (Burley 2012, appendix).")
+#: C_sheen = mix(1, C_tint, sheen_tint).
+SHEEN_COLOR_FORMULA = Formula("principled_sheen_color", ("tint",), "(1.0 - sheen_tint) + sheen_tint * tint",
+                              p=("sheen_tint",), doc="C_sheen = mix(1, C_tint, sheen_tint) (Burley 2012, appendix).")
+#: α along t and b: max(ALPHA_MIN, r²/aspect), max(ALPHA_MIN, r² aspect), aspect = √(1 − 0.9 anisotropic).
+ALPHA_X_FORMULA = Formula("principled_alpha_x", ("roughness", "anisotropic"),
+                          "max(ALPHA_MIN, roughness * roughness / sqrt(1.0 - 0.9 * anisotropic))",
+                          consts=(("ALPHA_MIN", 0.001, "disney.brdf's floor on α"),),
+                          doc="α_x = max(0.001, r²/aspect), aspect = √(1 − 0.9 anisotropic) (Burley 2012, appendix).")
+ALPHA_Y_FORMULA = Formula("principled_alpha_y", ("roughness", "anisotropic"),
+                          "max(ALPHA_MIN, roughness * roughness * sqrt(1.0 - 0.9 * anisotropic))",
+                          consts=(("ALPHA_MIN", 0.001, "disney.brdf's floor on α"),),
+                          doc="α_y = max(0.001, r² aspect) (Burley 2012, appendix).")
+#: The clearcoat's GTR1 α = mix(0.1, 0.001, clearcoat_gloss).
+CLEARCOAT_ALPHA_FORMULA = Formula("principled_clearcoat_alpha", ("gloss",), "0.1 + (0.001 - 0.1) * gloss",
+                                  doc="Clearcoat α = mix(0.1, 0.001, clearcoat_gloss) (Burley 2012, appendix).")
+#: Burley's subsurface lobe (:func:`subsurface`), +∞ where both directions lie on the horizon.
+SUBSURFACE_FORMULA = Formula(
+    "principled_subsurface", ("roughness", "mu_l", "mu_v", "l_dot_v"),
+    "1.25 * (f_ss * (inv - 0.5) + 0.5) / PI",
+    body=(("f90", "roughness * 0.5 * (1.0 + l_dot_v)"), *schlick_weight_body("mu_l", "wl"),
+          *schlick_weight_body("mu_v", "wv"), ("f_ss", "(1.0 + (f90 - 1.0) * wl) * (1.0 + (f90 - 1.0) * wv)"),
+          ("inv", "sel(mu_l + mu_v > 0.0, 1.0 / (mu_l + mu_v), INF())")),
+    consts=PI_CONST,
+    doc="Burley's subsurface lobe (no ρ): 1.25 (F_ss (1/(μ_l + μ_v) − 0.5) + 0.5)/π,\n"
+        "F_ss = (1 + (F_ss90 − 1)(1 − μ_l)⁵)(1 + (F_ss90 − 1)(1 − μ_v)⁵), F_ss90 = r cos²θ_d (Burley 2012).")
+#: Kulla-Conty's scale of one channel: F_ms/(π(1 − Ē)), F_ms = F̄² Ē/(1 − F̄(1 − Ē))
+#: (docs/kulla_conty.md §2; app/integrate/compensation.py), 0 if the lobe loses nothing.
+KC_SCALE_FORMULA = Formula(
+    "principled_kc_scale", ("F_avg", "E_avg"),
+    "sel(1.0 - E_avg > MIN_ENERGY_LOSS, F_avg * F_avg * E_avg / (1.0 - F_avg * (1.0 - E_avg)) / (PI * (1.0 - E_avg)), 0.0)",
+    consts=(*PI_CONST, ("MIN_ENERGY_LOSS", MIN_ENERGY_LOSS, "below: the lobe loses nothing (compensation.py)")),
+    doc="Kulla & Conty 2017: F_ms/(π(1 − Ē)), F_ms = F̄² Ē/(1 − F̄(1 − Ē)) (docs/kulla_conty.md §2).")

@@ -19,21 +19,13 @@ from ..model import ModelSpec
 from ..physics.diffuse.lambert import Lambert
 from ..physics.formula import tokens
 from ..physics.g2 import lambda_phi_entry
-from . import embed, terms
+from . import embed, principled, terms
 from .dsl import Const, Fn, Program, Table
 from .emit import write
 from .library import ERFCX_MAX_RELATIVE_ERROR, LIBRARY
 
-#: |l + v| below which h is undefined and the specular term is 0: l and v opposite to
-#: within 1e-6 rad, the resolution of a float32 unit vector after a few roundings.
-HALF_VECTOR_MIN_NORM = 1e-6
-#: |x − n(n·x)| below which the tangent frame projects y instead of x: n within 0.06°
-#: of ±x (no fixed axis gives a continuous frame over the whole sphere).
-FRAME_MIN = 1e-3
-#: f returned where it truly diverges (both directions on the horizon, where /eval says
-#: +∞): a finite stand-in, so that f·cos θ = 0 there and no ∞ reaches a frame buffer;
-#: 1e30 leaves float32 headroom (3.4e38) for the sum of the lobes and the diffuse term.
-F_MAX = 1e30
+from .common import (F_MAX, FRAME_MIN, HALF_VECTOR_MIN_NORM, SPEC, GEOMETRY, guard_consts,  # noqa: F401
+                     FLOAT32_NOTE, half_note, world_fn)
 
 
 def model_query(spec: ModelSpec) -> str:
@@ -63,30 +55,38 @@ def program(spec: ModelSpec, form: str = "const") -> Program:
     return _assemble(spec, form)[0]
 
 
-def writes(family) -> bool:
-    """Whether the generator writes this model family (it writes a microfacet model's
-    choices: NDF, masking, G2, Fresnel, diffuse); /models states it as ``shader``."""
+def _writes_microfacet(family) -> bool:
+    """A family that takes a microfacet model's choices (NDF, masking, G2, Fresnel, diffuse)."""
     return "ndf" in family.own_names()
+
+
+#: The writers, each (whether it writes a family, its assemble(spec, form) → (Program, info)).
+WRITERS = ((_writes_microfacet, lambda spec, form: _assemble_microfacet(spec, form)),
+           (principled.accepts, principled.assemble))
+
+
+def writes(family) -> bool:
+    """Whether the generator writes this model family (a microfacet model's choices, or the
+    principled model's parameters); /models states it as ``shader``."""
+    return any(accepts(family) for accepts, _ in WRITERS)
 
 
 def _assemble(spec: ModelSpec, form: str):
     if form not in FORMS:
         raise ParameterError("form", f"form must be one of {', '.join(FORMS)}; got {form!r}")
-    if not writes(spec.family):
-        raise ParameterError("model", f"code generation writes model=microfacet only; got "
-                                      f"model={spec.family.name}")
+    for accepts, assemble in WRITERS:
+        if accepts(spec.family):
+            return assemble(spec, form)
+    raise ParameterError("model", f"code generation has no writer for model={spec.family.name}")
+
+
+def _assemble_microfacet(spec: ModelSpec, form: str):
     brdf = spec.brdf()
     ms: KullaConty | None = getattr(brdf, "multiscatter", None)
     single = brdf.single() if ms is not None else brdf
     lobes = single.lobes()
     g2 = single.g2
-    t = terms.Terms(consts=[
-        Const("PI", math.pi, "π"),
-        Const("KD", brdf.kd, "ρ, the weight of the diffuse term"),
-        Const("HALF_VECTOR_MIN_NORM", HALF_VECTOR_MIN_NORM,
-              "|l + v| below which h is undefined (l = −v to float32 resolution): no specular"),
-        Const("FRAME_MIN", FRAME_MIN, "n this close to ±x: the frame projects y instead of x"),
-        Const("F_MAX", F_MAX, "f where it diverges (both directions on the horizon): finite, so f·cos θ = 0 there")])
+    t = terms.Terms(consts=guard_consts() + [Const("KD", brdf.kd, "ρ, the weight of the diffuse term")])
     t.material.add("KD")
     baked: dict[str, str] = {}
     t.add(terms.fresnel(fresnel_channels(brdf.fresnel)))
@@ -124,7 +124,7 @@ def _assemble(spec: ModelSpec, form: str):
     consts = [replace(c, uniform=c.name in uniforms) for c in _unique(t.consts)]
     info = {"uniforms": {c.name: c.value for c in consts if c.uniform},
             "baked": {k: v for k, v in sorted(baked.items())} if form == "uniform" else {},
-            "tabulated": t.tabulated}
+            "tabulated": t.tabulated, "precision": precision_notes(brdf)}
     return Program(_header(spec, brdf, ms), consts, _merged(t.tables), _unique_fns(fns)), info
 
 
@@ -190,9 +190,7 @@ def _public(n_lobes: int, needs_phi: bool, ms) -> list[Fn]:
                       [("float", "cr", "abs(X(l) * Y(v) - Y(l) * X(v))"), ("float", "dt", "X(l) * X(v) + Y(l) * Y(v)")],
                       "sel(cr + abs(dt) > 0.0, atan2(cr, dt), 0.0)",
                       "φ ∈ [0, π] between the tangent-plane projections of l and v; 0 where one is along n."))
-    fns += [Fn("spec", "float", [("float", "D"), ("float", "F"), ("float", "V"), ("bool", "ok")], [],
-              "sel(and_(ok, D * F > 0.0), D * F * V, 0.0)",
-              "D F V where h exists and D F > 0 (so that 0 × ∞ never happens), else 0."),
+    fns += [SPEC,
            Fn("D", "float", [("vec3", "m")], [],
               " + ".join(f"W{k} * D_{k}(m)" for k in range(1, n_lobes + 1)),
               "D(m) in the local frame (two lobes: their blend, itself a normalised NDF)."),
@@ -202,13 +200,7 @@ def _public(n_lobes: int, needs_phi: bool, ms) -> list[Fn]:
               [("float", "mu_l", "max(Z(l), 0.0)"), ("float", "mu_v", "max(Z(v), 0.0)"),
                ("float", "Vis", f"V_1(mu_l, mu_v, muLambda_1(l), muLambda_1(v), {_phi_expr(needs_phi)})")],
               "sel(mu_l * mu_v > 0.0, 4.0 * mu_l * mu_v * Vis, 0.0)", "G2 = 4 μ_l μ_v V, local frame.")]
-    body = [("float", "mu_l", "Z(l)"), ("float", "mu_v", "Z(v)"),
-            ("float", "ml", "max(mu_l, 0.0)"), ("float", "mv", "max(mu_v, 0.0)"),
-            ("vec3", "hs", "l + v"), ("float", "hn", "length(hs)"),
-            ("bool", "h_ok", "hn > HALF_VECTOR_MIN_NORM"),
-            ("vec3", "h", "vec3(X(hs) / max(hn, HALF_VECTOR_MIN_NORM), Y(hs) / max(hn, HALF_VECTOR_MIN_NORM), "
-                          "Z(hs) / max(hn, HALF_VECTOR_MIN_NORM))"),
-            ("vec3", "Fr", "F(dot(v, h))")]
+    body = GEOMETRY + [("vec3", "Fr", "F(dot(v, h))")]
     if needs_phi:
         body.append(("float", "phi", "azimuth_difference(l, v)"))
     total = ["splat(fd(ml, mv, dot(l, v)))"]
@@ -229,15 +221,7 @@ def _public(n_lobes: int, needs_phi: bool, ms) -> list[Fn]:
                   "l, v unit vectors in the local frame (n = +z, t = +x), pointing away from the surface;\n"
                   "0 unless both are in the closed upper hemisphere (Cook & Torrance 1982; Walter et al. 2007);\n"
                   "F_MAX where f diverges (both directions on the horizon), so f·cos θ is 0 there."))
-    frame = [("vec3", "nn", "normalize(n)"),
-             ("vec3", "tx", "vec3(1.0 - X(nn) * X(nn), -Y(nn) * X(nn), -Z(nn) * X(nn))"),
-             ("vec3", "ty", "vec3(-X(nn) * Y(nn), 1.0 - Y(nn) * Y(nn), -Z(nn) * Y(nn))"),
-             ("vec3", "t", "normalize(sel3(length(tx) > FRAME_MIN, tx, ty))"),
-             ("vec3", "b", "cross(nn, t)")]
-    fns.append(Fn("brdf", "vec3", [("vec3", "n"), ("vec3", "l"), ("vec3", "v")], frame,
-                  "brdf_local(vec3(dot(l, t), dot(l, b), dot(l, nn)), vec3(dot(v, t), dot(v, b), dot(v, nn)))",
-                  "f for a surface of normal n (world space; l, v unit, away from the surface). Tangent frame:\n"
-                  "t = x − n(n·x) normalised (y instead when n is within 0.06° of ±x), b = n × t; α_x is along t."))
+    fns.append(world_fn())
     return fns
 
 
@@ -259,28 +243,10 @@ def _header(spec: ModelSpec, brdf, ms) -> list[str]:
             "Regenerate it with GET /api/v1/code?lang=...&" + model_query(spec)]
 
 
-#: float16 (half; GLSL mediump may be it): largest finite value and relative precision.
-HALF_MAX, HALF_EPS = 65504.0, 2.0 ** -11
-
-
 def precision_notes(brdf) -> list[str]:
-    """Where float32 suffices and where half precision breaks, from the model's values:
-    D's peak at the normal and q² = m_x²/α² at grazing against half's range."""
+    """Where float32 suffices and where half precision breaks, from the model's values."""
     single = brdf.single() if getattr(brdf, "multiscatter", None) is not None else brdf
-    notes = ["float32 (highp) suffices: every term is checked against the float64 reference to 1e-5 relative",
-             "in WebGL2 (tests/e2e/test_shader_webgl.py) on directions up to 88° from the normal."]
-    for k, (_, lobe) in enumerate(single.lobes(), start=1):
-        ndf = lobe.ndf
-        peak = float(ndf.D(np.array([0.0, 0.0, 1.0])))
-        a_min = min(ndf.alpha_x, ndf.alpha_y)
-        half = []
-        if peak > HALF_MAX:
-            half.append(f"D's peak {peak:.3g} overflows half (max {HALF_MAX:g})")
-        if 1.0 / a_min ** 2 > HALF_MAX:
-            half.append(f"q² = m_x²/α² reaches {1.0 / a_min ** 2:.3g} at grazing and overflows half")
-        half.append(f"half's relative precision {HALF_EPS:.1e} bounds f's to about 1e-3 at best")
-        notes.append(f"lobe {k} in half/mediump: " + "; ".join(half) + ".")
-    return notes
+    return FLOAT32_NOTE + [half_note(f"lobe {k}", lobe.ndf) for k, (_, lobe) in enumerate(single.lobes(), start=1)]
 
 
 def generate(spec: ModelSpec, lang: str, form: str = "const") -> str:
@@ -294,14 +260,13 @@ def describe(spec: ModelSpec, lang: str, form: str = "const") -> dict:
     approximation with its stated error, the precision notes and the line count."""
     prog, info = _assemble(spec, form)
     code = write(prog, lang)
-    brdf = spec.brdf()
     return {"lang": lang, "form": form, "code": code, "lines": len(code.splitlines()),
             "uniforms": info["uniforms"], "baked": info["baked"],
-            "approximations": approximations(brdf, info["tabulated"], prog),
-            "precision": precision_notes(brdf)}
+            "approximations": approximations(info["tabulated"], prog),
+            "precision": info["precision"]}
 
 
-def approximations(brdf, tabulated, prog: Program) -> list[dict]:
+def approximations(tabulated, prog: Program) -> list[dict]:
     """Each place the generated code is not the float64 formula: tables and fits."""
     out = [{"what": what, "how": how, "max_error": error,
             "error_of": "G1, absolute, against the float64 Smith integral" if what.startswith("muLambda")

@@ -14,6 +14,7 @@ import pytest
 
 from test_page import move_slider   # tests/e2e is not a package
 from tests.shader.models import registry_models
+from tests.shader.principled_models import BUSY
 
 pytestmark = pytest.mark.e2e
 
@@ -33,12 +34,21 @@ def _open(page, url="/?show=none"):
     page.wait_for_function(READY, timeout=60_000)
 
 
+#: The principled BRDF on the panel (its own /code writer): the paper's defaults, and every
+#: option's value at least once with every lobe in play.
+PRINCIPLED = [{"model": "principled"},
+              {**BUSY, "principled_diffuse": "eon", "principled_g2": "height_correlated",
+               "principled_multiscatter": "kulla_conty", "base_color_space": "srgb"},
+              {**BUSY, "principled_diffuse": "lambert", "anisotropic": 0.6, "lobe": "specular"}]
+
+
 def test_truth_for_every_registry_model(page, page_log):
-    """Each model of the registry list (tests/shader/models.py) drawn on the GPU and read
-    back from the float target, against the server's float64 frame of the same light."""
+    """Each model of the registry list (tests/shader/models.py) and the principled BRDF
+    drawn on the GPU and read back from the float target, against the server's float64
+    frame of the same light."""
     _open(page)
     bad = []
-    for m in registry_models():
+    for m in registry_models() + PRINCIPLED:
         message = page.evaluate("(m) => window.__gpu.load(m)", m)
         if not page.evaluate("() => window.__gpu.ok"):
             bad.append((m, message))

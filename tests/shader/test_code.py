@@ -142,12 +142,25 @@ def test_unknown_language_is_a_422_naming_it(client):
     assert all(name in detail["msg"] for name in ("glsl", "hlsl", "python"))
 
 
-@pytest.mark.parametrize("query, param", [({"model": "principled"}, "model")])
-def test_models_it_cannot_write_are_a_422(client, query, param):
-    """A model the generator does not write is refused, never written as something else."""
-    res = client.get("/api/v1/code", params={**query, "lang": "glsl"})
-    assert res.status_code == 422, res.text[:300]
-    assert res.json()["detail"][0]["loc"][-1] == param
+def test_a_family_no_writer_takes_is_refused_naming_model(tmp_path):
+    """A family the generator has no writer for (the toy family a plugin directory adds,
+    tests/toy_family.py) is refused naming ``model`` — never written as something else —
+    and /models would say shader: false for it."""
+    import importlib.util
+    from types import SimpleNamespace
+
+    from app.errors import ParameterError
+    from app.shader.generate import generate, writes
+    from tests.toy_family import NAME, write_family
+
+    package = write_family(tmp_path) / NAME
+    spec = importlib.util.spec_from_file_location("toy_family_entry", package / "family.py")
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    assert not writes(module.FAMILY)
+    with pytest.raises(ParameterError) as refused:
+        generate(SimpleNamespace(family=module.FAMILY, values={}), "glsl")
+    assert refused.value.param == "model" and refused.value.status == 422
 
 
 @pytest.mark.parametrize("query", ["ndf=gtr&gamma=1.5", "ndf=exp_power&p=2", "ndf=ggx",

@@ -9,7 +9,8 @@ from pydantic import Field
 
 from ...model import make_spec
 from ...shader.dsl import LANGS
-from ...shader.generate import describe, generate
+from ...model.registry import families
+from ...shader.generate import describe, generate, writes
 from ...views import schemas
 from ..deps import Route
 from ..encode import json_response
@@ -19,9 +20,13 @@ router = APIRouter(prefix="/api/v1", tags=["code"], route_class=Route)
 EXTENSIONS = {"glsl": "glsl", "hlsl": "hlsl", "python": "py"}
 
 
+#: The families /code writes (generate.writes; /models says ``shader``).
+WRITTEN = tuple(name for name, family in families().items() if writes(family))
+
+
 class CodeQuery(schemas.ModelQuery):
-    model: Annotated[Literal["microfacet"], Field(
-        description="code generation writes the microfacet model (the options above) only")] = "microfacet"
+    model: Annotated[Literal[WRITTEN], Field(
+        description="the model families code generation writes: " + ", ".join(WRITTEN))] = "microfacet"
     lang: Annotated[Literal[LANGS], Field(
         description="glsl: GLSL ES 3.00 (WebGL2), `vec3 brdf(vec3 n, vec3 l, vec3 v)`; hlsl: "
                     "`float3 brdf(float3 n, float3 l, float3 v)`; python: numpy, `brdf(n, l, v)` "
@@ -29,7 +34,9 @@ class CodeQuery(schemas.ModelQuery):
     form: Annotated[Literal["const", "uniform"], Field(
         description="const: the material's parameters baked in as constants (a snapshot); "
                     "uniform: α_x, α_y, shape, F₀/F₉₀ or η/κ per channel, k_d and the diffuse "
-                    "parameters as uniforms, so one compiled shader draws any material")] = "const"
+                    "parameters as uniforms (model=principled: base colour, roughness, metallic, … "
+                    "as uniforms, everything derived formed in the shader), so one compiled shader "
+                    "draws any material")] = "const"
     format: Annotated[Literal["text", "json"], Field(
         description="text: the code alone; json: the code with its uniforms and their values, "
                     "what stays baked and why, each approximation with its stated maximum "

@@ -68,11 +68,12 @@ def local_directions(x: np.ndarray, y: np.ndarray, light: np.ndarray) -> tuple[n
 
 
 def f_rgb(brdf, l: np.ndarray, v: np.ndarray) -> np.ndarray:
-    """f per channel (…, 3): a model declaring f_rgb (the principled BRDF) its own, a
-    material's per-channel Fresnel through evaluate_rgb, else the grey f thrice."""
-    own = getattr(brdf, "f_rgb", None)
-    if callable(own):
-        return np.asarray(own(l, v), dtype=float)
+    """f per channel (…, 3): a model with its own colours (the principled BRDF: its drawn
+    lobes' f_rgb), a material's per-channel Fresnel through evaluate_rgb, else the grey f
+    thrice. (The principled BRDF has no f_rgb method of its own: the old test for one sent
+    it to the grey path, its luminance in all three channels.)"""
+    if getattr(brdf, "material", None) is not None:     # its own colours (the principled BRDF)
+        return np.asarray(brdf.evaluate(l, v, ("f_rgb",))["f_rgb"], dtype=float)
     if getattr(brdf.fresnel, "channels", None) is not None:
         return evaluate_rgb(brdf, l, v, ("f",))["f_rgb"]
     return np.repeat(np.asarray(kernels.f(brdf, l, v), dtype=float)[:, None], 3, axis=1)

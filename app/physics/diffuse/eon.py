@@ -79,20 +79,21 @@ class EON(Diffuse):
         return rho * e_f + rho_ms * (1.0 - e_f), 0.0
 
     def kernel_params(self):
-        r, a_f, _ = self._terms(0.0)
-        return (r, a_f)
+        """(r,): A_F is formed from r inside the formula, so generated code that binds r
+        per pixel (a uniform, a texture) keeps A_F consistent with it."""
+        return (self.diffuse_roughness,)
 
     f_formula = Formula(
         "fd_eon", F_D_ARGS,
         "sel(rho == 0.0, 0.0, sel(and_(s > 0.0, t <= 0.0), INF(), "
         "(rho * a_f * (1.0 + r * ratio) + rho_ms * multi / (C1 - C2)) / PI))",
-        body=(("s", "l_dot_v - mu_l * mu_v"), ("t", "max(mu_l, mu_v)"),
+        body=(("a_f", "1.0 / (1.0 + C1 * r)"), ("s", "l_dot_v - mu_l * mu_v"), ("t", "max(mu_l, mu_v)"),
               ("ratio", "sel(and_(s > 0.0, t > 0.0), s / t, s)"),
               ("avg", "a_f * (1.0 + C2 * r)"),
               ("rho_ms", "rho * rho * avg / (1.0 - rho * (1.0 - avg))"),
               *_G_body("mu_l", "G_l"), *_G_body("mu_v", "G_v"),
               ("multi", "a_f * r * (C1 - G_l / PI) * (C1 - G_v / PI)")),
-        p=("r", "a_f"),
+        p=("r",),
         consts=(("PI", math.pi, "π"), ("C1", C1, "1/2 − 2/(3π)"), ("C2", C2, "2/3 − 28/(15π)")),
         doc="EON (Portsmouth, Kutz & Hill 2025): Fujii's Oren–Nayar ρ/π A_F (1 + r s/t) plus the multiple-\n"
             "scattering lobe ρ_ms/π (1 − E_F(μ_l))(1 − E_F(μ_v))/(1 − E_F,avg); +∞ where both graze with s > 0.")

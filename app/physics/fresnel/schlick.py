@@ -41,6 +41,13 @@ class Schlick(Fresnel):
         p = self.fresnel_p
         return self.f0 + 2.0 * (self.f90 - self.f0) / ((p + 1.0) * (p + 2.0))
 
+    #: F_avg as a formula of the parameters (what generated code forms when F₀ is a
+    #: uniform: the principled BRDF's per-channel Kulla-Conty scale).
+    F_avg_formula = Formula(
+        "F_avg_schlick", (), "f0 + 2.0 * (f90 - f0) / ((fresnel_p + 1.0) * (fresnel_p + 2.0))",
+        p=("f0", "f90", "fresnel_p"),
+        doc="F_avg = 2 ∫ F μ dμ = F₀ + 2(F₉₀ − F₀)/((p + 1)(p + 2)) of Schlick's F (2 B(2, p + 1)).")
+
     def schlick_basis(self):
         return ((self.f0, None), (self.f90 - self.f0, self.fresnel_p))
 

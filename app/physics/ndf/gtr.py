@@ -137,6 +137,17 @@ class GTR(SlopeSpaceNDF):
         p=("a2", "gamma", "k", "log_a2", "k_a", "log_d0"),
         doc="GTR: α² D = exp(ln(k/π) + (2 − 2γ) ln α − γ ln(mz² + q²)), k(α, γ) of Burley 2012 (eq. 8,\n"
             "appendix B) formed once in float64 with expm1/log1p (kernel_params); mz² + q² ≥ min(1, 1/α²).")
+    #: D_formula's ln(k/π) + (2 − 2γ) ln α from α and γ, for code that binds α at run time
+    #: (the principled clearcoat's gloss as a uniform): k = E(x)/E((1 − γ)x), x = ln α²,
+    #: E(y) = (e^y − 1)/y → 1 at y = 0 (Burley 2012, appendix B; radial_params forms the
+    #: same in float64). α < 1 for the clearcoat (x ≤ ln 0.01), far from E's 0/0 at x = 0.
+    log_d0_formula = Formula(
+        "log_d0_gtr", ("alpha", "gamma"), "log(k / PI) + (2.0 - 2.0 * gamma) * log(alpha)",
+        body=(("x", "2.0 * log(alpha)"), ("y", "(1.0 - gamma) * x"),
+              ("e_x", "sel(x == 0.0, 1.0, expm1(x) / x)"), ("e_y", "sel(y == 0.0, 1.0, expm1(y) / y)"),
+              ("k", "e_x / e_y")),
+        consts=(("PI", math.pi, "π"),),
+        doc="ln(k/π) + (2 − 2γ) ln α of GTR's D, k = E(ln α²)/E((1 − γ) ln α²), E(y) = (e^y − 1)/y (Burley 2012, app. B).")
 
     @staticmethod
     @scalar

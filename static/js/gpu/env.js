@@ -17,6 +17,13 @@ export const PAIRS_PER_FRAME = 2;
 /** Rec. 709 luminance (render.py's LUMINANCE). */
 const LUMA = [0.2126, 0.7152, 0.0722];
 const DEG = Math.PI / 180;
+/** The soft discs of maps.py, [radius, edge] in degrees: the key box or the sun, and
+ * studio's fill box. Their edges' cosines are formed here in float64 and passed as
+ * uniforms: SwiftShader's float32 cos() is off by ~1e-4 near 3° (measured), a sixth of
+ * the sun's edge ramp (cos 2° − cos 3° = 7.6e-4), which brightened the GPU's sunset by 2 %
+ * and its studio by 0.5 % against the server's (docs/gpu.md). */
+const DISCS = { studio: [[12, 5], [20, 8]], sunset: [[2.5, 1], [2.5, 1]] };
+const edges = ([r, e]) => [Math.cos((r - e / 2) * DEG), Math.cos((r + e / 2) * DEG)];
 /** The bright disc each environment's cone samples: [radius + edge/2 in degrees] (maps.py). */
 const CONE_DEG = { studio: 12 + 5 / 2, sunset: 2.5 + 1 / 2 };
 
@@ -28,16 +35,17 @@ const vec3 ENV_ZENITH = vec3(0.08, 0.16, 0.45);
 const vec3 ENV_HORIZON = vec3(1.0, 0.45, 0.15);
 const vec3 ENV_GROUND = vec3(0.04, 0.03, 0.025);
 const vec3 ENV_SUN_COLOUR = vec3(1.0, 0.75, 0.45);
-float env_smooth_disc(vec3 w, vec3 c, float r_deg, float e_deg) {
-  float c_in = cos(radians(r_deg - e_deg / 2.0)), c_out = cos(radians(r_deg + e_deg / 2.0));
-  float t = clamp((dot(w, c) - c_out) / (c_in - c_out), 0.0, 1.0);
+uniform vec2 u_disc_key;     // cos of the key box's / the sun's inner and outer edge
+uniform vec2 u_disc_fill;    // the same for studio's fill box
+float env_smooth_disc(vec3 w, vec3 c, vec2 cos_in_out) {
+  float t = clamp((dot(w, c) - cos_in_out.y) / (cos_in_out.x - cos_in_out.y), 0.0, 1.0);
   return t * t * (3.0 - 2.0 * t);
 }
 vec3 env_radiance(vec3 w) {
   if (u_env == 0) return u_colour;
   if (u_env == 1) {
     vec3 fill = normalize(vec3(-u_key.x, 0.5 * abs(u_key.y) + 0.3, max(u_key.z, 0.3)));
-    return (0.02 + 16.0 * env_smooth_disc(w, u_key, 12.0, 5.0) + 1.2 * env_smooth_disc(w, fill, 20.0, 8.0)) * u_colour;
+    return (0.02 + 16.0 * env_smooth_disc(w, u_key, u_disc_key) + 1.2 * env_smooth_disc(w, fill, u_disc_fill)) * u_colour;
   }
   if (u_env == 2) {
     float c = dot(w, u_key);
@@ -45,7 +53,7 @@ vec3 env_radiance(vec3 w) {
   }
   float up = clamp(w.y, -1.0, 1.0);
   vec3 sky = up >= 0.0 ? ENV_HORIZON + pow(max(up, 0.0), 0.4) * (ENV_ZENITH - ENV_HORIZON) : ENV_GROUND;
-  return (sky + 60.0 * env_smooth_disc(w, u_key, 2.5, 1.0) * ENV_SUN_COLOUR) * u_colour;
+  return (sky + 60.0 * env_smooth_disc(w, u_key, u_disc_key) * ENV_SUN_COLOUR) * u_colour;
 }`;
 
 const ACCUMULATE_MAIN = `
@@ -164,6 +172,9 @@ export class EnvSphere {
     gl.uniform3fv(u("u_colour"), this.colour);
     gl.uniform1i(u("u_env"), ENVIRONMENTS.indexOf(this.env));
     gl.uniform1f(u("u_cone_cos"), CONE_DEG[this.env] ? Math.cos(CONE_DEG[this.env] * DEG) : 1);
+    const [key, fill] = DISCS[this.env] || [[1, 1], [1, 1]];
+    gl.uniform2fv(u("u_disc_key"), edges(key));
+    gl.uniform2fv(u("u_disc_fill"), edges(fill));
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     this.frames++;
     this.current = to;
