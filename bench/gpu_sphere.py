@@ -56,7 +56,7 @@ def main() -> None:
     with running_server() as (url, _), sync_playwright() as pw:
         browser = pw.chromium.launch(executable_path=CHROMIUM, args=["--no-sandbox", "--disable-gpu"])
         page = browser.new_page(viewport={"width": 1280, "height": 900})
-        page.goto(url + "/?show=none")
+        page.goto(url + "/?show=gpu")
         page.wait_for_function("() => window.__gpu && window.__gpu.ok", timeout=60000)
         for m in models:
             message = page.evaluate("(m) => window.__gpu.load(m)", m)

@@ -28,7 +28,7 @@ LOADED = "() => window.__userBrdf.loaded && window.__userBrdf.measureCount > 0"
 
 
 def _open_page(page, model=TWIN):
-    page.goto("/?" + urlencode({**model, "show": "none"}))
+    page.goto("/?" + urlencode({**model, "show": "gpu"}))
     page.wait_for_function(READY, timeout=60_000)
 
 

@@ -18,7 +18,7 @@ pytestmark = pytest.mark.e2e
 
 @pytest.mark.parametrize("env", ["uniform", "studio", "sunset"])
 def test_environment_sphere_converges_to_the_server(page, page_log, env):
-    page.goto("/?show=none&alpha=0.3&kd=0.3&theta_i_deg=40&phi_i_deg=135")
+    page.goto("/?show=gpu&alpha=0.3&kd=0.3&theta_i_deg=40&phi_i_deg=135")
     page.wait_for_function("() => window.__gpu && window.__gpu.ok", timeout=60_000)
     page.evaluate("(e) => window.__gpu.setEnvironment(e)", env)
     page.wait_for_function("() => { const e = window.__gpu.env; return e && e.reference && e.samples >= 32; }",

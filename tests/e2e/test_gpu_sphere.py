@@ -29,7 +29,7 @@ ABS_OF_PEAK = REL
 READY = "() => window.__gpu && window.__gpu.ok"
 
 
-def _open(page, url="/?show=none"):
+def _open(page, url="/?show=gpu"):
     page.goto(url)
     page.wait_for_function(READY, timeout=60_000)
 
@@ -63,7 +63,7 @@ def test_truth_for_every_registry_model(page, page_log):
 def test_truth_toggle_on_the_page(page, page_log, shots):
     """The toggle's statement on the page: the largest and mean difference, and the
     difference image beside the sphere."""
-    _open(page, "/?ndf=beckmann&alpha=0.2&fresnel=conductor&theta_i_deg=30&phi_i_deg=40&show=none")
+    _open(page, "/?ndf=beckmann&alpha=0.2&fresnel=conductor&theta_i_deg=30&phi_i_deg=40&show=gpu")
     page.click("#gpu-truth-toggle")
     page.wait_for_function("() => window.__gpu.truth", timeout=60_000)
     text = page.text_content("#gpu-truth")
@@ -79,7 +79,7 @@ def test_truth_toggle_on_the_page(page, page_log, shots):
 
 
 def test_drag_slider_and_model_change(page, page_log):
-    _open(page, "/?ndf=ggx&alpha=0.3&show=none")
+    _open(page, "/?ndf=ggx&alpha=0.3&show=gpu")
     page.wait_for_function("() => window.__gpu.draws > 0")
     before = page.evaluate("() => ({c: window.__gpu.compiles, d: window.__gpu.draws})")
     # the light follows the pointer: pressed at (x, y) on the disk, the light faces it
@@ -119,7 +119,7 @@ NO_WEBGL2 = """(() => { const get = HTMLCanvasElement.prototype.getContext;
 
 def test_without_webgl2_the_server_sphere_is_shown(page, page_log):
     page.add_init_script(NO_WEBGL2)
-    page.goto("/?show=lobe")
+    page.goto("/?show=lobe,gpu")
     page.wait_for_function("() => window.__brdf.pending() === 0 && window.__gpu", timeout=60_000)
     assert "no WebGL2" in page.text_content("#gpu-message")
     assert page.is_visible("#gpu-message")

@@ -51,7 +51,7 @@ class ReferenceSphereQuery(schemas.ModelQuery):
 
 def pixel_centres(n: int) -> tuple[np.ndarray, np.ndarray]:
     """x, y (n×n, rows from the top) at pixel centres −1 + (2k + 1)/n, the sphere view's
-    grid (quantities.lit_sphere) and the GPU's (gl_FragCoord at k + ½)."""
+    grid (environment.sphere.lit_sphere) and the GPU's (gl_FragCoord at k + ½)."""
     centres = -1.0 + (2.0 * np.arange(n) + 1.0) / n
     y, x = np.meshgrid(centres[::-1], centres, indexing="ij")
     return x, y
