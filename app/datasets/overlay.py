@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..environment.sphere import frames_at
 from ..errors import ParameterError
 from ..physics.numeric import where_valid
 from ..physics.vectors import direction_deg
@@ -134,14 +135,10 @@ def half_difference(data, brdf, arrays: dict, q, channel) -> dict:
 
 
 def _sphere_frames(x, y, light):
-    """(l, v, n·l) in the local frames of the sphere's pixels, the view along +z: the
-    camera frame of quantities.lit_sphere (n = (x, y, √(1−x²−y²)), t = +x projected
-    onto the tangent plane, b = n × t), for data, which the compiled kernels behind
-    quantities.sphere_radiance cannot evaluate."""
-    normal = np.stack([x, y, np.sqrt(np.maximum(1.0 - x * x - y * y, 0.0))], axis=-1)
-    t = np.array([1.0, 0.0, 0.0]) - normal[:, :1] * normal
-    t /= np.linalg.norm(t, axis=-1, keepdims=True)
-    frame = np.stack([t, np.cross(normal, t), normal], axis=-2)
+    """(l, v, n·l) in the local frames of the sphere's pixels (the view along +z), in the
+    one pixel frame of the lit sphere (environment.sphere.frames_at), for data, which the
+    compiled kernels behind the sphere renderer cannot evaluate."""
+    frame = frames_at(x, y)
     l, v = frame @ light, frame @ np.array([0.0, 0.0, 1.0])
     return l, v, l[:, 2]
 
