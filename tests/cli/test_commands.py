@@ -179,12 +179,15 @@ def test_commands_run_where_an_event_loop_already_runs(tmp_path):
     """From a notebook (whose thread runs an event loop) the commands work as from a
     shell: export-model-csv's route is a coroutine, which asyncio.run refuses there."""
     import asyncio
+    import concurrent.futures
     out = tmp_path / "model.csv"
 
     async def notebook_cell():
         return main(["export-model-csv", "--n-theta", "2", "--n-phi", "2", "-o", str(out)])
 
-    assert asyncio.run(notebook_cell()) == 0
+    # the cell's loop in a thread of its own: this one may already run Playwright's
+    with concurrent.futures.ThreadPoolExecutor(max_workers=1) as kernel:
+        assert kernel.submit(asyncio.run, notebook_cell()).result(timeout=300) == 0
     rows = list(csv.reader(io.StringIO(out.read_text())))
     assert len(rows) > 1 and rows[0][0] == "theta_i_deg"
 
