@@ -17,12 +17,12 @@ def pytest_unconfigure(config):
     shutil.rmtree(_CACHE, ignore_errors=True)
 
 
-#: xdist workers per core for ``-n auto``. Three on 2 cores ran this machine's warm
-#: suite in 708 s against 860 s for two, but CI (a clean clone: every compiled loop built
-#: from an empty numba cache, in each worker and server at once) took 873 s with three
-#: against 809 s with two, and its trade-off embed hung on a busy server: one a core
-#: (BENCHMARKS.md, "The test suite").
-WORKERS_PER_CORE = 1
+#: xdist workers per core for ``-n auto``. One a core was right while the suite was
+#: CPU-bound (CI 809 s with two workers against 873 s with three, 2026-12-04). Now much
+#: of it waits: servers starting, Chromium, the heavy pool's worker processes; two
+#: workers on 2 cores ran the suite in 1951 s wall with 1898 s of CPU (user + sys,
+#: 2026-12-06), half the machine idle. Three workers on 2 cores.
+WORKERS_PER_CORE = 1.5
 
 
 def pytest_xdist_auto_num_workers(config):
