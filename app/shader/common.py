@@ -72,3 +72,26 @@ def half_note(label: str, ndf) -> str:
         half.append(f"q² = m_x²/α² reaches {1.0 / a_min ** 2:.3g} at grazing and overflows half")
     half.append(f"half's relative precision {HALF_EPS:.1e} bounds f's to about 1e-3 at best")
     return f"{label} in half/mediump: " + "; ".join(half) + "."
+
+
+def unique_fns(fns: list[Fn]) -> list[Fn]:
+    """The first function of each name, in order (a part's helpers arrive once per use)."""
+    seen, out = set(), []
+    for fn in fns:
+        if fn.name not in seen:
+            seen.add(fn.name)
+            out.append(fn)
+    return out
+
+
+def unique_consts(consts: list[Const]) -> list[Const]:
+    """The first constant of each name, in order; one name with two values is an error."""
+    seen, out = {}, []
+    for c in consts:
+        if c.name in seen:
+            if seen[c.name] != c.value:
+                raise ValueError(f"constant {c.name} given two values: {seen[c.name]!r}, {c.value!r}")
+            continue
+        seen[c.name] = c.value
+        out.append(c)
+    return out

@@ -25,7 +25,7 @@ from .emit import write
 from .library import ERFCX_MAX_RELATIVE_ERROR, LIBRARY
 
 from .common import (F_MAX, FRAME_MIN, HALF_VECTOR_MIN_NORM, SPEC, GEOMETRY, guard_consts,  # noqa: F401
-                     FLOAT32_NOTE, half_note, world_fn)
+                     FLOAT32_NOTE, half_note, unique_consts, unique_fns, world_fn)
 
 
 def model_query(spec: ModelSpec) -> str:
@@ -121,11 +121,11 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
         baked.update({name: BAKED_KC for name in t.material if name != "KD"})
     fns = _library(t.fns) + t.fns + _public(len(lobes), g2.needs_phi, ms)
     uniforms = (t.material - set(baked)) if form == "uniform" else set()
-    consts = [replace(c, uniform=c.name in uniforms) for c in _unique(t.consts)]
+    consts = [replace(c, uniform=c.name in uniforms) for c in unique_consts(t.consts)]
     info = {"uniforms": {c.name: c.value for c in consts if c.uniform},
             "baked": {k: v for k, v in sorted(baked.items())} if form == "uniform" else {},
             "tabulated": t.tabulated, "precision": precision_notes(brdf)}
-    return Program(_header(spec, brdf, ms), consts, _merged(t.tables), _unique_fns(fns)), info
+    return Program(_header(spec, brdf, ms), consts, _merged(t.tables), unique_fns(fns)), info
 
 
 def _library(fns: list[Fn]) -> list[Fn]:
@@ -154,33 +154,12 @@ def _merged(tables: list[Table]) -> list[Table]:
     return list(out.values())
 
 
-def _unique_fns(fns: list[Fn]) -> list[Fn]:
-    seen, out = set(), []
-    for fn in fns:
-        if fn.name not in seen:
-            seen.add(fn.name)
-            out.append(fn)
-    return out
-
-
 def _channel_scales(single, ms: KullaConty, i: int) -> list[float]:
     """Kulla-Conty's scale of lobe i per channel: F_ms depends on each channel's F̄."""
     per = getattr(single.fresnel, "channels", None)
     if per is None:
         return [ms.lobes[i].scale] * 3
     return [kulla_conty(replace(single, fresnel=ch)).lobes[i].scale for ch in per]
-
-
-def _unique(consts: list[Const]) -> list[Const]:
-    seen, out = {}, []
-    for c in consts:
-        if c.name in seen:
-            if seen[c.name] != c.value:
-                raise ValueError(f"constant {c.name} given two values: {seen[c.name]!r}, {c.value!r}")
-            continue
-        seen[c.name] = c.value
-        out.append(c)
-    return out
 
 
 def _public(n_lobes: int, needs_phi: bool, ms) -> list[Fn]:

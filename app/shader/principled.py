@@ -21,7 +21,8 @@ from ..principled import lobes as P
 from ..principled.params import PARAMS
 from ..principled.spec import ROUGHNESS, material
 from . import embed
-from .common import FLOAT32_NOTE, GEOMETRY, SPEC, guard_consts, half_note, world_fn
+from .common import (FLOAT32_NOTE, GEOMETRY, SPEC, guard_consts, half_note, unique_consts, unique_fns,
+                     world_fn)
 from .dsl import Const, Fn, Program
 from .terms import formula_consts, formula_fn
 
@@ -161,27 +162,18 @@ def assemble(spec, form: str):
     fns.append(world_fn())
     for formula in formulas:
         consts += formula_consts(formula)
-    fns = _unique([formula_fn(f) for f in formulas]) + fns
+    fns = unique_fns([formula_fn(f) for f in formulas]) + fns
     baked = baked if form == "uniform" else {}
     consts = [c if c.name not in baked else Const(c.name, c.value, c.comment) for c in consts]
     info = {"uniforms": {c.name: c.value for c in consts if c.uniform}, "baked": dict(sorted(baked.items())),
             "tabulated": tabulated, "precision": precision_notes(m)}
-    return Program(_header(spec, values), _unique(consts), tables, _unique(fns)), info
+    return Program(_header(spec, values), unique_consts(consts), tables, unique_fns(fns)), info
 
 
 def _doc(name: str) -> str:
     if name.startswith("BASE_"):
         return f"base colour, channel {name[-1]} (linear unless base_color_space=srgb), [0, 1]"
     return f"{name.lower()}, [0, 1] (Burley 2012)"
-
-
-def _unique(items):
-    seen, out = set(), []
-    for item in items:
-        if item.name not in seen:
-            seen.add(item.name)
-            out.append(item)
-    return out
 
 
 def precision_notes(m) -> list[str]:
