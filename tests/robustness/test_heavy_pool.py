@@ -240,3 +240,28 @@ def test_a_job_that_cannot_end_in_time_behind_a_starting_worker_is_busy_at_once(
         assert later == 0.1
     finally:
         pool.close()
+
+
+def test_a_job_behind_a_worker_slower_to_start_than_its_budget_is_busy_at_once():
+    """A job of unknown cost behind a starting worker whose last start took longer than
+    the job's budget is a 503 at once (it waited its whole budget for that 503 before),
+    with Retry-After covering the start; once started, the worker runs jobs."""
+    from tests.robustness.slow_start import START_SECONDS
+    pool = HeavyPool(workers=1, queue=1, max_seconds=1.0, warm="tests.robustness.slow_start")
+    try:
+        async def main():
+            await pool.started()
+            assert await pool.run(square, 3) == 9          # the start is measured
+            with pytest.raises(Busy, match="BRDF_MAX_SECONDS"):
+                await pool.run(spin, 60)                   # cut: a new worker starts
+            t0 = time.perf_counter()
+            with pytest.raises(Busy, match="starting") as busy:
+                await pool.run(square, 2)
+            refused_in = time.perf_counter() - t0
+            await pool.started()
+            return busy.value, refused_in, await pool.run(square, 4)
+        busy, refused_in, later = run(main())
+        assert refused_in < 0.3 and busy.retry_after >= 1, (refused_in, busy.retry_after)
+        assert later == 16
+    finally:
+        pool.close()
