@@ -37,6 +37,8 @@ from app.config import Settings
 GRACE = 1.0
 #: seconds a request is waited for at most (a hang shows as 0 in 60 s)
 TIMEOUT = 60.0
+#: seconds a case is retried while the pool's worker starts (it took 16 s at load 17)
+START_WAIT = 40.0
 PRINCIPLED = "model=principled&clearcoat=1&sheen=1&specular_tint=0.5&anisotropic=0.5"
 
 
@@ -218,10 +220,20 @@ def main(argv=None) -> None:
     base, proc = start()
     try:
         for name, (method, path, body, ctype) in todo.items():
-            status, seconds, msg = request(base, method, path, body, ctype)
+            # a 503 "still starting" (the pool's worker replacing one cut by the case
+            # before) is waited out, up to START_WAIT s, so that each case meets a started
+            # worker; every attempt counts against the limit, the slowest is printed
+            give_up, attempts, slowest = time.monotonic() + START_WAIT, 0, 0.0
+            while True:
+                status, seconds, msg = request(base, method, path, body, ctype)
+                attempts, slowest = attempts + 1, max(slowest, seconds)
+                if status != 503 or "starting" not in msg or time.monotonic() > give_up:
+                    break
+                time.sleep(1.0)
             ok = status != 0 and status < 500 or status == 503
-            print(f"| {name} | {status} | {seconds:.2f} | {'yes' if ok and seconds <= limit else 'NO'} | {msg} |",
-                  flush=True)
+            print(f"| {name} | {status} | {seconds:.2f} | {'yes' if ok and slowest <= limit else 'NO'} | "
+                  f"{msg} |" + (f" ({attempts - 1} × 503 starting first, the slowest {slowest:.2f} s)"
+                                if attempts > 1 else ""), flush=True)
     finally:
         stop(proc)
     if args.no_sigterm:

@@ -75,7 +75,13 @@ class _Worker:
                                             initializer=_start, initargs=(WORKER_NICENESS, warm))
         # start the process now, not at the first job: a spawned interpreter took > 1 s
         # to start under load, which the next job's budget would pay; done once started
+        self.spawned = time.perf_counter()
         self.ready = self.executor.submit(int)
+        self.start_seconds: float | None = None
+        self.ready.add_done_callback(self._measure)
+
+    def _measure(self, _future) -> None:
+        self.start_seconds = time.perf_counter() - self.spawned
 
     def kill(self, wait: bool = False) -> None:
         """End the process now (SIGKILL: its work is pure computation, nothing to tidy),
@@ -114,6 +120,8 @@ class HeavyPool:
         self._running = 0
         self._waiters: list[asyncio.Future] = []
         self._mean_seconds = 1.0
+        #: seconds the latest worker to finish its start took (None: none has yet)
+        self._start_seconds: float | None = None
         self._closed = False
 
     # ------------------------------------------------------------------ admission
@@ -173,6 +181,8 @@ class HeavyPool:
                     healthy = not worker.ready.done() or worker.ready.exception() is None
                     raise
                 healthy = False
+            if worker.start_seconds is not None:
+                self._start_seconds = worker.start_seconds
             try:      # a worker that died while idle refuses the job here, not in the await
                 future = loop.run_in_executor(worker.executor, _call, start, seconds,
                                               cost_model.memory_limit(), fn, args)
@@ -198,9 +208,17 @@ class HeavyPool:
         interpreter importing the application) until ``until``, the latest moment the
         job could start and still end within its budget; Busy with the start's estimate
         after (a cold upload waited past its budget and was cut at 13.7 s)."""
+        now = time.perf_counter()
+        if self._start_seconds is not None and worker.spawned + self._start_seconds > until:
+            # the last start took longer than this one has left: waiting would only spend
+            # the request's budget on a 503 (each waited until its budget's end)
+            raise Busy(f"the heavy-work process is still starting (the last start took "
+                       f"{self._start_seconds:.1f} s); retry in a few seconds",
+                       retry_after=max(1, math.ceil(worker.spawned + self._start_seconds - now)),
+                       what="heavy work pool")
         try:
             await asyncio.wait_for(asyncio.shield(asyncio.wrap_future(worker.ready)),
-                                   max(0.0, until - time.perf_counter()))
+                                   max(0.0, until - now))
         except BrokenProcessPool:
             raise Busy("the heavy-work process ended while it started; retry",
                        retry_after=START_RETRY_SECONDS, what="heavy work pool") from None

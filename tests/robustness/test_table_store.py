@@ -166,6 +166,8 @@ def test_the_code_digest_ignores_kernels_generated_at_run_time(monkeypatch):
     generated = Path(table_store.__file__).resolve().parents[2] / "kernels" / "_generated"
     monkeypatch.setattr(table_store, "_version", [])
     before = table_store.code_version()
+    made = not generated.exists()          # absent where BRDF_KERNEL_DIR points elsewhere
+    generated.mkdir(exist_ok=True)
     extra = generated / "brdf_kernel_test_digest.py"
     extra.write_text("# written by a test\n")
     try:
@@ -173,6 +175,8 @@ def test_the_code_digest_ignores_kernels_generated_at_run_time(monkeypatch):
         assert table_store.code_version() == before
     finally:
         extra.unlink()
+        if made:
+            generated.rmdir()
 
 
 def test_a_table_the_store_lets_go_is_freed_after_its_E_avg():

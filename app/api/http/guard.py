@@ -27,6 +27,12 @@ from . import content_types, strict
 INLINE_JSON_BYTES = 8 * 1024
 
 
+#: seconds of a body's arrival counted against the request's time budget: a 30 MB upload
+#: took 0.6-0.8 s to arrive over loopback at load 16 (the server's own event loop reading
+#: it), and its answer, cut at the budget counted from the body's end, came 11.1-11.3 s
+#: after its first byte (bench/worst_heavy.py); a client slower than this sends in its own
+#: time, or a slow link could never upload what a fast one can
+BODY_COUNTED_SECONDS = 1.0
 #: the setting of the seconds a request body may go without a byte (Settings.body_idle_seconds)
 BODY_IDLE_ENV = "BRDF_BODY_IDLE_SECONDS"
 
@@ -138,6 +144,7 @@ class RequestGuard:
             await self.app(scope, receive, send)
             return
         s = self.settings
+        arrived = time.perf_counter()
         refusal = query_refusal(self.fastapi_app, s, scope["path"], scope["method"],
                                 scope.get("query_string", b""))
         if refusal is not None:
@@ -164,11 +171,11 @@ class RequestGuard:
                               "body_too_large")
             return
         judge = self._json_body(scope, headers)
-        # when the server's own work on the request began: the body's arrival is bounded by
-        # BRDF_BODY_IDLE_SECONDS, its parsing here by the request's time budget (a 256²
-        # LUT's JSON took 2.7 s to judge at load 9 before the budget's clock started, and
-        # the answer came at 12.75 s: bench/worst_heavy.py)
-        work_started = None
+        # when the request's clock starts: its arrival, or BODY_COUNTED_SECONDS before its
+        # body's end for a body slower to arrive (each gap bounded by BRDF_BODY_IDLE_SECONDS);
+        # the body's parsing here counts in full (a 256² LUT's JSON took 2.7 s to judge at
+        # load 9 before the budget's clock started, and the answer came at 12.75 s)
+        work_started = arrived
         if scope["method"] in ("POST", "PUT", "PATCH"):
             # Every body read here, up to the limit, before the route sees any of it (the
             # route's body reader would turn an error raised mid-stream into a vague 400),
@@ -193,7 +200,7 @@ class RequestGuard:
                     return
                 if message["type"] != "http.request" or not message.get("more_body", False):
                     break
-            work_started = time.perf_counter()
+            work_started = max(arrived, time.perf_counter() - BODY_COUNTED_SECONDS)
             if judge:
                 body = b"".join(m.get("body", b"") for m in messages)
                 try:
@@ -230,8 +237,7 @@ class RequestGuard:
             await send(message)
 
         with budget.limit(s.max_seconds) as request_budget:
-            if work_started is not None:
-                request_budget.start = work_started
+            request_budget.start = work_started
             await self.app(scope, receive, send_fixed)
 
     def _json_body(self, scope, headers: Headers) -> bool:

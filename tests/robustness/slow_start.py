@@ -1,0 +1,7 @@
+"""A module whose import takes START_SECONDS: a heavy-pool worker that warms with it
+starts at least that slowly (tests/robustness/test_heavy_pool.py), whatever the load."""
+import time
+
+START_SECONDS = 1.5
+
+time.sleep(START_SECONDS)
