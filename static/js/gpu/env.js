@@ -12,8 +12,13 @@ import { FULLSCREEN_VS, program, floatTarget, readTarget, setUniforms, uniformLo
 import { HEAD } from "./sphere.js";
 
 export const ENVIRONMENTS = ["uniform", "studio", "overcast", "sunset"];
-/** Sample pairs per pixel per frame. */
+/** Sample pairs per pixel per frame at rest (full resolution) and while the input
+ * changes (the preview: PREVIEW_SIZE², one pair — an eighth of the work, measured
+ * 7–9 frames/s → bench/gpu_sphere.py --env). */
 export const PAIRS_PER_FRAME = 2;
+export const PREVIEW_PAIRS = 1;
+/** Pixels across the preview accumulation (shown scaled up, nearest, on the same canvas). */
+export const PREVIEW_SIZE = 128;
 /** Rec. 709 luminance (render.py's LUMINANCE). */
 const LUMA = [0.2126, 0.7152, 0.0722];
 const DEG = Math.PI / 180;
@@ -61,8 +66,11 @@ uniform highp sampler2D u_prev;
 uniform float u_n;
 uniform uint u_frame;
 uniform float u_cone_cos;    // cos of the cone's half-angle; 1: no cone
+uniform int u_pairs;         // sample pairs this frame
 out vec4 color;
 const float ENV_PI = 3.14159265;
+const float RIM_TEXELS = 1.5;    // a texel whose centre is this many texels past the rim can cover the disk
+const float RIM_INSIDE = 0.9999; // and is drawn at this radius (n·v > 0 there: 1.4e-2)
 uint env_hash(uint x) {          // a 32-bit integer mix (Wellons' lowbias32)
   x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16; return x;
 }
@@ -77,14 +85,18 @@ void main() {
   vec4 prev = texelFetch(u_prev, px, 0);
   vec2 p = 2.0 * gl_FragCoord.xy / u_n - 1.0;
   float r2 = dot(p, p);
-  if (r2 >= 1.0) { color = vec4(0.0); return; }
+  // texels just off the rim are drawn at the rim: a coarse (preview) texel there covers
+  // canvas pixels on the disk; at full size they are never shown nor counted
+  float rim = 1.0 + RIM_TEXELS * 2.0 / u_n;
+  if (r2 >= rim * rim) { color = vec4(0.0); return; }
+  if (r2 >= 1.0) { p *= RIM_INSIDE / sqrt(r2); r2 = dot(p, p); }
   vec3 n = vec3(p, sqrt(1.0 - r2)), v = vec3(0.0, 0.0, 1.0);
   uint s = env_hash(uint(px.x) + 4096u * uint(px.y) + 16777216u * u_frame);
   mat3 fn = env_basis(n), fc = env_basis(u_key);
   float cone_pdf = u_cone_cos < 1.0 ? 1.0 / (2.0 * ENV_PI * (1.0 - u_cone_cos)) : 0.0;
   vec3 sum_rgb = vec3(0.0);
   float sum_l2 = 0.0;
-  for (int k = 0; k < ${PAIRS_PER_FRAME}; k++) {
+  for (int k = 0; k < u_pairs; k++) {
     vec3 est = vec3(0.0);
     for (int strategy = 0; strategy < 2; strategy++) {
       float u1 = env_rnd(s), u2 = env_rnd(s);
@@ -110,7 +122,8 @@ void main() {
 }`;
 
 const DISPLAY_FS = `${HEAD}
-uniform highp sampler2D u_sum;
+uniform highp sampler2D u_sum;   // the accumulation, m² (m ≤ the canvas's n)
+uniform float u_n;               // the canvas's pixels across
 uniform float u_count;
 uniform float u_scale;
 out vec4 color;
@@ -119,16 +132,20 @@ vec3 srgb(vec3 c) {
   return mix(12.92 * c, 1.055 * pow(c, vec3(1.0 / 2.4)) - 0.055, step(0.0031308, c));
 }
 void main() {
-  vec2 p = 2.0 * gl_FragCoord.xy / float(textureSize(u_sum, 0).x) - 1.0;
+  vec2 p = 2.0 * gl_FragCoord.xy / u_n - 1.0;
   if (dot(p, p) >= 1.0) { color = vec4(1.0); return; }
-  color = vec4(srgb(texelFetch(u_sum, ivec2(gl_FragCoord.xy), 0).rgb / u_count * u_scale), 1.0);
+  float m = float(textureSize(u_sum, 0).x);
+  vec4 sum = texelFetch(u_sum, ivec2(gl_FragCoord.xy * m / u_n), 0);
+  color = vec4(srgb(sum.rgb / u_count * u_scale), 1.0);
 }`;
 
 export class EnvSphere {
   constructor(gl, n) {
     Object.assign(this, { gl, n, prog: null, source: null, uniforms: {}, env: "studio", key: [0, 0, 1],
-                          colour: [1, 1, 1], exposure: 0, frames: 0 });
-    this.targets = [floatTarget(gl, n, n), floatTarget(gl, n, n)];
+                          colour: [1, 1, 1], exposure: 0, frames: 0, samples: 0, preview: false });
+    this.full = [floatTarget(gl, n, n), floatTarget(gl, n, n)];
+    const m = Math.min(n, PREVIEW_SIZE);
+    this.coarse = [floatTarget(gl, m, m), floatTarget(gl, m, m)];
     this.display = program(gl, FULLSCREEN_VS, DISPLAY_FS);
   }
 
@@ -142,32 +159,39 @@ export class EnvSphere {
     return true;
   }
 
-  /** Start the accumulation again (the model, light or environment changed). */
-  reset() {
+  /** Start the accumulation again (the model, light or environment changed); `preview`:
+   * accumulate coarse and one pair a frame (the input is still changing). */
+  reset(preview = false) {
     const gl = this.gl;
+    this.preview = preview;
+    this.targets = preview ? this.coarse : this.full;
     for (const t of this.targets) {
       gl.bindFramebuffer(gl.FRAMEBUFFER, t.fb);
       gl.clearBufferfv(gl.COLOR, 0, [0, 0, 0, 0]);
     }
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
     this.frames = 0;
+    this.samples = 0;
+    this.current = null;
   }
 
   /** One frame's samples added; the mean shown. */
   step() {
-    const { gl, n } = this;
+    const { gl } = this;
     if (!this.prog) return;
     const [from, to] = this.frames % 2 ? [this.targets[1], this.targets[0]] : this.targets;
+    const pairs = this.preview ? PREVIEW_PAIRS : PAIRS_PER_FRAME;
     gl.bindFramebuffer(gl.FRAMEBUFFER, to.fb);
-    gl.viewport(0, 0, n, n);
+    gl.viewport(0, 0, to.w, to.h);
     gl.useProgram(this.prog);
     setUniforms(gl, this.prog, this.uniforms);
     const u = (name) => uniformLocation(gl, this.prog, name);
     gl.activeTexture(gl.TEXTURE0);
     gl.bindTexture(gl.TEXTURE_2D, from.tex);
     gl.uniform1i(u("u_prev"), 0);
-    gl.uniform1f(u("u_n"), n);
+    gl.uniform1f(u("u_n"), to.w);
     gl.uniform1ui(u("u_frame"), this.frames);
+    gl.uniform1i(u("u_pairs"), pairs);
     gl.uniform3fv(u("u_key"), this.key);
     gl.uniform3fv(u("u_colour"), this.colour);
     gl.uniform1i(u("u_env"), ENVIRONMENTS.indexOf(this.env));
@@ -177,23 +201,37 @@ export class EnvSphere {
     gl.uniform2fv(u("u_disc_fill"), edges(fill));
     gl.drawArrays(gl.TRIANGLES, 0, 3);
     this.frames++;
+    this.samples += pairs;
     this.current = to;
+    this.show();
+  }
+
+  /** The mean so far drawn on the canvas (×2^exposure, sRGB): after a step, or when only
+   * the exposure changed. */
+  show() {
+    const { gl } = this;
+    if (!this.current || !this.samples) return;
     gl.bindFramebuffer(gl.FRAMEBUFFER, null);
+    gl.viewport(0, 0, this.n, this.n);
     gl.useProgram(this.display);
-    gl.bindTexture(gl.TEXTURE_2D, to.tex);
+    gl.activeTexture(gl.TEXTURE0);
+    gl.bindTexture(gl.TEXTURE_2D, this.current.tex);
     gl.uniform1i(uniformLocation(gl, this.display, "u_sum"), 0);
-    gl.uniform1f(uniformLocation(gl, this.display, "u_count"), this.frames * PAIRS_PER_FRAME);
+    gl.uniform1f(uniformLocation(gl, this.display, "u_n"), this.n);
+    gl.uniform1f(uniformLocation(gl, this.display, "u_count"), this.samples);
     gl.uniform1f(uniformLocation(gl, this.display, "u_scale"), 2 ** this.exposure);
     gl.drawArrays(gl.TRIANGLES, 0, 3);
   }
 
-  /** Samples per pixel so far, the image's mean luminance over the disk and its standard
-   * error (√Σσ²/P, each pixel's from its own samples: render.py's definition). */
+  /** Sample pairs per pixel so far, the image's mean luminance over the disk and its
+   * standard error (√Σσ²/P), and the image's relative noise: the RMS over the pixels of
+   * each pixel's standard error (from its own samples), over the mean — render.py's
+   * definitions (noise.mean_radiance_error, noise.relative), so the two compare. */
   stats() {
-    const N = this.frames * PAIRS_PER_FRAME;
+    const N = this.samples;
     if (!this.current || N < 2) return null;
     const raw = readTarget(this.gl, this.current);
-    const n = this.n;
+    const n = this.current.w;
     let sum = 0, varSum = 0, P = 0;
     for (let j = 0; j < n; j++) {
       for (let i = 0; i < n; i++) {
@@ -206,6 +244,8 @@ export class EnvSphere {
         P++;
       }
     }
-    return { samples: N, mean: sum / P, error: Math.sqrt(varSum) / P };
+    const mean = sum / P;
+    return { samples: N, pixels: P, mean, error: Math.sqrt(varSum) / P,
+             relative: mean > 0 ? Math.sqrt(varSum / P) / mean : 0 };
   }
 }
