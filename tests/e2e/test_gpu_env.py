@@ -6,20 +6,41 @@ stated standard error) within 4 combined standard errors.
 Held: uniform (the white furnace) and the two environments with soft-edged bright discs
 (studio's key box, sunset's sun), which the GPU drew 0.5 % and 2 % too bright while their
 edge cosines came from SwiftShader's float32 cos() (docs/gpu.md). Overcast, which has no
-edge, agreed at 0.3 σ then and is covered by the same code path."""
+edge, agreed at 0.3 σ then and is covered by the same code path.
+
+The stated noise (each pixel's standard error from its own samples, RMS over the disk,
+over the mean: render.py's ``noise.relative``) is checked against the spread of two
+independent images, and is at or below the server's at 16 samples a pixel within the
+issue's 2 s of rest. While the light is dragged the sphere accumulates a coarse preview
+(bench/gpu_env.py measures its frame rate) and returns to full size at rest.
+
+One page for the module: each test sets the environment it needs, which restarts the
+accumulation."""
 from __future__ import annotations
 
 import math
 
+import numpy as np
 import pytest
 
 pytestmark = pytest.mark.e2e
 
+URL = "/?show=gpu&alpha=0.3&kd=0.3&theta_i_deg=40&phi_i_deg=135"
+#: the issue's target: at rest, the server's stated noise reached within this
+REST_SECONDS = 2.0
+
+
+@pytest.fixture(scope="module")
+def page(_profile, live_server):
+    pg = _profile.new_page()
+    pg.goto(live_server + URL)
+    pg.wait_for_function("() => window.__gpu && window.__gpu.ok", timeout=60_000)
+    yield pg
+    pg.close()
+
 
 @pytest.mark.parametrize("env", ["uniform", "studio", "sunset"])
-def test_environment_sphere_converges_to_the_server(page, page_log, env):
-    page.goto("/?show=gpu&alpha=0.3&kd=0.3&theta_i_deg=40&phi_i_deg=135")
-    page.wait_for_function("() => window.__gpu && window.__gpu.ok", timeout=60_000)
+def test_environment_sphere_converges_to_the_server(page, page_log, shots, env):
     page.evaluate("(e) => window.__gpu.setEnvironment(e)", env)
     page.wait_for_function("() => { const e = window.__gpu.env; return e && e.reference && e.samples >= 32; }",
                            timeout=120_000, polling=500)
@@ -27,5 +48,54 @@ def test_environment_sphere_converges_to_the_server(page, page_log, env):
     ref = e["reference"]
     sigma = math.hypot(e["error"], ref["mean_radiance_error"])
     assert abs(e["mean"] - ref["mean_radiance"]) <= 4 * sigma, (e, ref)
-    assert "σ" in page.text_content("#gpu-env-text")
+    # the server's noise at 16 samples a pixel, reached here within 2 s of rest
+    history = page.evaluate("() => window.__gpu.envHistory")
+    reached = next(h for h in history if h["relative"] <= ref["relative"])
+    assert reached["seconds"] <= REST_SECONDS, (reached, ref["relative"])
+    text = page.text_content("#gpu-env-text")
+    assert "σ" in text and f"±{100 * ref['relative']:.2g} %" in text
+    page.locator("#gpu-env-canvas").screenshot(path=str(shots / f"gpu-env-{env}.png"))
+    assert not page_log.problems()
+
+
+def test_stated_noise_is_the_spread_of_independent_images(page, page_log):
+    """Two images from independent random numbers: the RMS of their per-pixel difference
+    over the mean is √2 × the noise each states (the estimator is unbiased, so their
+    difference is noise alone). Over ~51 000 pixels the two agree to 0.04 % (measured);
+    5 % leaves room for the heavy tail of the highlight's pixels."""
+    page.evaluate("() => window.__gpu.setEnvironment('studio')")
+    page.wait_for_function("() => window.__gpu.env")
+    a, b = (page.evaluate("(s) => window.__gpu.envIndependent(s, 32)", seed) for seed in (1, 2))
+    diff = np.asarray(a["means"]) - np.asarray(b["means"])
+    mean = 0.5 * (a["stats"]["mean"] + b["stats"]["mean"])
+    measured = float(np.sqrt(np.mean(diff ** 2)) / mean / math.sqrt(2))
+    stated = math.sqrt(0.5 * (a["stats"]["relative"] ** 2 + b["stats"]["relative"] ** 2))
+    assert measured == pytest.approx(stated, rel=0.05), (measured, stated)
+    assert not page_log.problems()
+
+
+def test_drag_previews_coarse_and_rests_at_full_size(page, page_log, shots):
+    page.evaluate("() => window.__gpu.setEnvironment('studio')")
+    box = page.locator("#gpu-canvas").bounding_box()
+    cx, cy, r = box["x"] + box["width"] / 2, box["y"] + box["height"] / 2, box["width"] * 0.3
+    page.evaluate("() => window.__gpu.clearTimings()")
+    page.mouse.move(cx + r, cy)
+    page.mouse.down()
+    for k in range(1, 13):
+        page.mouse.move(cx + r * math.cos(k * math.pi / 6), cy + r * math.sin(k * math.pi / 6))
+    assert page.evaluate("() => window.__gpu.envPreviewing")
+    page.locator("#gpu-env-canvas").screenshot(path=str(shots / "gpu-env-preview.png"))
+    page.mouse.up()
+    frames = page.evaluate("() => window.__gpu.envFrames")
+    assert sum(f["preview"] for f in frames) >= 5
+    # at rest: full size again, the noise stated and falling
+    page.wait_for_function("() => !window.__gpu.envPreviewing && window.__gpu.env && window.__gpu.env.samples >= 8",
+                           polling=100, timeout=60_000)
+    assert "noise ±" in page.text_content("#gpu-env-text")
+    # an exposure only redraws: the samples keep accumulating
+    before = page.evaluate("() => window.__gpu.env.samples")
+    page.evaluate("""() => { const s = document.getElementById('gpu-exposure');
+        s.value = '1'; s.dispatchEvent(new Event('input', {bubbles: true})); }""")
+    page.wait_for_function("(n) => window.__gpu.env.samples > n", arg=before, polling=100)
+    assert not page.evaluate("() => window.__gpu.envPreviewing")
     assert not page_log.problems()

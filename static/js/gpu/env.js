@@ -19,6 +19,10 @@ export const PAIRS_PER_FRAME = 2;
 export const PREVIEW_PAIRS = 1;
 /** Pixels across the preview accumulation (shown scaled up, nearest, on the same canvas). */
 export const PREVIEW_SIZE = 128;
+/** Stops the environment sphere is shown below the panel's exposure: an environment of
+ * radiance 1 gives a Lambertian surface L_o = ρ, a point light of irradiance 1 gives
+ * ρ/π·cos θ — log2 π stops brighter, so one exposure suits both spheres. */
+const ENV_EXPOSURE_OFFSET = Math.log2(Math.PI);
 /** Rec. 709 luminance (render.py's LUMINANCE). */
 const LUMA = [0.2126, 0.7152, 0.0722];
 const DEG = Math.PI / 180;
@@ -65,6 +69,7 @@ const ACCUMULATE_MAIN = `
 uniform highp sampler2D u_prev;
 uniform float u_n;
 uniform uint u_frame;
+uniform uint u_seed;         // another seed, another independent image
 uniform float u_cone_cos;    // cos of the cone's half-angle; 1: no cone
 uniform int u_pairs;         // sample pairs this frame
 out vec4 color;
@@ -91,7 +96,7 @@ void main() {
   if (r2 >= rim * rim) { color = vec4(0.0); return; }
   if (r2 >= 1.0) { p *= RIM_INSIDE / sqrt(r2); r2 = dot(p, p); }
   vec3 n = vec3(p, sqrt(1.0 - r2)), v = vec3(0.0, 0.0, 1.0);
-  uint s = env_hash(uint(px.x) + 4096u * uint(px.y) + 16777216u * u_frame);
+  uint s = env_hash(env_hash(u_seed) ^ (uint(px.x) + 4096u * uint(px.y) + 16777216u * u_frame));
   mat3 fn = env_basis(n), fc = env_basis(u_key);
   float cone_pdf = u_cone_cos < 1.0 ? 1.0 / (2.0 * ENV_PI * (1.0 - u_cone_cos)) : 0.0;
   vec3 sum_rgb = vec3(0.0);
@@ -142,7 +147,7 @@ void main() {
 export class EnvSphere {
   constructor(gl, n) {
     Object.assign(this, { gl, n, prog: null, source: null, uniforms: {}, env: "studio", key: [0, 0, 1],
-                          colour: [1, 1, 1], exposure: 0, frames: 0, samples: 0, preview: false });
+                          colour: [1, 1, 1], exposure: 0, frames: 0, samples: 0, preview: false, seed: 0 });
     this.full = [floatTarget(gl, n, n), floatTarget(gl, n, n)];
     const m = Math.min(n, PREVIEW_SIZE);
     this.coarse = [floatTarget(gl, m, m), floatTarget(gl, m, m)];
@@ -191,6 +196,7 @@ export class EnvSphere {
     gl.uniform1i(u("u_prev"), 0);
     gl.uniform1f(u("u_n"), to.w);
     gl.uniform1ui(u("u_frame"), this.frames);
+    gl.uniform1ui(u("u_seed"), this.seed);
     gl.uniform1i(u("u_pairs"), pairs);
     gl.uniform3fv(u("u_key"), this.key);
     gl.uniform3fv(u("u_colour"), this.colour);
@@ -219,7 +225,7 @@ export class EnvSphere {
     gl.uniform1i(uniformLocation(gl, this.display, "u_sum"), 0);
     gl.uniform1f(uniformLocation(gl, this.display, "u_n"), this.n);
     gl.uniform1f(uniformLocation(gl, this.display, "u_count"), this.samples);
-    gl.uniform1f(uniformLocation(gl, this.display, "u_scale"), 2 ** this.exposure);
+    gl.uniform1f(uniformLocation(gl, this.display, "u_scale"), 2 ** (this.exposure - ENV_EXPOSURE_OFFSET));
     gl.drawArrays(gl.TRIANGLES, 0, 3);
   }
 
@@ -247,5 +253,19 @@ export class EnvSphere {
     const mean = sum / P;
     return { samples: N, pixels: P, mean, error: Math.sqrt(varSum) / P,
              relative: mean > 0 ? Math.sqrt(varSum / P) / mean : 0 };
+  }
+
+  /** Each disk pixel's mean luminance so far (rows from the bottom, the disk's pixels in
+   * order), for checking the stated noise against independent images. */
+  pixelMeans() {
+    const raw = readTarget(this.gl, this.current), n = this.current.w, N = this.samples, out = [];
+    for (let j = 0; j < n; j++) {
+      for (let i = 0; i < n; i++) {
+        const x = -1 + (2 * i + 1) / n, y = -1 + (2 * j + 1) / n;
+        const q = 4 * (j * n + i);
+        if (x * x + y * y < 1) out.push((LUMA[0] * raw[q] + LUMA[1] * raw[q + 1] + LUMA[2] * raw[q + 2]) / N);
+      }
+    }
+    return out;
   }
 }

@@ -449,6 +449,21 @@ export class GpuPanel {
       get envTimings() { return self.envTimings.slice(); },
       get envFrames() { return self.envFrames.slice(); },
       get envPreviewing() { return !!self.envSphere?.preview; },
+      /** An image of `pairs` sample pairs a pixel from random numbers seeded by `seed`, at
+       * full size, drawn now (the progressive loop stopped meanwhile and restarted after):
+       * each disk pixel's mean luminance and the stated statistics. */
+      envIndependent(seed, pairs) {
+        const e = self.envSphere;
+        cancelAnimationFrame(self.envLoop);
+        self.envLoop = 0;
+        e.seed = seed;
+        e.reset(false);
+        while (e.samples < pairs) e.step();
+        const out = { means: e.pixelMeans(), stats: e.stats() };
+        e.seed = 0;
+        self.envBegin(false);
+        return out;
+      },
       /** The coarse accumulation while the input changes: on (the page's) or off (bench). */
       set envPreview(on) { self.envPreview = on; },
       setEnvironment: (name) => { self.envSelect.value = name; self.setEnvironment(name); },
