@@ -8,10 +8,15 @@
  * balance heuristic over the two (Veach 1997, ch. 9): Σ_s f L μ_l / (p_cos + p_cone).
  * Alpha accumulates the luminance's square, for the stated standard error.
  */
-import { FULLSCREEN_VS, program, floatTarget, readTarget, setUniforms, uniformLocation } from "./gl.js";
+import { FULLSCREEN_VS, program, floatTarget, floatTexture, readTarget, setUniforms, uniformLocation } from "./gl.js";
 import { HEAD } from "./sphere.js";
 
 export const ENVIRONMENTS = ["uniform", "studio", "overcast", "sunset"];
+/** The environment name of a user's map (setMap): u_env 4. */
+export const MAP = "map";
+/** The share of the map's sampling pdf spread uniformly over the sphere (render.py's
+ * PDF_UNIFORM_SHARE): no direction where L > 0 has p = 0, a black cell's neighbour too. */
+const MAP_UNIFORM_SHARE = 0.05;
 /** Sample pairs per pixel per frame at rest (full resolution) and while the input
  * changes (the preview: PREVIEW_SIZE², one pair — an eighth of the work, measured
  * 7–9 frames/s → bench/gpu_sphere.py --env). */
@@ -39,19 +44,32 @@ const CONE_DEG = { studio: 12 + 5 / 2, sunset: 2.5 + 1 / 2 };
 const ENV_GLSL = `
 uniform vec3 u_key;
 uniform vec3 u_colour;
-uniform int u_env;          // 0 uniform, 1 studio, 2 overcast, 3 sunset
+uniform int u_env;          // 0 uniform, 1 studio, 2 overcast, 3 sunset, 4 the user's map
 const vec3 ENV_ZENITH = vec3(0.08, 0.16, 0.45);
 const vec3 ENV_HORIZON = vec3(1.0, 0.45, 0.15);
 const vec3 ENV_GROUND = vec3(0.04, 0.03, 0.025);
 const vec3 ENV_SUN_COLOUR = vec3(1.0, 0.75, 0.45);
 uniform vec2 u_disc_key;     // cos of the key box's / the sun's inner and outer edge
 uniform vec2 u_disc_fill;    // the same for studio's fill box
+// The user's equirectangular map (MapTextures): cells w × h, row 0 at θ = 0 (+y), the
+// column's φ = atan(x, −z) from −π (the map's centre is seen behind the sphere, −z).
+uniform highp sampler2D u_map;       // each cell's radiance (rgb)
+uniform highp sampler2D u_map_rows;  // h × 1: marginal CDF at the row's end, cos θ_top, cos θ_bottom
+uniform highp sampler2D u_map_cols;  // w × h: the row's CDF at the column's end, the cell's pdf per steradian
+ivec2 env_map_cell(vec3 w) {
+  ivec2 size = textureSize(u_map, 0);
+  int lo = 0, hi = size.y - 1;       // the row: the first whose cos θ_bottom ≤ w.y
+  while (lo < hi) { int mid = (lo + hi) / 2; if (w.y >= texelFetch(u_map_rows, ivec2(mid, 0), 0).b) hi = mid; else lo = mid + 1; }
+  float u = (atan(w.x, -w.z) + 3.14159265) / 6.2831853;
+  return ivec2(clamp(int(u * float(size.x)), 0, size.x - 1), lo);
+}
 float env_smooth_disc(vec3 w, vec3 c, vec2 cos_in_out) {
   float t = clamp((dot(w, c) - cos_in_out.y) / (cos_in_out.x - cos_in_out.y), 0.0, 1.0);
   return t * t * (3.0 - 2.0 * t);
 }
 vec3 env_radiance(vec3 w) {
   if (u_env == 0) return u_colour;
+  if (u_env == 4) return texelFetch(u_map, env_map_cell(w), 0).rgb * u_colour;
   if (u_env == 1) {
     vec3 fill = normalize(vec3(-u_key.x, 0.5 * abs(u_key.y) + 0.3, max(u_key.z, 0.3)));
     return (0.02 + 16.0 * env_smooth_disc(w, u_key, u_disc_key) + 1.2 * env_smooth_disc(w, fill, u_disc_fill)) * u_colour;
@@ -80,6 +98,20 @@ uint env_hash(uint x) {          // a 32-bit integer mix (Wellons' lowbias32)
   x ^= x >> 16; x *= 0x7feb352du; x ^= x >> 15; x *= 0x846ca68bu; x ^= x >> 16; return x;
 }
 float env_rnd(inout uint s) { s = env_hash(s); return float(s >> 8) / 16777216.0; }
+// a direction drawn ∝ the map's pdf: a row by its marginal CDF, a column by the row's
+// CDF, then uniformly in the cell's solid angle (cos θ and φ uniform)
+vec3 env_map_sample(float u1, float u2, float u3, float u4) {
+  ivec2 size = textureSize(u_map, 0);
+  int lo = 0, hi = size.y - 1;
+  while (lo < hi) { int mid = (lo + hi) / 2; if (texelFetch(u_map_rows, ivec2(mid, 0), 0).r > u1) hi = mid; else lo = mid + 1; }
+  int row = lo;
+  lo = 0; hi = size.x - 1;
+  while (lo < hi) { int mid = (lo + hi) / 2; if (texelFetch(u_map_cols, ivec2(mid, row), 0).r > u2) hi = mid; else lo = mid + 1; }
+  vec4 r = texelFetch(u_map_rows, ivec2(row, 0), 0);
+  float c = mix(r.g, r.b, u3), sn = sqrt(max(0.0, 1.0 - c * c));
+  float phi = -ENV_PI + 2.0 * ENV_PI * (float(lo) + u4) / float(size.x);
+  return vec3(sn * sin(phi), c, -sn * cos(phi));
+}
 mat3 env_basis(vec3 z) {         // any orthonormal frame with z as its third axis
   vec3 a = abs(z.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
   vec3 x = normalize(cross(a, z));
@@ -109,6 +141,8 @@ void main() {
       if (strategy == 0) {
         float sr = sqrt(u1);
         l = fn * vec3(sr * cos(2.0 * ENV_PI * u2), sr * sin(2.0 * ENV_PI * u2), sqrt(1.0 - u1));
+      } else if (u_env == 4) {
+        l = env_map_sample(u1, u2, env_rnd(s), env_rnd(s));
       } else {
         if (cone_pdf == 0.0) continue;
         float c = 1.0 - u1 * (1.0 - u_cone_cos), sn = sqrt(max(0.0, 1.0 - c * c));
@@ -116,7 +150,8 @@ void main() {
       }
       float mu = dot(n, l);
       if (mu <= 0.0) continue;
-      float pdf = mu / ENV_PI + (dot(l, u_key) >= u_cone_cos ? cone_pdf : 0.0);
+      float pdf = mu / ENV_PI + (u_env == 4 ? texelFetch(u_map_cols, env_map_cell(l), 0).g
+                                            : dot(l, u_key) >= u_cone_cos ? cone_pdf : 0.0);
       est += brdf(n, l, v) * env_radiance(l) * mu / pdf;
     }
     sum_rgb += est;
@@ -144,6 +179,48 @@ void main() {
   color = vec4(srgb(sum.rgb / u_count * u_scale), 1.0);
 }`;
 
+/** A user's equirectangular map ({width, height, rgb: Float32Array, rows from θ = 0}) as
+ * the three textures the shader reads: the cells' radiance, the rows' marginal CDF with
+ * their cos θ bounds, and each row's CDF over its columns with each cell's pdf per
+ * steradian. The pdf: ∝ luminance × solid angle, MAP_UNIFORM_SHARE of it uniform over the
+ * sphere (Pharr, Jakob & Humphreys, PBR 3rd ed., §14.2.4, with render.py's uniform share).
+ * Bounds and CDFs are formed here in float64 (SwiftShader's float32 cos is off by ~1e-4). */
+export function mapTextures(gl, { width: w, height: h, rgb }) {
+  const radiance = new Float32Array(w * h * 4), rows = new Float32Array(h * 4), cols = new Float32Array(w * h * 4);
+  const cosAt = (i) => Math.cos(Math.PI * i / h);
+  const cellOmega = (i) => 2 * Math.PI * (cosAt(i) - cosAt(i + 1)) / w;
+  const weight = new Float64Array(w * h);
+  let total = 0;
+  for (let i = 0; i < h; i++) {
+    for (let j = 0; j < w; j++) {
+      const q = i * w + j;
+      radiance.set([rgb[3 * q], rgb[3 * q + 1], rgb[3 * q + 2], 1], 4 * q);
+      const lum = LUMA[0] * rgb[3 * q] + LUMA[1] * rgb[3 * q + 1] + LUMA[2] * rgb[3 * q + 2];
+      weight[q] = Math.max(lum, 0) * cellOmega(i);
+      total += weight[q];
+    }
+  }
+  const share = total > 0 ? MAP_UNIFORM_SHARE : 1;
+  let rowCdf = 0;
+  for (let i = 0; i < h; i++) {
+    const omega = cellOmega(i);
+    const p = new Float64Array(w);                   // each cell's probability
+    let rowSum = 0;
+    for (let j = 0; j < w; j++) {
+      p[j] = (1 - share) * (total > 0 ? weight[i * w + j] / total : 0) + share * omega / (4 * Math.PI);
+      rowSum += p[j];
+    }
+    let c = 0;
+    for (let j = 0; j < w; j++) {
+      c += p[j];
+      cols.set([j === w - 1 ? 1 : c / rowSum, p[j] / omega, 0, 0], 4 * (i * w + j));
+    }
+    rowCdf += rowSum;
+    rows.set([i === h - 1 ? 1 : rowCdf, cosAt(i), cosAt(i + 1), 0], 4 * i);
+  }
+  return { map: floatTexture(gl, w, h, radiance), rows: floatTexture(gl, h, 1, rows), cols: floatTexture(gl, w, h, cols) };
+}
+
 export class EnvSphere {
   constructor(gl, n) {
     Object.assign(this, { gl, n, prog: null, source: null, uniforms: {}, env: "studio", key: [0, 0, 1],
@@ -152,6 +229,13 @@ export class EnvSphere {
     const m = Math.min(n, PREVIEW_SIZE);
     this.coarse = [floatTarget(gl, m, m), floatTarget(gl, m, m)];
     this.display = program(gl, FULLSCREEN_VS, DISPLAY_FS);
+  }
+
+  /** The user's map (mapTextures' input): the environment MAP. */
+  setMap(cells) {
+    const gl = this.gl;
+    for (const t of Object.values(this.mapTex || {})) gl.deleteTexture(t);
+    this.mapTex = mapTextures(gl, cells);
   }
 
   /** The BRDF's GLSL (brdf(n, l, v)); compiles when it differs. Throws ShaderError. */
@@ -200,7 +284,15 @@ export class EnvSphere {
     gl.uniform1i(u("u_pairs"), pairs);
     gl.uniform3fv(u("u_key"), this.key);
     gl.uniform3fv(u("u_colour"), this.colour);
-    gl.uniform1i(u("u_env"), ENVIRONMENTS.indexOf(this.env));
+    gl.uniform1i(u("u_env"), this.env === MAP ? 4 : ENVIRONMENTS.indexOf(this.env));
+    if (this.env === MAP) {
+      [this.mapTex.map, this.mapTex.rows, this.mapTex.cols].forEach((t, k) => {
+        gl.activeTexture(gl.TEXTURE1 + k);
+        gl.bindTexture(gl.TEXTURE_2D, t);
+        gl.uniform1i(u(["u_map", "u_map_rows", "u_map_cols"][k]), 1 + k);
+      });
+      gl.activeTexture(gl.TEXTURE0);
+    }
     gl.uniform1f(u("u_cone_cos"), CONE_DEG[this.env] ? Math.cos(CONE_DEG[this.env] * DEG) : 1);
     const [key, fill] = DISCS[this.env] || [[1, 1], [1, 1]];
     gl.uniform2fv(u("u_disc_key"), edges(key));
@@ -255,15 +347,16 @@ export class EnvSphere {
              relative: mean > 0 ? Math.sqrt(varSum / P) / mean : 0 };
   }
 
-  /** Each disk pixel's mean luminance so far (rows from the bottom, the disk's pixels in
-   * order), for checking the stated noise against independent images. */
+  /** Each disk pixel's mean radiance so far, r, g, b in turn (rows from the bottom, the
+   * disk's pixels in order): for checking the image against closed forms and the stated
+   * noise against independent images. */
   pixelMeans() {
     const raw = readTarget(this.gl, this.current), n = this.current.w, N = this.samples, out = [];
     for (let j = 0; j < n; j++) {
       for (let i = 0; i < n; i++) {
         const x = -1 + (2 * i + 1) / n, y = -1 + (2 * j + 1) / n;
         const q = 4 * (j * n + i);
-        if (x * x + y * y < 1) out.push((LUMA[0] * raw[q] + LUMA[1] * raw[q + 1] + LUMA[2] * raw[q + 2]) / N);
+        if (x * x + y * y < 1) out.push(raw[q] / N, raw[q + 1] / N, raw[q + 2] / N);
       }
     }
     return out;

@@ -12,7 +12,7 @@ import { SphereRenderer } from "./sphere.js";
 import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
 import { lightAt } from "../spheredrag.js";
 import { UserBrdf, LINK_KEY } from "./userbrdf.js";
-import { EnvSphere, ENVIRONMENTS, PREVIEW_SIZE } from "./env.js";
+import { EnvSphere, ENVIRONMENTS, MAP, PREVIEW_SIZE } from "./env.js";
 
 /** Pixels across the live sphere (bench/gpu_sphere.py's 256²). */
 export const SIZE = 256;
@@ -29,6 +29,10 @@ const ENV_NOISE_GOAL = 0.05;
 const SETTLE_MS = 250;
 /** Every this many frames at rest the environment sphere's noise is read back and stated. */
 const ENV_REPORT_FRAMES = 4;
+/** The user's .hdr is drawn from at most this many cells across (POST
+ * /api/v1/environments/hdr?format=f32 averages it over solid angle): 256 × 128 cells of
+ * ~1.4°, finer than the 1.8° a pixel of the 256² sphere spans near its centre. */
+const MAP_WIDTH = 256;
 /** Input-to-frame times kept for the benchmark hook. */
 const TIMINGS_KEPT = 2000;
 
@@ -66,12 +70,16 @@ export class GpuPanel {
                                       text: "Truth: off", title: "Compare each pixel with the server's float64 render of the same frame" });
     this.envSelect = el("select", { id: "gpu-env", "aria-label": "Environment of the second sphere" },
       el("option", { value: "", text: "no environment" }), ...ENVIRONMENTS.map((e) => el("option", { value: e, text: e })));
+    this.mapOption = el("option", { value: MAP, text: "your .hdr", hidden: true, disabled: true });
+    this.envSelect.append(this.mapOption);
+    this.mapInput = el("input", { type: "file", accept: ".hdr,image/vnd.radiance", id: "gpu-hdr",
+                                  "aria-label": "Open a Radiance .hdr environment (equirectangular)" });
     this.envCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-env-canvas", hidden: true,
                                     "aria-label": "The sphere under the environment, drawn on the GPU" });
     this.envText = el("p", { class: "gpu-message", id: "gpu-env-text", role: "status", hidden: true });
     const tools = el("div", { class: "panel-tools gpu-tools" },
       el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText),
-      el("label", {}, "environment ", this.envSelect), this.truthButton);
+      el("label", {}, "environment ", this.envSelect), el("label", {}, ".hdr ", this.mapInput), this.truthButton);
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
       el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.diffCanvas),
@@ -80,6 +88,7 @@ export class GpuPanel {
         + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
       + "Open a Disney BRDF Explorer .brdf file to see yours beside it, measured." }));
     this.user.acceptDrops(this.section);
+    this.user.onOtherFile = (f) => /\.hdr$/i.test(f.name) && (this.openHdr(f), true);
     Object.assign(this, { renderer: null, ok: false, modelKey: null, codeRequest: null, model: null, dragging: false,
                           frameQueued: false, inputTime: null, timings: [], compiles: 0, draws: 0, truthOn: false,
                           truthTimer: 0, truthToken: 0, codeInflight: false, codeWanted: null, truth: null, state: null,
@@ -93,6 +102,7 @@ export class GpuPanel {
     });
     this.truthButton.addEventListener("click", () => this.setTruth(!this.truthOn));
     this.envSelect.addEventListener("change", () => this.setEnvironment(this.envSelect.value));
+    this.mapInput.addEventListener("change", () => this.mapInput.files[0] && this.openHdr(this.mapInput.files[0]));
     this.start();
   }
 
@@ -272,13 +282,50 @@ export class GpuPanel {
     this.envName = name;
     this.envCanvas.hidden = this.envText.hidden = !name;
     if (!name) return;
-    if (!this.envSphere) {
-      const { gl, why } = makeContext(this.envCanvas);
-      if (!gl) { this.envText.textContent = `No environment sphere: ${why}.`; return; }
-      this.envSphere = new EnvSphere(gl, SIZE);
-    }
+    if (!this.envContext()) return;
     this.envSphere.env = name;
     this.envRestart();
+  }
+
+  envLabel() { return this.envName === MAP ? this.mapName : this.envName; }
+
+  /** The environment sphere's own WebGL2 context, made once; false (and said) if none. */
+  envContext() {
+    if (this.envSphere) return true;
+    const { gl, why } = makeContext(this.envCanvas);
+    if (!gl) { this.envText.textContent = `No environment sphere: ${why}.`; return false; }
+    this.envSphere = new EnvSphere(gl, SIZE);
+    return true;
+  }
+
+  /** A Radiance .hdr file (picked here, or handed over by the page: openHdr(file)): read
+   * and checked by the server, its cells drawn under the GPU sphere as the environment
+   * "your .hdr". A file the server refuses is said with its reason; the rest stands. */
+  async openHdr(file) {
+    this.envText.hidden = false;
+    this.envText.textContent = `Reading ${file.name}…`;
+    let res, body;
+    try {
+      res = await fetch(`${API}/environments/hdr?format=f32&map_width=${MAP_WIDTH}`,
+                        { method: "POST", body: file, headers: { "Content-Type": "application/octet-stream" } });
+      body = res.ok ? await res.arrayBuffer() : await res.json().catch(() => null);
+    } catch (e) {
+      this.envText.textContent = `${file.name}: ${e.message}`;
+      return false;
+    }
+    if (!res.ok) {
+      this.envText.textContent = `${file.name}: ${apiMessage(body, res)}`;
+      return false;
+    }
+    const [height, width] = res.headers.get("X-Map-Shape").split(",").map(Number);
+    if (!this.envContext()) return false;
+    this.envSphere.setMap({ width, height, rgb: new Float32Array(body) });
+    this.mapName = file.name;
+    Object.assign(this.mapOption, { hidden: false, disabled: false, text: `${file.name} (${width} × ${height} cells)` });
+    this.envSelect.value = MAP;
+    this.envInputKey = null;                            // another map under the same name
+    this.setEnvironment(MAP);
+    return true;
   }
 
   /** Accumulation from nothing when the model, its values, the light or the environment
@@ -316,7 +363,7 @@ export class GpuPanel {
     this.envReference = null;
     this.envHistory = [];
     this.envStats = null;
-    if (preview) this.envText.textContent = `Under ${this.envName}: a ${PREVIEW_SIZE}² preview while the input changes…`;
+    if (preview) this.envText.textContent = `Under ${this.envLabel()}: a ${PREVIEW_SIZE}² preview while the input changes…`;
     if (!this.envLoop) this.envLoop = requestAnimationFrame(() => this.envFrame());
   }
 
@@ -360,7 +407,7 @@ export class GpuPanel {
     const pct = (x) => `${(100 * x).toPrecision(2)} %`;
     const reached = (level) => this.envHistory.find((h) => h.relative <= level);
     const server = ref ? reached(ref.relative) : null, five = reached(ENV_NOISE_GOAL);
-    this.envText.textContent = `Under ${this.envName}: ${st.samples} sample pairs per pixel in ${this.envStats.seconds.toFixed(1)} s; `
+    this.envText.textContent = `Under ${this.envLabel()}: ${st.samples} sample pairs per pixel in ${this.envStats.seconds.toFixed(1)} s; `
       + `noise ±${pct(st.relative)} (each pixel's standard error from its own samples, RMS over the disk, over the mean`
       + (five ? `; ≤ ${pct(ENV_NOISE_GOAL)} after ${five.seconds.toFixed(1)} s` : "") + "); "
       + `mean luminance ${st.mean.toPrecision(5)} ± ${st.error.toExponential(1)}`
@@ -368,7 +415,8 @@ export class GpuPanel {
         + (server ? ` (reached here after ${server.seconds.toFixed(1)} s)` : "")
         + `, mean ${ref.mean_radiance.toPrecision(5)} ± ${ref.mean_radiance_error.toExponential(1)}, difference `
         + `${(Math.abs(st.mean - ref.mean_radiance) / Math.hypot(st.error, ref.mean_radiance_error)).toFixed(1)} σ.` : ".");
-    if (!ref && !this.envAsked && this.envStats.seconds > 2) this.envAskServer();
+    if (this.envName === MAP) this.envText.textContent += ` (${this.mapName}: the server's sphere does not draw a user's map yet, so no comparison.)`;
+    else if (!ref && !this.envAsked && this.envStats.seconds > 2) this.envAskServer();
   }
 
   async envAskServer() {
@@ -467,6 +515,8 @@ export class GpuPanel {
       /** The coarse accumulation while the input changes: on (the page's) or off (bench). */
       set envPreview(on) { self.envPreview = on; },
       setEnvironment: (name) => { self.envSelect.value = name; self.setEnvironment(name); },
+      /** A .hdr's bytes (an array of numbers) opened as if picked: true when drawn. */
+      openHdr: (bytes, name = "test.hdr") => self.openHdr(new File([new Uint8Array(bytes)], name)),
       get code() { return self.code; },
       clearTimings() { self.timings.length = 0; self.envTimings.length = 0; self.envFrames.length = 0; },
       /** Draw this model query instead of the page's (until null): resolves when drawn
