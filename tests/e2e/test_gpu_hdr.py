@@ -152,3 +152,21 @@ def test_upload_answers_the_cells_as_float32(client, image):
     np.testing.assert_allclose(_integral(cells), _integral(read), rtol=1e-5)
     bad = client.post("/api/v1/environments/hdr?format=f32&map_width=4", content=encode(image))
     assert bad.status_code == 422 and "map_width" in bad.text
+
+
+def test_reference_slice_directions_are_the_half_and_difference_angles(client):
+    """The slice's float32 directions (environments.slice_directions) checked from their
+    definition: h = (l + v)/|l + v| is θ_h from the normal, l is θ_d from h (Rusinkiewicz
+    1998), at the pixel centres 90°·(k + ½)/n; and the route's bad n is a 422 naming n."""
+    from app.api.routes.environments import slice_directions
+    n = 16
+    l, v = slice_directions(n, 0.0, 90.0)
+    h = (l + v) / np.linalg.norm(l + v, axis=1, keepdims=True)
+    centres = 90.0 * (np.arange(n) + 0.5) / n
+    theta_d, theta_h = (a.ravel() for a in np.meshgrid(centres, centres, indexing="ij"))
+    np.testing.assert_allclose(np.degrees(np.arccos(np.clip(h[:, 2], -1, 1))), theta_h, atol=2e-4)
+    np.testing.assert_allclose(np.degrees(np.arccos(np.clip(np.sum(l * h, axis=1), -1, 1))), theta_d, atol=2e-4)
+    res = client.get("/api/v1/reference/slice?n=4")
+    assert res.status_code == 422 and "n" in res.json()["detail"][0]["loc"]
+    ok = client.get("/api/v1/reference/slice?n=8&alpha=0.3")
+    assert ok.status_code == 200 and len(ok.content) == 8 * 8 * 3 * 8

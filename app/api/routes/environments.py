@@ -6,6 +6,10 @@
   alone (the server's sphere view averages the highlight's pixels and takes the light as
   angles: a different frame). Raw little-endian float64, RGB per pixel, rows from the top,
   NaN off the disk: binary, as JSON cannot carry NaN and 256²·3 numbers as text cost ~4 MB.
+* ``GET /api/v1/reference/slice``: f at the θ_h × θ_d pixel centres of the GPU's slice
+  (90°·(k + ½)/n), from the very float32 directions the GPU reads (l and v formed in
+  float64 by rusinkiewicz_directions, rounded to float32), rows θ_d from 0; NaN where l
+  or v is below the horizon. Same binary form.
 * ``POST /api/v1/environments/hdr``: a Radiance .hdr read (app/environment/hdr.py) and
   described — size, mean and peak radiance; a clear 4xx for anything that is not one —
   or, with ``format=f32``, its cells for the page's GPU environment sphere (averaged to
@@ -20,6 +24,7 @@ from fastapi import APIRouter, Query, Request, Response
 from pydantic import Field
 
 from ... import kernels
+from ...quantities import rusinkiewicz_directions
 from ...environment.hdr import MAX_FILE_BYTES, equirect_cells, read_hdr
 from ...errors import ParameterError, TooLarge
 from ...integrate import cost
@@ -111,6 +116,38 @@ def reference_sphere(q: Annotated[ReferenceSphereQuery, Query()]) -> Response:
     cost.require_evaluations(brdf, q.n * q.n, q.n * q.n * BYTES_PER_PIXEL, "n", f"a {q.n}² sphere")
     frame = sphere_frame(brdf, light, q.n)
     return Response(frame.astype("<f8").tobytes(), media_type="application/octet-stream",
+                    headers={"X-Frame-Shape": f"{q.n},{q.n},3", "Cache-Control": "no-store"})
+
+
+class ReferenceSliceQuery(schemas.ModelQuery):
+    phi_h_deg: Annotated[float, Field(ge=-180.0, le=180.0, description="azimuth of h")] = 0.0
+    phi_d_deg: Annotated[float, Field(ge=-180.0, le=180.0, description="azimuth of d about h")] = 90.0
+    n: Annotated[int, Field(ge=8, le=512, description="pixels per axis (n×n image)")] = 256
+
+
+def slice_directions(n: int, phi_h_deg: float, phi_d_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """l, v (n·n, 3) at the slice's pixel centres, rows θ_d = 90°·(j + ½)/n, columns
+    θ_h likewise, rounded to float32 as the GPU's direction textures hold them."""
+    centres = 90.0 * (np.arange(n) + 0.5) / n
+    theta_d, theta_h = np.meshgrid(centres, centres, indexing="ij")
+    l, v = rusinkiewicz_directions(theta_h.ravel(), phi_h_deg, theta_d.ravel(), phi_d_deg)
+    return l.astype(np.float32).astype(float), v.astype(np.float32).astype(float)
+
+
+@router.get("/reference/slice", summary="The θ_h × θ_d slice in float64 at the GPU's exact directions (binary)",
+            description="f at the n×n pixel centres θ = 90°·(k + ½)/n (columns θ_h, rows θ_d from 0), "
+                        "from l and v rounded to float32 as the page's GPU slice reads them: the truth the "
+                        "GPU slice is compared with. Little-endian float64, RGB per pixel, NaN below the horizon.",
+            responses={200: {"content": {"application/octet-stream": {}}}})
+def reference_slice(q: Annotated[ReferenceSliceQuery, Query()]) -> Response:
+    brdf = schemas.spec_of(q).brdf()
+    cost.require_evaluations(brdf, q.n * q.n, q.n * q.n * BYTES_PER_PIXEL, "n", f"a {q.n}² slice")
+    l, v = slice_directions(q.n, q.phi_h_deg, q.phi_d_deg)
+    out = np.full((q.n * q.n, 3), np.nan)
+    above = (l[:, 2] > 0.0) & (v[:, 2] > 0.0)
+    if above.any():
+        out[above] = f_rgb(brdf, l[above], v[above])
+    return Response(out.astype("<f8").tobytes(), media_type="application/octet-stream",
                     headers={"X-Frame-Shape": f"{q.n},{q.n},3", "Cache-Control": "no-store"})
 
 

@@ -9,7 +9,8 @@ import { modelQuery } from "../model.js";
 import { fam } from "../families.js";
 import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
-import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
+import { referenceFrame, referenceSlice, compare, compareSlice, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
+import { SliceRenderer } from "./slice.js";
 import { lightAt } from "../spheredrag.js";
 import { UserBrdf, LINK_KEY } from "./userbrdf.js";
 import { EnvSphere, ENVIRONMENTS, MAP, PREVIEW_SIZE } from "./env.js";
@@ -33,6 +34,8 @@ const ENV_REPORT_FRAMES = 4;
  * /api/v1/environments/hdr?format=f32 averages it over solid angle): 256 × 128 cells of
  * ~1.4°, finer than the 1.8° a pixel of the 256² sphere spans near its centre. */
 const MAP_WIDTH = 256;
+/** The GPU slice's azimuths: φ_h = 0, φ_d = 90° (the Disney explorer's default image slice). */
+const SLICE_PHI_H = 0, SLICE_PHI_D = 90;
 /** Input-to-frame times kept for the benchmark hook. */
 const TIMINGS_KEPT = 2000;
 
@@ -74,16 +77,21 @@ export class GpuPanel {
     this.envSelect.append(this.mapOption);
     this.mapInput = el("input", { type: "file", accept: ".hdr,image/vnd.radiance", id: "gpu-hdr",
                                   "aria-label": "Open a Radiance .hdr environment (equirectangular)" });
+    this.sliceInput = el("input", { type: "checkbox", id: "gpu-slice-toggle" });
+    this.sliceCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-slice-canvas", hidden: true,
+                                      "aria-label": "f over θ_h (right) and θ_d (up) at φ_d = 90°, log scale, drawn on the GPU" });
+    this.sliceTruthText = el("p", { class: "gpu-truth", id: "gpu-slice-truth", role: "status", hidden: true });
     this.envCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-env-canvas", hidden: true,
                                     "aria-label": "The sphere under the environment, drawn on the GPU" });
     this.envText = el("p", { class: "gpu-message", id: "gpu-env-text", role: "status", hidden: true });
     const tools = el("div", { class: "panel-tools gpu-tools" },
       el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText),
-      el("label", {}, "environment ", this.envSelect), el("label", {}, ".hdr ", this.mapInput), this.truthButton);
+      el("label", {}, "environment ", this.envSelect), el("label", {}, ".hdr ", this.mapInput),
+      el("label", {}, this.sliceInput, " θ_h–θ_d slice"), this.truthButton);
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
-      el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.diffCanvas),
-      this.message, this.truthText, this.envText, this.user.section,
+      el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceCanvas, this.diffCanvas),
+      this.message, this.truthText, this.sliceTruthText, this.envText, this.user.section,
       el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
         + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
       + "Open a Disney BRDF Explorer .brdf file to see yours beside it, measured." }));
@@ -102,6 +110,7 @@ export class GpuPanel {
     });
     this.truthButton.addEventListener("click", () => this.setTruth(!this.truthOn));
     this.envSelect.addEventListener("change", () => this.setEnvironment(this.envSelect.value));
+    this.sliceInput.addEventListener("change", () => this.setSlice(this.sliceInput.checked));
     this.mapInput.addEventListener("change", () => this.mapInput.files[0] && this.openHdr(this.mapInput.files[0]));
     this.start();
   }
@@ -229,6 +238,7 @@ export class GpuPanel {
     this.user.setLight(this.renderer.light);
     this.user.draw();
     this.envRestart();
+    this.sliceDraw();
     this.draws++;
     if (this.inputTime !== null) {
       // one pixel read back: the frame is finished, not merely queued
@@ -433,6 +443,62 @@ export class GpuPanel {
     this.envAsked = false;
   }
 
+  // ---------------------------------------------------------------- slice ----
+  /** The θ_h–θ_d slice beside the spheres (its own context), or not. */
+  setSlice(on) {
+    this.sliceOn = on;
+    this.sliceCanvas.hidden = !on;
+    this.sliceTruthText.hidden = !(on && this.truthOn);
+    if (!on) return;
+    if (!this.slice) {
+      const { gl, why } = makeContext(this.sliceCanvas);
+      if (!gl) { this.say(`No GPU slice: ${why}.`, "error"); return; }
+      this.slice = new SliceRenderer(gl, SIZE);
+      this.slice.setAzimuths(SLICE_PHI_H, SLICE_PHI_D);
+    }
+    this.sliceKey = null;
+    this.sliceDraw();
+    this.truthStale();
+  }
+
+  /** Drawn when the model or its values changed (the light does not enter the slice). */
+  sliceDraw() {
+    if (!this.sliceOn || !this.slice || !this.code || !this.model || this.slice.gl.isContextLost()) return;
+    const key = `${this.code.code}\n${JSON.stringify(this.code.uniforms)}`;
+    if (key === this.sliceKey) return;
+    try {
+      this.slice.setSource(structure(this.code.code));
+    } catch (err) {
+      this.say(`The slice cannot compile this model: ${err.message}`, "error");
+      return;
+    }
+    this.slice.uniforms = this.code.uniforms;
+    this.slice.draw();
+    this.sliceKey = key;
+  }
+
+  async checkSliceTruth(model) {
+    if (!this.sliceOn || !this.slice) { this.sliceTruth = null; return; }
+    this.sliceDraw();
+    this.slice.render();
+    const gpu = this.slice.read(), { l, v } = this.slice.dirs;
+    const token = this.truthToken;
+    let ref;
+    try {
+      ref = await referenceSlice(model, SLICE_PHI_H, SLICE_PHI_D, SIZE);
+    } catch (e) {
+      if (token === this.truthToken) this.sliceTruthText.textContent = `No reference slice: ${e.message}`;
+      return;
+    }
+    if (token !== this.truthToken) return;
+    const r = compareSlice(gpu, ref, SIZE, l, v);
+    this.sliceTruth = { max: r.max, mean: r.mean, at: r.at, pixels: r.pixels, absPeak: r.absPeak, nonFinite: r.nonFinite };
+    this.sliceTruthText.textContent = `Slice (φ_d = ${SLICE_PHI_D}°), GPU against the server's float64 at the same float32 `
+      + `directions: largest relative difference ${fmt(r.max)}, mean ${fmt(r.mean)} over the ${r.pixels} pixels with `
+      + `θ_l, θ_v ≤ ${GRAZING_DEG}°; largest difference over all ${r.disk} pixels ${fmt(r.absPeak)} of the peak`
+      + (r.nonFinite ? `; ${r.nonFinite} pixels NaN/∞` : "") + ".";
+  }
+
   // ---------------------------------------------------------------- truth ----
   setTruth(on) {
     this.truthOn = on;
@@ -440,6 +506,7 @@ export class GpuPanel {
     this.truthButton.setAttribute("aria-pressed", String(on));
     this.diffCanvas.hidden = !on;
     this.truthText.hidden = !on;
+    this.sliceTruthText.hidden = !(on && this.sliceOn);
     if (on) this.truthStale();
     else this.truthToken++;
   }
@@ -447,6 +514,7 @@ export class GpuPanel {
   truthStale() {
     if (!this.truthOn) return;
     this.truth = null;
+    this.sliceTruth = null;
     clearTimeout(this.truthTimer);
     this.truthToken++;
     this.truthText.textContent = "Comparing with the server's float64 frame…";
@@ -459,6 +527,7 @@ export class GpuPanel {
     const gpu = this.renderer.read();
     const light = this.renderer.light, model = this.model;
     const token = ++this.truthToken;           // a later change makes this answer stale
+    const sliceDone = this.checkSliceTruth(model);
     let ref;
     try {
       ref = await referenceFrame(model, light, SIZE);
@@ -479,6 +548,7 @@ export class GpuPanel {
       + `(near the terminator and the rim float32's rounding of n·l alone is ~1e-7)`
       + (r.nonFinite ? `; ${r.nonFinite} pixels NaN/∞` : "")
       + `. Right: the relative difference, log scale 1e-8 (dark) to 1e-3 (bright); below ${FLOOR}× the peak it counts against that floor.`;
+    await sliceDone;
   }
 
   /** For tests and bench/gpu_sphere.py. */
@@ -490,6 +560,8 @@ export class GpuPanel {
       get draws() { return self.draws; },
       get timings() { return self.timings.slice(); },
       get truth() { return self.truth; },
+      get sliceTruth() { return self.sliceTruth; },
+      setSlice: (on) => { self.sliceInput.checked = on; self.setSlice(on); },
       get message() { return self.message.textContent; },
       get model() { return self.model; },
       get env() { return self.envStats ? { ...self.envStats, reference: self.envReference?.noise ?? null } : null; },
