@@ -3,9 +3,10 @@
  * their mean. The environments are app/environment/maps.py's, written again in GLSL
  * (uniform, studio, overcast, sunset; key = the light direction, colour).
  *
- * Estimator: per pair, one direction drawn ∝ cos θ about n and one uniformly in the cone
- * of the environment's bright disc (studio's key box, sunset's sun; none otherwise), the
- * balance heuristic over the two (Veach 1997, ch. 9): Σ_s f L μ_l / (p_cos + p_cone).
+ * Estimator: per pair, one direction drawn ∝ cos θ about n and one from the environment's
+ * bright part (uniformly in the cone of studio's key box or sunset's sun; the user map's
+ * pdf) or, where there is none (uniform, overcast), from a glossy lobe about the mirror
+ * direction; the balance heuristic over the two (Veach 1997, ch. 9): Σ_s f L μ_l / Σ p_s.
  * Alpha accumulates the luminance's square, for the stated standard error.
  */
 import { FULLSCREEN_VS, program, floatTarget, floatTexture, readTarget, setUniforms, uniformLocation } from "./gl.js";
@@ -112,6 +113,27 @@ vec3 env_map_sample(float u1, float u2, float u3, float u4) {
   float phi = -ENV_PI + 2.0 * ENV_PI * (float(lo) + u4) / float(size.x);
   return vec3(sn * sin(phi), c, -sn * cos(phi));
 }
+// Without a bright disc to sample, the second strategy is a glossy lobe about the mirror
+// direction: half vectors from an equal mixture of two GGX distributions (Walter et al.
+// 2007, eq. 33 and 35), α = LOBE_ALPHA.x and .y, whatever the BRDF (the balance
+// heuristic keeps any such pdf unbiased; it pays where f has a lobe of about that width).
+const vec2 LOBE_ALPHA = vec2(0.1, 0.5);
+float env_ggx_d(float a, float c) {  // D(h)·cos θ_h's D, c = cos θ_h
+  float a2 = a * a, t = c * c * (a2 - 1.0) + 1.0;
+  return a2 / (ENV_PI * t * t);
+}
+vec3 env_lobe_sample(mat3 fn, vec3 v, float u1, float u2) {
+  float a = u1 < 0.5 ? LOBE_ALPHA.x : LOBE_ALPHA.y, u = fract(2.0 * u1);
+  float c2 = (1.0 - u) / (1.0 + (a * a - 1.0) * u), sn = sqrt(max(0.0, 1.0 - c2));
+  vec3 h = fn * vec3(sn * cos(2.0 * ENV_PI * u2), sn * sin(2.0 * ENV_PI * u2), sqrt(c2));
+  return reflect(-v, h);
+}
+float env_lobe_pdf(vec3 n, vec3 v, vec3 l) {   // per steradian of l: p(h)/(4 v·h)
+  vec3 h = normalize(l + v);
+  float c = dot(n, h), vh = dot(v, h);
+  if (c <= 0.0 || vh <= 0.0) return 0.0;
+  return 0.5 * (env_ggx_d(LOBE_ALPHA.x, c) + env_ggx_d(LOBE_ALPHA.y, c)) * c / (4.0 * vh);
+}
 mat3 env_basis(vec3 z) {         // any orthonormal frame with z as its third axis
   vec3 a = abs(z.x) < 0.9 ? vec3(1.0, 0.0, 0.0) : vec3(0.0, 1.0, 0.0);
   vec3 x = normalize(cross(a, z));
@@ -143,15 +165,17 @@ void main() {
         l = fn * vec3(sr * cos(2.0 * ENV_PI * u2), sr * sin(2.0 * ENV_PI * u2), sqrt(1.0 - u1));
       } else if (u_env == 4) {
         l = env_map_sample(u1, u2, env_rnd(s), env_rnd(s));
-      } else {
-        if (cone_pdf == 0.0) continue;
+      } else if (cone_pdf > 0.0) {
         float c = 1.0 - u1 * (1.0 - u_cone_cos), sn = sqrt(max(0.0, 1.0 - c * c));
         l = fc * vec3(sn * cos(2.0 * ENV_PI * u2), sn * sin(2.0 * ENV_PI * u2), c);
+      } else {
+        l = env_lobe_sample(fn, v, u1, u2);
       }
       float mu = dot(n, l);
       if (mu <= 0.0) continue;
       float pdf = mu / ENV_PI + (u_env == 4 ? texelFetch(u_map_cols, env_map_cell(l), 0).g
-                                            : dot(l, u_key) >= u_cone_cos ? cone_pdf : 0.0);
+                                : cone_pdf > 0.0 ? (dot(l, u_key) >= u_cone_cos ? cone_pdf : 0.0)
+                                : env_lobe_pdf(n, v, l));
       est += brdf(n, l, v) * env_radiance(l) * mu / pdf;
     }
     sum_rgb += est;

@@ -312,24 +312,24 @@ export class GpuPanel {
    * and checked by the server, its cells drawn under the GPU sphere as the environment
    * "your .hdr". A file the server refuses is said with its reason; the rest stands. */
   async openHdr(file) {
-    this.envText.hidden = false;
-    this.envText.textContent = `Reading ${file.name}…`;
+    this.say(`Reading ${file.name}…`);
     let res, body;
     try {
       res = await fetch(`${API}/environments/hdr?format=f32&map_width=${MAP_WIDTH}`,
                         { method: "POST", body: file, headers: { "Content-Type": "application/octet-stream" } });
       body = res.ok ? await res.arrayBuffer() : await res.json().catch(() => null);
     } catch (e) {
-      this.envText.textContent = `${file.name}: ${e.message}`;
+      this.say(`${file.name}: ${e.message}`, "error");
       return false;
     }
-    if (!res.ok) {
-      this.envText.textContent = `${file.name}: ${apiMessage(body, res)}`;
+    if (!res.ok) {                                      // said where the accumulation's report does not overwrite it
+      this.say(`${file.name}: ${apiMessage(body, res)}`, "error");
       return false;
     }
     const [height, width] = res.headers.get("X-Map-Shape").split(",").map(Number);
     if (!this.envContext()) return false;
     this.envSphere.setMap({ width, height, rgb: new Float32Array(body) });
+    this.say(`${file.name}: ${width} × ${height} cells under the environment sphere.`);
     this.mapName = file.name;
     Object.assign(this.mapOption, { hidden: false, disabled: false, text: `${file.name} (${width} × ${height} cells)` });
     this.envSelect.value = MAP;
