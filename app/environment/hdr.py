@@ -137,3 +137,26 @@ def read_hdr(data: bytes) -> np.ndarray:
     e = rgbe[..., 3].astype(np.int32)
     scale = np.where(e > 0, np.ldexp(np.float32(1.0), e - 136), 0.0).astype(np.float32)
     return rgbe[..., :3].astype(np.float32) * scale[..., None]
+
+
+def _factor(n: int, most: int) -> int:
+    """The smallest divisor k of n with n / k ≤ most: cells of k whole source pixels."""
+    return next(k for k in range(1, n + 1) if n % k == 0 and n // k <= max(1, most))
+
+
+def equirect_cells(image: np.ndarray, width: int) -> np.ndarray:
+    """The equirectangular ``image`` (H, W, 3; rows from the top, θ from 0 to π) averaged
+    onto at most ``width`` × ``width``/2 cells, each a whole block of source pixels (the
+    block sides divide H and W, so every cell is an exact band of θ and φ; never more
+    cells than pixels): the block's mean with rows weighted by their solid angle
+    (∝ cos θ_top − cos θ_bottom), so the cells' radiance times their solid angle sums to
+    the source's integral over the sphere. float32."""
+    h_src, w_src, _ = image.shape
+    fc = _factor(w_src, int(width))
+    fr = _factor(h_src, int(width) // 2)
+    h, w = h_src // fr, w_src // fc
+    edges = np.linspace(0.0, np.pi, h_src + 1)
+    omega = (np.cos(edges[:-1]) - np.cos(edges[1:])).reshape(h, fr)          # each source row's share
+    blocks = image.astype(np.float64).reshape(h, fr, w, fc, 3).mean(axis=3)   # (h, fr, w, 3)
+    weighted = np.einsum("irjc,ir->ijc", blocks, omega) / omega.sum(axis=1)[:, None, None]
+    return weighted.astype(np.float32)

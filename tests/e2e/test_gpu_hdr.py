@@ -116,3 +116,57 @@ def test_over_the_byte_limit_is_413(client, monkeypatch):
     monkeypatch.setattr(environments, "MAX_FILE_BYTES", 1000)
     res = client.post("/api/v1/environments/hdr", content=b"#?RADIANCE\n" + bytes(2000))
     assert res.status_code == 413 and "1000" in res.text
+
+
+def _integral(cells: np.ndarray) -> np.ndarray:
+    """∫ L dω over the sphere of an equirectangular map (rows from θ = 0), cell by cell:
+    each row's solid angle 2π (cos θ_top − cos θ_bottom) shared by its columns."""
+    h, w, _ = cells.shape
+    edges = np.linspace(0.0, np.pi, h + 1)
+    omega = 2 * np.pi * (np.cos(edges[:-1]) - np.cos(edges[1:])) / w
+    return np.einsum("ijc,i->c", cells.astype(np.float64), omega)
+
+
+def test_cells_for_the_gpu_keep_the_maps_integral_and_its_layout():
+    rng = np.random.default_rng(5)
+    img = np.exp(rng.normal(0, 1.5, (48, 96, 3)))
+    cells = hdr.equirect_cells(img, 24)
+    assert cells.shape == (12, 24, 3) and cells.dtype == np.float32
+    np.testing.assert_allclose(_integral(cells), _integral(img), rtol=1e-6)
+    sky = np.zeros((32, 64, 3))
+    sky[:16] = 1.0                                   # the upper hemisphere (θ < 90°) only
+    sky[:16, 32:] = 2.0                              # twice as bright where φ > 0 (x > 0)
+    got = hdr.equirect_cells(sky, 16)
+    assert got.shape == (8, 16, 3)
+    assert np.all(got[:4, :8] == 1.0) and np.all(got[:4, 8:] == 2.0) and np.all(got[4:] == 0.0)
+    assert hdr.equirect_cells(img, 4096).shape == img.shape          # never more cells than pixels
+
+
+def test_upload_answers_the_cells_as_float32(client, image):
+    res = client.post("/api/v1/environments/hdr?format=f32&map_width=20", content=encode(image))
+    assert res.status_code == 200, res.text
+    h, w, c = (int(x) for x in res.headers["X-Map-Shape"].split(","))
+    cells = np.frombuffer(res.content, dtype="<f4").reshape(h, w, c)
+    assert (h, w, c) == (8, 20, 3)                   # 16 × 40: blocks of 2 × 2 (8 ≤ 20/2)
+    read = hdr.read_hdr(encode(image))
+    np.testing.assert_allclose(_integral(cells), _integral(read), rtol=1e-5)
+    bad = client.post("/api/v1/environments/hdr?format=f32&map_width=4", content=encode(image))
+    assert bad.status_code == 422 and "map_width" in bad.text
+
+
+def test_reference_slice_directions_are_the_half_and_difference_angles(client):
+    """The slice's float32 directions (environments.slice_directions) checked from their
+    definition: h = (l + v)/|l + v| is θ_h from the normal, l is θ_d from h (Rusinkiewicz
+    1998), at the pixel centres 90°·(k + ½)/n; and the route's bad n is a 422 naming n."""
+    from app.api.routes.environments import slice_directions
+    n = 16
+    l, v = slice_directions(n, 0.0, 90.0)
+    h = (l + v) / np.linalg.norm(l + v, axis=1, keepdims=True)
+    centres = 90.0 * (np.arange(n) + 0.5) / n
+    theta_d, theta_h = (a.ravel() for a in np.meshgrid(centres, centres, indexing="ij"))
+    np.testing.assert_allclose(np.degrees(np.arccos(np.clip(h[:, 2], -1, 1))), theta_h, atol=2e-4)
+    np.testing.assert_allclose(np.degrees(np.arccos(np.clip(np.sum(l * h, axis=1), -1, 1))), theta_d, atol=2e-4)
+    res = client.get("/api/v1/reference/slice?n=4")
+    assert res.status_code == 422 and "n" in res.json()["detail"][0]["loc"]
+    ok = client.get("/api/v1/reference/slice?n=8&alpha=0.3")
+    assert ok.status_code == 200 and len(ok.content) == 8 * 8 * 3 * 8

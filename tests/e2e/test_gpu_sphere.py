@@ -127,3 +127,23 @@ def test_without_webgl2_the_server_sphere_is_shown(page, page_log):
     page.locator("#plot-sphere").scroll_into_view_if_needed()
     page.wait_for_function("() => window.__brdf.panels().find((p) => p.name === 'sphere').drawn", timeout=60_000)
     assert not page_log.problems()
+
+
+def test_slice_truth(page, page_log, shots):
+    """The θ_h–θ_d slice drawn on the GPU (static/js/gpu/slice.js) against the server's
+    float64 f at the same float32 directions (/api/v1/reference/slice), for a sample of
+    the registry list (every 8th: each NDF, masking and Fresnel family appears) and the
+    principled BRDF; held like the sphere, 1e-4 relative where θ_l, θ_v ≤ 88°."""
+    _open(page, "/?ndf=ggx&alpha=0.3&show=gpu")
+    page.evaluate("() => window.__gpu.setSlice(true)")
+    bad = []
+    for m in registry_models()[::8] + PRINCIPLED[:1]:
+        page.evaluate("(m) => window.__gpu.load(m)", m)
+        page.evaluate("() => window.__gpu.truthNow()")
+        t = page.evaluate("() => window.__gpu.sliceTruth")
+        if t is None or t["nonFinite"] or t["pixels"] < 60_000 or t["max"] > REL or t["absPeak"] > ABS_OF_PEAK:
+            bad.append((m, t))
+    assert not bad, bad[:5]
+    assert "Slice (φ_d = 90°)" in page.text_content("#gpu-slice-truth")
+    page.locator("#panel-gpu").screenshot(path=str(shots / "gpu-slice-truth.png"))
+    assert not page_log.problems()

@@ -6,19 +6,26 @@
   alone (the server's sphere view averages the highlight's pixels and takes the light as
   angles: a different frame). Raw little-endian float64, RGB per pixel, rows from the top,
   NaN off the disk: binary, as JSON cannot carry NaN and 256²·3 numbers as text cost ~4 MB.
+* ``GET /api/v1/reference/slice``: f at the θ_h × θ_d pixel centres of the GPU's slice
+  (90°·(k + ½)/n), from the very float32 directions the GPU reads (l and v formed in
+  float64 by rusinkiewicz_directions, rounded to float32), rows θ_d from 0; NaN where l
+  or v is below the horizon. Same binary form.
 * ``POST /api/v1/environments/hdr``: a Radiance .hdr read (app/environment/hdr.py) and
-  described — size, mean and peak radiance; a clear 4xx for anything that is not one.
+  described — size, mean and peak radiance; a clear 4xx for anything that is not one —
+  or, with ``format=f32``, its cells for the page's GPU environment sphere (averaged to
+  at most ``map_width`` × ``map_width``/2 over solid angle; float32 RGB, rows from the top).
 """
 from __future__ import annotations
 
-from typing import Annotated
+from typing import Annotated, Literal
 
 import numpy as np
 from fastapi import APIRouter, Query, Request, Response
 from pydantic import Field
 
 from ... import kernels
-from ...environment.hdr import MAX_FILE_BYTES, read_hdr
+from ...quantities import rusinkiewicz_directions
+from ...environment.hdr import MAX_FILE_BYTES, equirect_cells, read_hdr
 from ...errors import ParameterError, TooLarge
 from ...integrate import cost
 from ...materials import evaluate_rgb
@@ -31,6 +38,8 @@ router = APIRouter(prefix="/api/v1", tags=["data"], route_class=Route)
 #: |l| may differ from 1 by this much: a float32 rounding of a unit vector is within
 #: 3·2⁻²⁴ ≈ 1.8e-7 of it; anything further is not a direction the GPU drew with.
 UNIT_TOLERANCE = 1e-6
+#: The GPU's map: at most this many cells across (2048 × 1024 float32 RGBA: 32 MB of texture).
+MAX_MAP_WIDTH = 2048
 #: Bytes held per pixel while the frame is made: directions, frames, three channels.
 BYTES_PER_PIXEL = 400
 
@@ -110,6 +119,38 @@ def reference_sphere(q: Annotated[ReferenceSphereQuery, Query()]) -> Response:
                     headers={"X-Frame-Shape": f"{q.n},{q.n},3", "Cache-Control": "no-store"})
 
 
+class ReferenceSliceQuery(schemas.ModelQuery):
+    phi_h_deg: Annotated[float, Field(ge=-180.0, le=180.0, description="azimuth of h")] = 0.0
+    phi_d_deg: Annotated[float, Field(ge=-180.0, le=180.0, description="azimuth of d about h")] = 90.0
+    n: Annotated[int, Field(ge=8, le=512, description="pixels per axis (n×n image)")] = 256
+
+
+def slice_directions(n: int, phi_h_deg: float, phi_d_deg: float) -> tuple[np.ndarray, np.ndarray]:
+    """l, v (n·n, 3) at the slice's pixel centres, rows θ_d = 90°·(j + ½)/n, columns
+    θ_h likewise, rounded to float32 as the GPU's direction textures hold them."""
+    centres = 90.0 * (np.arange(n) + 0.5) / n
+    theta_d, theta_h = np.meshgrid(centres, centres, indexing="ij")
+    l, v = rusinkiewicz_directions(theta_h.ravel(), phi_h_deg, theta_d.ravel(), phi_d_deg)
+    return l.astype(np.float32).astype(float), v.astype(np.float32).astype(float)
+
+
+@router.get("/reference/slice", summary="The θ_h × θ_d slice in float64 at the GPU's exact directions (binary)",
+            description="f at the n×n pixel centres θ = 90°·(k + ½)/n (columns θ_h, rows θ_d from 0), "
+                        "from l and v rounded to float32 as the page's GPU slice reads them: the truth the "
+                        "GPU slice is compared with. Little-endian float64, RGB per pixel, NaN below the horizon.",
+            responses={200: {"content": {"application/octet-stream": {}}}})
+def reference_slice(q: Annotated[ReferenceSliceQuery, Query()]) -> Response:
+    brdf = schemas.spec_of(q).brdf()
+    cost.require_evaluations(brdf, q.n * q.n, q.n * q.n * BYTES_PER_PIXEL, "n", f"a {q.n}² slice")
+    l, v = slice_directions(q.n, q.phi_h_deg, q.phi_d_deg)
+    out = np.full((q.n * q.n, 3), np.nan)
+    above = (l[:, 2] > 0.0) & (v[:, 2] > 0.0)
+    if above.any():
+        out[above] = f_rgb(brdf, l[above], v[above])
+    return Response(out.astype("<f8").tobytes(), media_type="application/octet-stream",
+                    headers={"X-Frame-Shape": f"{q.n},{q.n},3", "Cache-Control": "no-store"})
+
+
 _HDR_BODY = {"requestBody": {"required": True, "content": {
     "application/octet-stream": {"schema": {"type": "string", "format": "binary"}},
     "image/vnd.radiance": {"schema": {"type": "string", "format": "binary"}}}}}
@@ -119,9 +160,15 @@ _HDR_ANSWER = {200: {"content": {"application/json": {"example": {
 
 @router.post("/environments/hdr", openapi_extra=_HDR_BODY, responses=_HDR_ANSWER, summary="Read a Radiance .hdr environment (equirectangular) and describe it",
              description="The request body is the file's bytes. Answers its width, height, mean and "
-                         "largest radiance per channel; 422 naming what is wrong for a file that is not "
+                         "largest radiance per channel (format=f32: its cells, for the GPU); 422 naming what is wrong for a file that is not "
                          f"a readable .hdr, 413 over {MAX_FILE_BYTES} bytes or the pixel limits.")
-async def upload_hdr(request: Request) -> Response:
+async def upload_hdr(request: Request,
+                     format: Annotated[Literal["json", "f32"], Query(
+                         description="json: the description; f32: the map's cells, little-endian float32 RGB, "
+                                     "rows from the top (θ = 0 at +y), shape in X-Map-Shape")] = "json",
+                     map_width: Annotated[int, Query(ge=8, le=MAX_MAP_WIDTH, description=
+                         "with format=f32: at most this many cells across (and half as many down)")] = 256,
+                     ) -> Response:
     declared = request.headers.get("content-length")
     if declared is not None and declared.isdigit() and int(declared) > MAX_FILE_BYTES:
         raise TooLarge("file", f"{declared} bytes: at most {MAX_FILE_BYTES}", loc="body")
@@ -131,6 +178,10 @@ async def upload_hdr(request: Request) -> Response:
         if len(data) > MAX_FILE_BYTES:
             raise TooLarge("file", f"more than {MAX_FILE_BYTES} bytes", loc="body")
     image = read_hdr(bytes(data))
+    if format == "f32":
+        cells = equirect_cells(image, map_width)
+        return Response(cells.astype("<f4").tobytes(), media_type="application/octet-stream",
+                        headers={"X-Map-Shape": f"{cells.shape[0]},{cells.shape[1]},3", "Cache-Control": "no-store"})
     return json_response({"width": int(image.shape[1]), "height": int(image.shape[0]),
                           "mean_rgb": [float(x) for x in image.reshape(-1, 3).mean(axis=0, dtype=np.float64)],
                           "max_rgb": [float(x) for x in image.reshape(-1, 3).max(axis=0)]})

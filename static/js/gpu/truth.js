@@ -28,21 +28,42 @@ export async function referenceFrame(model, light, n) {
   return new Float64Array(await res.arrayBuffer());
 }
 
+/** The server's float64 slice (GET /api/v1/reference/slice): Float64Array n·n·3, rows
+ * θ_d from 0, NaN below the horizon. */
+export async function referenceSlice(model, phiH, phiD, n) {
+  const res = await fetch(`${API}/reference/slice?${query({ ...model, phi_h_deg: phiH, phi_d_deg: phiD, n })}`);
+  if (!res.ok) throw new Error(apiMessage(await res.json().catch(() => null), res));
+  return new Float64Array(await res.arrayBuffer());
+}
+
 /** Per-pixel relative difference (Float32Array n·n, NaN off the disk) with its largest
  * and mean value in the well-conditioned band, where the largest is, the largest absolute
  * difference over the whole disk in units of the peak, and the pixels that are NaN/∞. */
 export function compare(gpu, ref, n, light) {
+  return compareFrame(gpu, ref, n, (p) => {
+    const x = -1 + (2 * (p % n) + 1) / n, y = 1 - (2 * Math.floor(p / n) + 1) / n;
+    const muV = Math.sqrt(Math.max(0, 1 - x * x - y * y));
+    return x * light[0] + y * light[1] + muV * light[2] >= MU_MIN && muV >= MU_MIN;
+  });
+}
+
+/** The same for the slice: the band is θ_l, θ_v ≤ GRAZING_DEG of the directions drawn
+ * (l, v: the slice's float32 direction arrays, 4 per pixel). */
+export function compareSlice(gpu, ref, n, l, v) {
+  return compareFrame(gpu, ref, n, (p) => l[4 * p + 2] >= MU_MIN && v[4 * p + 2] >= MU_MIN);
+}
+
+/** gpu: float32 RGBA per pixel; ref: float64 RGB, NaN where the frame has no value;
+ * inBand(p): the pixel counts towards the relative statistics. */
+export function compareFrame(gpu, ref, n, inBand) {
   let peak = 0;
   for (let i = 0; i < n * n * 3; i++) if (Number.isFinite(ref[i]) && Math.abs(ref[i]) > peak) peak = Math.abs(ref[i]);
   const floor = FLOOR * peak;
   const diff = new Float32Array(n * n).fill(NaN);
   let max = 0, sum = 0, count = 0, at = null, nonFinite = 0, absMax = 0, disk = 0;
   for (let p = 0; p < n * n; p++) {
-    if (Number.isNaN(ref[p * 3])) continue;            // off the disk
+    if (Number.isNaN(ref[p * 3])) continue;            // no value here (off the disk, below the horizon)
     disk++;
-    const x = -1 + (2 * (p % n) + 1) / n, y = 1 - (2 * Math.floor(p / n) + 1) / n;
-    const muV = Math.sqrt(Math.max(0, 1 - x * x - y * y));
-    const muL = x * light[0] + y * light[1] + muV * light[2];
     let worst = 0, abs = 0;
     for (let c = 0; c < 3; c++) {
       const r = ref[p * 3 + c], g = gpu[p * 4 + c];
@@ -53,7 +74,7 @@ export function compare(gpu, ref, n, light) {
     if (!Number.isFinite(worst)) { nonFinite++; continue; }
     absMax = Math.max(absMax, abs);
     diff[p] = worst;
-    if (muL < MU_MIN || muV < MU_MIN) continue;
+    if (!inBand(p)) continue;
     sum += worst;
     count++;
     if (worst > max) { max = worst; at = [p % n, Math.floor(p / n)]; }

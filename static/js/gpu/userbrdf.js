@@ -60,7 +60,7 @@ export class UserBrdf {
       ev.preventDefault();
       zone.classList.remove("gpu-drop");
       const f = ev.dataTransfer?.files?.[0];
-      if (f) this.openFile(f);
+      if (f && !this.onOtherFile?.(f)) this.openFile(f);     // another kind (a .hdr) goes to its owner
     });
   }
 
