@@ -89,10 +89,17 @@ def run(quick: bool = False) -> dict:
     common.log(f"  {n:,} pairs, {repeat} interleaved rounds ...")
     cpu: dict = {}
     load0 = common.loadavg()
+    helper_cpu: list[float] = []      # the Mitsuba process's CPU seconds during each of our calls
     with mitsuba_process(l, v, same.ndf.alpha_x) as (mitsuba, why):
+        settle = None
         if mitsuba is not None:
+            functions = {name: watched(fn, mitsuba.pid, helper_cpu) for name, fn in functions.items()}
             functions["mitsuba"] = mitsuba
-        times = common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu)
+            # drjit's pool threads keep running for a while after each call: without this,
+            # the next function (ours) was timed on the one core they left it (2 threads at
+            # the speed of 1: 37-41 M/s against 69 without Mitsuba in the same run)
+            settle = lambda: common.wait_idle(mitsuba.pid)   # noqa: E731
+        times = common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu, settle=settle)
     out = {"throughput_pairs": n, "throughput_compiled": have_fast,
            "throughput_loadavg": [load0, common.loadavg()]}
     for name, ts in times.items():
@@ -111,6 +118,8 @@ def run(quick: bool = False) -> dict:
     if "mitsuba" in times:
         out["ours_over_mitsuba"] = out["evals_per_s_fast_mitsuba_model"] / out["evals_per_s_mitsuba"]
         out["mitsuba_max_rel_diff"] = mitsuba_check(same, l, v)
+        # that no timing of ours shared the machine with Mitsuba's threads
+        out["mitsuba_cpu_ms_during_ours_max"] = 1e3 * max(helper_cpu) if helper_cpu else None
     else:
         out["mitsuba_not_measured"] = why
     out.update(albedo_latency(brdf, repeat=repeat))
@@ -124,9 +133,9 @@ MITSUBA_SCRIPT = Path(__file__).with_name("mitsuba_eval.py")
 def mitsuba_process(l, v, alpha: float):
     """(a function that has Mitsuba's roughconductor evaluate the pairs once, in a process
     of its own kept waiting between calls (bench/mitsuba_eval.py serve), and returns when it
-    is done; None) — or (None, why not). Timed by ``common.interleaved`` among our own
-    functions; its pipe round trip (~0.1 ms) is in the time. Mitsuba is optional, never a
-    dependency."""
+    is done, its process id as its ``pid``; None) — or (None, why not). Timed by
+    ``common.interleaved`` among our own functions; its pipe round trip (~0.1 ms) is in the
+    time. Mitsuba is optional, never a dependency."""
     with tempfile.TemporaryDirectory() as tmp:
         pairs = Path(tmp) / "pairs.npz"
         np.savez(pairs, l=l, v=v)
@@ -143,11 +152,23 @@ def mitsuba_process(l, v, alpha: float):
                 proc.stdin.write("run\n")
                 proc.stdin.flush()
                 float(proc.stdout.readline())
+            run.pid = proc.pid
             yield run, None
         finally:
             if proc.poll() is None:
                 proc.stdin.close()
                 proc.wait(timeout=60)
+
+
+def watched(fn, pid: int, used: list):
+    """``fn``, also appending to ``used`` the CPU seconds process ``pid`` spent during it."""
+    def call():
+        c0 = common.process_cpu_seconds(pid)
+        fn()
+        c1 = common.process_cpu_seconds(pid)
+        if c0 is not None and c1 is not None:
+            used.append(c1 - c0)
+    return call
 
 
 def mitsuba_check(brdf, l, v, n: int = 2000) -> float | None:
@@ -203,7 +224,8 @@ def report(r: dict) -> list[str]:
         f"  quantities / kernels.f             : {r['quantities_over_fast']:8.2f}",
         (f"  GGX separable F=1: ours {r['evals_per_s_fast_mitsuba_model'] / 1e6:.1f} M/s (float64), Mitsuba 3 LLVM "
          f"{r['evals_per_s_mitsuba'] / 1e6:.1f} M/s (float32, own process): ratio {r['ours_over_mitsuba']:.2f}; "
-         f"max rel. difference {r['mitsuba_max_rel_diff'] if r['mitsuba_max_rel_diff'] is not None else float('nan'):.1e}"
+         f"max rel. difference {r['mitsuba_max_rel_diff'] if r['mitsuba_max_rel_diff'] is not None else float('nan'):.1e}; "
+         f"Mitsuba's CPU during our timings ≤ {r['mitsuba_cpu_ms_during_ours_max'] or 0.0:.1f} ms"
          if "ours_over_mitsuba" in r else f"  Mitsuba 3: not measured ({r['mitsuba_not_measured']})"),
         f"  speed-up {r['throughput_speedup']:.1f}x; max relative difference to numpy "
         f"{r['throughput_max_rel_diff']:.1e}",

@@ -137,7 +137,9 @@ class Kernel:
         """Compile (or load from numba's cache) the four loops, on one point each (none
         for smith_h), with the argument types the calls above use."""
         l, = inputs([[0.0, 0.0, 1.0]])
-        p, = inputs(np.zeros(1))
+        # parameters: long enough for any formula's (the loops read them into tuples
+        # before their first iteration; none iterates here)
+        p, = inputs(np.zeros(16))
         self._f_loop(p, p, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
         self._f_deg_loop(p, p, p, p, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
         node, = inputs([[0.5]])

@@ -22,6 +22,7 @@ from numba.core.errors import NumbaIRAssumptionWarning
 from numba.extending import get_cython_function_address, overload, register_jitable
 
 from ..physics.scalar import SCALAR_FUNCTIONS
+from .compose import UNSWITCH_THRESHOLD
 
 # name → (cython_special symbol, number of float arguments). The trailing int argument
 # of each cython_special routine is its "skip dispatch" flag, passed as 0.
@@ -66,6 +67,10 @@ def register_scalars() -> None:
             register_jitable(inline="always")(fn)
             _registered.add(id(fn))
 
+
+# LLVM's cost limit for unswitching a loop (compose.UNSWITCH_THRESHOLD says why): a
+# process-wide option of LLVM, set before the first generated module compiles.
+llvm.set_option("", f"--unswitch-threshold={UNSWITCH_THRESHOLD}")
 
 # numba's own "internal pedantic check" on the SSA of inlined conditional expressions
 # (``x if c else y``); the compiled result is checked against numpy by tests/kernels.

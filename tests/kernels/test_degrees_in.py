@@ -1,8 +1,9 @@
 """The compiled loop with angles in degrees (app.quantities.evaluate's path) against the
 numpy reference: BRDF.evaluate on directions that numpy builds from the same angles
 (ω = (sinθ cosφ, sinθ sinφ, cosθ), written out here), to 1e-12 relative, for several
-NDFs, Fresnel models, a direction-correlated G2 and anisotropic α; angles random plus
-θ = 0, θ = 90° (grazing, both grazing), φ beyond ±360° and broadcast shapes."""
+NDFs, every Fresnel model, a direction-correlated G2, a numeric masking, diffuse models and
+anisotropic α; angles random plus θ = 0, θ = 90° (grazing, both grazing), φ beyond ±360°
+and broadcast shapes."""
 from __future__ import annotations
 
 import numpy as np
@@ -11,18 +12,14 @@ import pytest
 from app import kernels, quantities
 from app.model import make_spec
 
-from .test_compiled_matches_numpy import _assert_close
+from .test_compiled_matches_numpy import CASES, _assert_close, _brdf, _id
 
 pytestmark = pytest.mark.skipif(not kernels.ENABLED, reason="numba absent or BRDF_FAST=0")
 
-MODELS = [
-    dict(ndf="ggx", g2="height_correlated", fresnel="schlick", kd=0.2),
-    dict(ndf="beckmann", alpha=0.3, alpha_y=0.12, g2="separable", fresnel="conductor"),
-    dict(ndf="gtr", gamma=1.6, alpha=0.4, fresnel="dielectric"),
-    dict(ndf="student_t", gamma=2.7, alpha=0.2, alpha_y=0.35, fresnel="none"),
-    dict(ndf="exp_power", p=0.6, alpha=0.5, fresnel="schlick"),
-    dict(ndf="ggx", alpha=0.25, g2="direction_correlated", fresnel="schlick"),
-]
+#: cases of test_compiled_matches_numpy's design (their loops are compiled once for both):
+#: the default model, anisotropic α, each Fresnel model, a direction-correlated G2, a
+#: numeric masking and several diffuse models
+MODELS = [CASES[0], CASES[1], CASES[4], CASES[5], CASES[11], CASES[16]]
 
 
 def direction(theta_deg, phi_deg):
@@ -48,9 +45,9 @@ def reference(brdf, th_l, ph_l, th_v, ph_v):
     return brdf.evaluate(l, v, ("f",))["f"]
 
 
-@pytest.mark.parametrize("values", MODELS, ids=lambda v: "-".join(str(x) for x in v.values()))
-def test_degrees_in_matches_numpy(values):
-    brdf = make_spec(**values).brdf()
+@pytest.mark.parametrize("case", MODELS, ids=_id)
+def test_degrees_in_matches_numpy(case):
+    brdf = _brdf(case, alpha=0.25, alpha_y=0.4)
     assert kernels.compile_now(brdf) is not None
     a = angles()
     got = kernels.f_deg(brdf, *a)
@@ -74,7 +71,7 @@ def test_chunked_and_two_lobes(monkeypatch):
 
 def test_sin_cos_in_degrees_exact_at_quadrants():
     """The loop's directions at multiples of 90° are exact (0 and ±1, no -0.0 height)."""
-    brdf = make_spec(ndf="ggx", alpha=0.3, fresnel="none").brdf()
+    brdf = make_spec(ndf="ggx", alpha=0.3, fresnel="schlick").brdf()   # CASES[0]'s loops
     assert kernels.compile_now(brdf) is not None
     # both grazing, opposite azimuths 90° apart: +inf (height-correlated), as numpy's
     f = kernels.f_deg(brdf, np.array([90.0, 90.0]), np.array([0.0, 450.0]), np.array([90.0, 90.0]),

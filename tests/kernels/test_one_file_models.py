@@ -212,14 +212,13 @@ def test_new_ndf_and_fresnel_in_the_compiled_loops(throwaway):
 @pytest.mark.skipif(not kernels.ENABLED, reason="numba absent or BRDF_FAST=0")
 def test_new_diffuse_model_in_the_compiled_loops(throwaway):
     """The diffuse file's one formula reaches the compiled loops (directions and degrees
-    in) and agrees with its numpy f to 1e-12."""
+    in) and agrees with its numpy f to 1e-12, beside the throwaway NDF (anisotropic)."""
     model = DIFFUSES["minnaert_throwaway"](minnaert_k=1.25)
     l, v = _directions()
-    for brdf in (_lobe(NDFS["ggx"](0.3)), _lobe(NDFS["t3_throwaway"](0.2, 0.4))):
-        brdf = replace(brdf, kd=0.6, diffuse=model)
-        kernel = kernels.compile_now(brdf)
-        assert kernel is not None
-        _assert_close(kernel.f(brdf, l, v), brdf.evaluate(l, v, ("f",))["f"])
+    brdf = replace(_lobe(NDFS["t3_throwaway"](0.2, 0.4)), kd=0.6, diffuse=model)
+    kernel = kernels.compile_now(brdf)
+    assert kernel is not None
+    _assert_close(kernel.f(brdf, l, v), brdf.evaluate(l, v, ("f",))["f"])
     theta = np.linspace(0.0, 90.0, 37)
     got = kernels.f_deg(brdf, theta[:, None], 0.0, theta[None, :], 180.0)
     mu = np.sin(np.deg2rad(90.0 - theta))
