@@ -61,6 +61,33 @@ def comparison_title(figures: list[dict], labels: list[str]) -> str:
     return f"{head} — {' vs '.join(labels)}" if head else " vs ".join(labels)
 
 
+def shared_description(figures: list[dict]) -> str:
+    """What the compared figures' titles say alike after " — " (the model, its varied
+    value left out): "GGX α=0.1 · F Gold" and "GGX α=0.4 · F Gold" give "GGX · F Gold".
+    Word by word where the titles have as many words, else the words they begin with."""
+    tails = []
+    for figure in figures:
+        title = figure.get("layout", {}).get("title") or {}
+        text = (title.get("text", "") if isinstance(title, dict) else str(title)).split("<br>")[0]
+        tails.append(text.split(" — ", 1)[1].split() if " — " in text else [])
+    if len({len(t) for t in tails}) == 1:
+        kept = [words[0] for words in zip(*tails) if len(set(words)) == 1]
+    else:
+        kept = []
+        for words in zip(*tails):
+            if len(set(words)) > 1:
+                break
+            kept.append(words[0])
+    out = []
+    for word in kept:           # no separator doubled, none at either end
+        if word == "·" and (not out or out[-1] == "·"):
+            continue
+        out.append(word)
+    while out and out[-1] == "·":
+        out.pop()
+    return " ".join(out).rstrip(",")
+
+
 #: A comparison of a model's colour channels draws each in its own hue, not the palette's
 #: k-th colour (which drew the red channel blue): Paul Tol's "bright" red, green, blue.
 CHANNEL_COLOURS = {"channel=r": "#EE6677", "channel=g": "#228833", "channel=b": "#4477AA"}
