@@ -197,8 +197,10 @@ async function overlay(name, div) {
   if (image) {
     // an image says what it shows in its colour bar's title: a label above the plot's
     // corner ran into the y axis title, which reaches past the top of a square image
-    const bar = image.colorbar, old = bar.title?.text ?? "";
-    traces = body.data.map((t) => (t === image ? { ...t, colorbar: { ...bar, title: { ...bar.title, text: `${label}<br>${old}` } } } : t));
+    // ("data (r): f (1/sr)", one line: each line of the title shortens the bar)
+    const bar = image.colorbar, [unit, ...note] = String(bar.title?.text ?? "").split("<br>");
+    const text = [`${label}: ${unit}`, ...note].join("<br>");
+    traces = body.data.map((t) => (t === image ? { ...t, colorbar: { ...bar, title: { ...bar.title, text } } } : t));
     layout.annotations = (layout.annotations || []).filter((a) => a.name !== LABEL);
   } else {
     // the page's own annotations stay; this module's label of an earlier overlay (another
