@@ -72,8 +72,10 @@ function projector(gd, t) {
   }
   const xid = t.xaxis || "x", yid = t.yaxis || "y";
   const xa = axisScale(gd, `xaxis${xid.slice(1)}`), ya = axisScale(gd, `yaxis${yid.slice(1)}`);
-  const box = plotBox(gd, `${xid}${yid}`);
-  if (!xa || !ya || !box) return null;
+  // the size of the subplot's plot area (an overlaying axis's subplot has its own clip)
+  const rect = gd.querySelector(`clipPath.plotclip[id$="${xid}${yid}plot"] rect`);
+  const box = { w: Number(rect?.getAttribute("width")), h: Number(rect?.getAttribute("height")) };
+  if (!xa || !ya || !(box.w > 0) || !(box.h > 0)) return null;
   const py = (y) => (ya.r1 - ya.l(y)) * box.h / (ya.r1 - ya.r0);
   return { u: "x", v: "y", py, at: (x, y) => [(xa.l(x) - xa.r0) * box.w / (xa.r1 - xa.r0), py(y)] };
 }
@@ -163,23 +165,48 @@ function traceWrites({ lines, fill, marks, bars, half: w, segs, drawn, ticks }) 
 /** The indices of the traces of `data` that Plotly draws (visible: true, its default). */
 export const drawnTraces = (data) => data.map((t, i) => (t.visible ?? true) === true ? i : -1).filter((i) => i >= 0);
 
+/** The subplot a trace is drawn in ("xy", "xy2", "polar"). */
+const subplotOfTrace = (t) => (t.type === "scatterpolar" ? t.subplot || "polar" : `${t.xaxis || "x"}${t.yaxis || "y"}`);
+
+/** The subplot a drawn trace group is in: the class of its nearest subplot group. */
+function subplotOfGroup(gd, g) {
+  for (let n = g.parentElement; n && n !== gd; n = n.parentElement) {
+    const c = [...n.classList].find((k) => /^(x\d*y\d*|polar\d*)$/.test(k));
+    if (c) return c;
+  }
+  return null;
+}
+
 /** Every drawn trace of `data` placed on `gd` as Plotly would place it (trace order),
  * or null if they cannot all be: read in an animation frame, with the axes as they are.
- * Plotly draws one group a visible trace in trace order, so the groups drawn and the
- * visible traces pair up in order, and any mismatch of count or kind answers null. */
+ * Plotly draws one group a visible trace, subplot by subplot in trace order, so within
+ * each subplot the groups drawn and its visible traces pair up in order; any mismatch
+ * of count or kind answers null. */
 export function geometry(gd, data) {
   if (!gd.layout) return null;
-  const groups = [...gd.querySelectorAll(".scatterlayer g.trace")], drawn = drawnTraces(data);
-  // one subplot: the groups of two are drawn subplot by subplot, not in trace order
-  const subplots = new Set(drawn.map((i) => data[i].subplot || `${data[i].xaxis || "x"}${data[i].yaxis || "y"}`));
-  if (groups.length !== drawn.length || subplots.size > 1) return null;
-  const out = [];
-  for (let k = 0; k < drawn.length; k++) {
-    const g = traceGeometry(gd, groups[k], data[drawn[k]]);
-    if (!g) return null;
-    out.push(g);
+  const groups = new Map(), traces = new Map();
+  for (const g of gd.querySelectorAll(".scatterlayer g.trace")) {
+    const sub = subplotOfGroup(gd, g);
+    if (!groups.has(sub)) groups.set(sub, []);
+    groups.get(sub).push(g);
   }
-  return out;
+  for (const i of drawnTraces(data)) {
+    const sub = subplotOfTrace({ ...data[i], type: data[i].type || "scatter" });
+    if (!traces.has(sub)) traces.set(sub, []);
+    traces.get(sub).push(i);
+  }
+  if (groups.size !== traces.size) return null;
+  const out = [];
+  for (const [sub, indices] of traces) {
+    const gs = groups.get(sub);
+    if (!gs || gs.length !== indices.length) return null;
+    for (let k = 0; k < indices.length; k++) {
+      const g = traceGeometry(gd, gs[k], data[indices[k]]);
+      if (!g) return null;
+      out.push([indices[k], g]);
+    }
+  }
+  return out.sort((a, b) => a[0] - b[0]).map(([, g]) => g);
 }
 
 /** Draws `data` on `gd` by writing its paths (in an animation frame: it reads the axes
