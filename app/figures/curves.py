@@ -48,8 +48,11 @@ def g1_figure(data: dict, spec: dict) -> dict:
              "x": theta, "y": gaps(error), "yaxis": "y2",
              "line": {"color": PALETTE[1], "width": 2, "dash": "dash"},
              "hovertemplate": "θ=%{x:.2f}°<br>error=%{y:.3g}<extra></extra>"}]
+        # its own round ticks: an overlaying axis's ticks default to the left axis's grid
+        # (Plotly 3+), which labelled it 0.00309, 0.00179, −0.00081…
         right = axis("G1 − G1 exact", overlaying="y", side="right", showgrid=False,
-                     range=[-span, span], zeroline=True, zerolinecolor="#bbb", exponentformat="power")
+                     range=[-span, span], tickmode="auto", nticks=7, zeroline=True,
+                     zerolinecolor="#bbb", exponentformat="power")
         title = f"G1 ({option_label('masking', spec['masking'])}) against exact Smith — {model_title(spec)}"
     else:
         traces.append({"type": "scatter", "mode": "lines", "name": "Λ(θ_v) (right axis, log)",

@@ -17,6 +17,10 @@ from .style import DIRECTION_COLORS, axis, base_layout, gaps, model_title
 SEQUENTIAL = "Cividis"
 # Decades below the peak a log image shows; darker than that is drawn as the floor.
 IMAGE_DECADES = 6
+#: Most labels on an image's log colour bar (the bar is short on a square image in half a
+#: page: about 50 px under its title at 1280 × 800).
+COLOUR_BAR_LABELS = 3
+
 # Background of a rendered sphere (a dark studio), and of a slice's impossible region.
 RENDER_BACKGROUND = "#202020"
 NO_PAIR_GREY = "#d0d0d0"
@@ -29,7 +33,7 @@ def _log_z(values: np.ndarray, scale: ColourRange):
     """log10 of the values for a log colour scale from IMAGE_DECADES below the scale's top
     (scale.py: a high quantile of the finite values, not their maximum) to the top; darker
     values are drawn as the floor; gaps (NaN) stay gaps. Returns z, zmin, zmax and the
-    colour bar's ticks (one per decade)."""
+    colour bar's ticks (at most COLOUR_BAR_LABELS, whole decades apart)."""
     v = gaps(values)
     if scale.top is None or scale.top <= 0.0:
         return np.where(np.isfinite(v), 0.0, np.nan), 0.0, 1.0, {}
@@ -37,7 +41,11 @@ def _log_z(values: np.ndarray, scale: ColourRange):
     floor = 10.0 ** (top - IMAGE_DECADES)
     with np.errstate(invalid="ignore"):        # NaN (a gap) compares false: stays NaN
         z = np.log10(np.where(v > floor, v, np.where(np.isnan(v), np.nan, floor)))
-    ticks = np.arange(np.ceil(top - IMAGE_DECADES), np.floor(top) + 1)
+    # at most COLOUR_BAR_LABELS labels, a whole number of decades apart and the top one
+    # included: six decade labels overlapped on the bar of an image in half a page
+    decades = np.arange(np.ceil(top - IMAGE_DECADES), np.floor(top) + 1)
+    step = int(np.ceil(decades.size / COLOUR_BAR_LABELS))
+    ticks = decades[::-1][::step][::-1]
     return z, top - IMAGE_DECADES, top, {"tickvals": ticks,
                                          "ticktext": [f"10<sup>{int(k)}</sup>" for k in ticks]}
 
@@ -121,7 +129,9 @@ def slice_figure(data: dict, spec: dict, phi_d_deg: float, log: bool = True) -> 
             f"{name} over θ_h, θ_d at φ_d={phi_d_deg:g}° — {model_title(spec)}",
             xaxis=axis("θ_h (degrees): normal to half vector", range=[0, 90], dtick=15,
                        constrain="domain"),
-            yaxis=axis("θ_d (degrees): half vector to light", range=[0, 90], dtick=15,
+            # short enough for a square image in half a page (a longer title ran past
+            # the image's top into the label above it)
+            yaxis=axis("θ_d (degrees): h to l", range=[0, 90], dtick=15,
                        scaleanchor="x", constrain="domain"),
             plot_bgcolor=NO_PAIR_GREY,
             annotations=[{"text": "grey: l or v below the horizon", "xref": "paper",

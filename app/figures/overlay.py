@@ -12,7 +12,7 @@ import copy
 
 from ..errors import ParameterError
 from .markup import subscripted
-from .style import PALETTE
+from .style import PALETTE, log_dtick
 
 OVERLAY_TRACES = {"scatter", "scatterpolar"}
 # Dash patterns that tell apart the curves of one figure (G1 and Λ) once colour is
@@ -50,6 +50,10 @@ def _merge_ranges(layouts: list[dict], path: tuple[str, ...]) -> None:
         for key in path:
             target = target[key]
         target["range"] = [min(r[0] for r in ranges), max(r[1] for r in ranges)]
+        # a log axis's tick spacing is chosen for its span (style.log_dtick): the union of
+        # NDF tails over ten decades labelled every 2 and 5 of each decade crammed 30 labels
+        if target.get("type") == "log" and "dtick" in target:
+            target["dtick"] = log_dtick(target["range"][1] - target["range"][0])
 
 
 def comparison_title(figures: list[dict], labels: list[str]) -> str:
@@ -59,6 +63,33 @@ def comparison_title(figures: list[dict], labels: list[str]) -> str:
     text = title.get("text", "") if isinstance(title, dict) else str(title)
     head = text.split(" — ")[0].split("<br>")[0]
     return f"{head} — {' vs '.join(labels)}" if head else " vs ".join(labels)
+
+
+def shared_description(figures: list[dict]) -> str:
+    """What the compared figures' titles say alike after " — " (the model, its varied
+    value left out): "GGX α=0.1 · F Gold" and "GGX α=0.4 · F Gold" give "GGX · F Gold".
+    Word by word where the titles have as many words, else the words they begin with."""
+    tails = []
+    for figure in figures:
+        title = figure.get("layout", {}).get("title") or {}
+        text = (title.get("text", "") if isinstance(title, dict) else str(title)).split("<br>")[0]
+        tails.append(text.split(" — ", 1)[1].split() if " — " in text else [])
+    if len({len(t) for t in tails}) == 1:
+        kept = [words[0] for words in zip(*tails) if len(set(words)) == 1]
+    else:
+        kept = []
+        for words in zip(*tails):
+            if len(set(words)) > 1:
+                break
+            kept.append(words[0])
+    out = []
+    for word in kept:           # no separator doubled, none at either end
+        if word == "·" and (not out or out[-1] == "·"):
+            continue
+        out.append(word)
+    while out and out[-1] == "·":
+        out.pop()
+    return " ".join(out).rstrip(",")
 
 
 #: A comparison of a model's colour channels draws each in its own hue, not the palette's
@@ -93,6 +124,14 @@ def overlay(figures: list[dict], labels: list[str], title: str | None = None,
             t["legendgroup"] = label
             if t.get("showlegend", True) is not False:
                 t["name"] = label if len(named) == 1 else f"{t.get('name', '')} · {label}"
+                # the first figure's entries say what each line style is; every other
+                # figure gets one entry, its label, that shows or hides all its curves
+                # (ten entries for five roughnesses squashed the plot to a strip)
+                if k > 0 and len(named) > 1:
+                    if slot[id(trace)] == 0:
+                        t["name"] = label
+                    else:
+                        t["showlegend"] = False
             line = dict(t.get("line") or {})
             if line.get("width", 1) != 0:
                 line["color"] = colour

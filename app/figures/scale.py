@@ -31,7 +31,9 @@ class ColourRange:
         """What the colour bar's title adds: nothing when nothing is clipped."""
         if self.top is None or self.clipped <= 0.0:
             return ""
-        return (f"top: {100 * COLOUR_QUANTILE:g}th pct of area;<br>"
+        # one line: each line of a colour bar's title shortens the bar (six decade labels
+        # overlapped on a bar squashed under three lines in half a page)
+        return (f"top: {100 * COLOUR_QUANTILE:g}th pct of area, "
                 f"{100 * self.clipped:.2g} % above (max {self.largest:.3g})")
 
 

@@ -152,7 +152,11 @@ def microfacet_title(values: dict, material_name: str | None = None) -> str:
 
 
 def fresnel_text(values: dict) -> str:
-    """The Fresnel form with every parameter it takes: "Schlick F₀=0.04 F₉₀=1 p=5"."""
+    """The Fresnel form with every parameter it takes: "Schlick F₀=0.04 F₉₀=1 p=5"; a
+    measured material's name where one sets it: "Gold (measured)"."""
+    if values.get("material"):
+        name = family_of(values).display_names(values).get("material") or values["material"]
+        return f"{name} (measured)"
     if values["fresnel"] == "none":
         return "none (F = 1)"
     params = [f"{_symbol(p.name)}={number(values[p.name])}"

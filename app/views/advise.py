@@ -45,10 +45,6 @@ def _check_advise(q: AdviseQuery, s: Settings):
     if "alpha" not in family_of(given).own_names():   # it varies alpha, alpha_y
         raise ParameterError("model", "this analysis changes alpha, alpha_y of a microfacet "
                              "model; it applies to model=microfacet only")
-    if given.get("material"):
-        raise ParameterError("material", "material: advise compares one Fresnel per choice, not a "
-                             "measured material's three channels; give fresnel=conductor with "
-                             "ior and k (or fresnel=dielectric with ior) instead")
     if is_anisotropic(schemas.spec_of(q).values):
         name = "anisotropy" if "anisotropy" in given else "alpha_y"
         raise ParameterError(name, f"{name}: advise is for isotropic models (alpha_y = alpha): the "
@@ -80,4 +76,7 @@ VIEW = View(
     AdviseQuery, AdviseQuery, _compute,
     lambda data, spec, q: advise_figure(data, spec.values),
     _check_advise,
-    layout="strip")
+    layout="strip",
+    refuses_material="advise compares one Fresnel per choice, not a measured material's three "
+                     "channels; give fresnel=conductor with ior and k (or fresnel=dielectric "
+                     "with ior) instead")

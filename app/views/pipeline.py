@@ -8,7 +8,7 @@ from dataclasses import dataclass
 from ..config import Settings
 from ..errors import ParameterError
 from ..figures.markup import markup
-from ..figures.overlay import overlay, overlayable
+from ..figures.overlay import overlay, overlayable, shared_description
 from ..figures.style import model_title
 from ..integrate.methods import METHODS
 from ..model import OPTIONS, ModelSpec, refuse_method, refuse_view
@@ -76,7 +76,10 @@ def compare(view: View, queries: list, labels: list[str] | None, caption: str | 
                                  exc.status, exc.loc) from None
     labels = labels or difference_labels([r.spec.values for r in results])
     figures = [r.figure() for r in results]
-    title = None if caption is None else f"{_title_text(figures[0]).split(' — ')[0]} — {caption}"
+    # "D(θ_m) — GGX · F Gold; alpha = 0.1, 0.4": what every curve shares, then what varies
+    shared = shared_description(figures)
+    title = None if caption is None else \
+        f"{_title_text(figures[0]).split(' — ')[0]} — {shared + '; ' if shared else ''}{caption}"
     return Comparison(results, labels, overlay(figures, labels, title, param))
 
 

@@ -8,6 +8,7 @@ import numpy as np
 from pydantic import Field
 
 from ..figures.lobe_albedo import stacked_albedo_figure
+from ..figures.style import model_title
 from . import schemas
 from .view import View
 
@@ -28,5 +29,5 @@ VIEW = View(
     "E(θ_v) of each lobe (diffuse, sheen, specular, clearcoat), stacked to the total: how much "
     "each reflects.",
     PrincipledAlbedoQuery, PrincipledAlbedoQuery, compute,
-    lambda data, spec, q: stacked_albedo_figure(data, "Principled BRDF: albedo by lobe"),
+    lambda data, spec, q: stacked_albedo_figure(data, f"Albedo by lobe — {model_title(spec.values)}"),
     overlayable=True)

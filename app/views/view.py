@@ -62,6 +62,9 @@ class View:
     overlayable: bool = False
     #: room it wants beside others: one of LAYOUTS
     layout: str = "half"
+    #: why the view cannot take a measured material (``material=``), or "" where it does:
+    #: declared here, refused by :meth:`check` with this reason (422 naming ``material``)
+    refuses_material: str = ""
 
     def __post_init__(self):
         if self.layout not in LAYOUTS:
@@ -69,8 +72,13 @@ class View:
 
     def declared(self) -> dict:
         """What the view declares of itself for clients (GET /api/v1/views): heavy,
-        overlayable, layout."""
-        return {"heavy": self.heavy, "overlayable": self.overlayable, "layout": self.layout}
+        overlayable (``vary`` and pins overlay its curves), layout, and material (it takes
+        ``material=``; where not, ``material_refused`` says why)."""
+        out = {"heavy": self.heavy, "overlayable": self.overlayable, "layout": self.layout,
+               "material": not self.refuses_material}
+        if self.refuses_material:
+            out["material_refused"] = self.refuses_material
+        return out
 
     def fields(self) -> list[str]:
         """The figure query's own fields (not the model's): geometry, resolution…"""
@@ -83,6 +91,8 @@ class View:
         """Refuse the query before any work: a parameter given where it does not apply
         (schemas.applies_to), then the view's own limits."""
         schemas.applies_where_given(q)
+        if self.refuses_material and schemas.model_values(q).get("material"):
+            raise ParameterError("material", f"material: {self.refuses_material}")
         self.limits(q, settings)
 
 

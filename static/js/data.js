@@ -192,12 +192,24 @@ async function overlay(name, div) {
                      : rangeOverAll({ ...div.layout });
   const label = data.difference ? "(data − model)/model" : `data ${channelLabel()}`;
   layout.title = { text: "" };
-  // the page's own annotations stay; this module's label of an earlier overlay (another
-  // channel's) is replaced, not kept beside the new one
-  layout.annotations = [...(own ? [] : (div.layout.annotations || []).filter((a) => a.name !== LABEL)),
-    { name: LABEL, text: label, xref: "paper", yref: "paper", x: 0, y: 1, xanchor: "left", yanchor: "bottom",
-      showarrow: false, font: { size: 11, color: "#000" } }];
-  await Plotly.react(div, body.data, layout);
+  const image = body.data.find((t) => t.type === "heatmap" && t.colorbar);
+  let traces = body.data;
+  if (image) {
+    // an image says what it shows in its colour bar's title: a label above the plot's
+    // corner ran into the y axis title, which reaches past the top of a square image
+    // ("data (r): f (1/sr)", one line: each line of the title shortens the bar)
+    const bar = image.colorbar, [unit, ...note] = String(bar.title?.text ?? "").split("<br>");
+    const text = [`${label}: ${unit}`, ...note].join("<br>");
+    traces = body.data.map((t) => (t === image ? { ...t, colorbar: { ...bar, title: { ...bar.title, text } } } : t));
+    layout.annotations = (layout.annotations || []).filter((a) => a.name !== LABEL);
+  } else {
+    // the page's own annotations stay; this module's label of an earlier overlay (another
+    // channel's) is replaced, not kept beside the new one
+    layout.annotations = [...(own ? layout.annotations || [] : (div.layout.annotations || [])).filter((a) => a.name !== LABEL),
+      { name: LABEL, text: label, xref: "paper", yref: "paper", x: 0, y: 1, xanchor: "left", yanchor: "bottom",
+        showarrow: false, font: { size: 11, color: "#000" } }];
+  }
+  await Plotly.react(div, traces, layout);
   // as text, in the page's notation: Plotly's "θ<sub>o</sub>" (the figure's) reads "θ_o"
   const title = String(body.layout.title.text).replace(/(\p{L})<sub>([\p{L}\p{N}]+)<\/sub>/gu, "$1_$2");
   const largest = title.slice(title.indexOf("largest"));

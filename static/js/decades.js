@@ -54,7 +54,8 @@ function axisOf(t, key) {
   return `${key}axis${id.slice(1)}`;
 }
 
-const fullAxis = (fl, key) => key.split(".").reduce((o, k) => o?.[k], fl);
+/** An axis of the figure as drawn: Plotly writes its range and type back into gd.layout. */
+const drawnAxis = (gd, key) => key.split(".").reduce((o, k) => o?.[k], gd.layout);
 
 /** Plotly's exponent of a linear range (axes.js autoTickRound, its 0.01 included): beyond
  * ±3 its labels are written as a mantissa times 10 to this power (exponentformat "power"). */
@@ -68,7 +69,6 @@ const DECADE_SLACK = 1e-12;
  * the ranges the panel drew, by layout key; `wanted`: the server's ranges of `data`, what
  * a log axis is shifted by), or null if some axis cannot be scaled. */
 export function decadesFor(gd, data, drawn, wanted = {}) {
-  const fl = gd._fullLayout;
   const top = {};
   for (const t of data) {
     for (const key of (t.type || "scatter") === "scatterpolar" ? ["r"] : ["x", "y"]) {
@@ -84,7 +84,7 @@ export function decadesFor(gd, data, drawn, wanted = {}) {
   }
   const out = {};
   for (const [key, range] of Object.entries(drawn)) {
-    const ax = fullAxis(fl, key), shown = ax?.range;
+    const ax = drawnAxis(gd, key), shown = ax?.range;
     if (ax?.type === "log") {
       const w = wanted[key];
       if (!w) continue;
@@ -152,9 +152,8 @@ function logExponent(node) {
  * of j decades (null: plain). */
 export function baseLabels(gd, keys, ranges) {
   const out = {};
-  const fl = gd._fullLayout;
   for (const key of keys) {
-    if (fullAxis(fl, key)?.type === "log") {
+    if (drawnAxis(gd, key)?.type === "log") {
       out[key] = { labels: labelNodes(gd, key).map((n) => [n, null, logExponent(n)]), exponent: () => null, log: true };
       continue;
     }

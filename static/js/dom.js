@@ -114,13 +114,15 @@ export async function copyText(text) {
   }
 }
 
+const flashTimers = new WeakMap();
+
 /** A short confirmation on a button, then its own label again. */
 export function flash(button, text, ms = 1500) {
   const old = button.dataset.label || button.textContent;
   button.dataset.label = old;
   button.textContent = text;
-  clearTimeout(button._flash);
-  button._flash = setTimeout(() => { button.textContent = old; }, ms);
+  clearTimeout(flashTimers.get(button));
+  flashTimers.set(button, setTimeout(() => { button.textContent = old; }, ms));
 }
 
 export function saveBlob(blob, filename) {

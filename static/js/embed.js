@@ -171,7 +171,7 @@ function buildButtons() {
 
 // The plot fills what the controls and the bar leave, and follows when that changes.
 new ResizeObserver(() => {
-  if (plot._fullLayout) Promise.resolve(Plotly.Plots.resize(plot)).catch(() => {});
+  if (plot.layout) Promise.resolve(Plotly.Plots.resize(plot)).catch(() => {});
 }).observe(plot);
 
 if (withButtons) buildButtons();

@@ -64,7 +64,7 @@ function widen(ext, ax, values, plus, minus) {
 
 /** Does `data` fit the drawn figure's autoranged axes as they are? */
 function fitsAxes(gd, data, fill) {
-  const fl = gd._fullLayout;
+  const fl = gd.layout;            // Plotly writes each axis's range and autorange back into it
   const extents = new Map();
   const ext = (ax) => {
     if (!extents.has(ax)) extents.set(ax, { lo: Infinity, hi: -Infinity });
@@ -212,7 +212,7 @@ export function rangesFit(drawn, wanted, fill = FILL, openBelow = new Set()) {
  * each trace drawn last. A plain-text legend name may change (E_avg = 0.0488 → 0.0505):
  * its legend entry is rewritten in place. */
 export function canAnimate(gd, data, styles, fill = FILL) {
-  return !!gd._fullLayout && sameTraces(data, styles) && fitsAxes(gd, data, fill);
+  return !!gd.layout && sameTraces(data, styles) && fitsAxes(gd, data, fill);
 }
 
 /** Are `data` the traces drawn (styles: their traceStyle), with other arrays only? */
@@ -250,14 +250,22 @@ function renamable(before, after) {
 /** A legend entry whose trace's name changed (E_avg = 0.0488 → 0.0505) gets its new
  * text in place (a data-only redraw leaves the legend as drawn). */
 export function renameLegend(gd, data) {
-  for (const g of gd.querySelectorAll(".legend .traces")) {
-    const i = g.__data__?.[0]?.trace?.index, text = g.querySelector(".legendtext");
-    const name = data[i]?.name;
-    if (!text || name === undefined) continue;
+  // Plotly's legend lists the traces that show in it in trace order, those of one
+  // legendgroup together where the group first appears: paired in that order, and left
+  // as drawn if the counts differ
+  const entries = [...gd.querySelectorAll(".legend .traces")];
+  const shown = data.filter((t) => t.visible !== false && t.showlegend !== false);
+  const first = new Map();
+  shown.forEach((t, i) => { if (!first.has(t.legendgroup ?? i)) first.set(t.legendgroup ?? i, i); });
+  const listed = shown.map((t, i) => [first.get(t.legendgroup ?? i), i, t]).sort((a, b) => a[0] - b[0] || a[1] - b[1]).map((e) => e[2]);
+  if (entries.length !== listed.length) return;
+  entries.forEach((g, k) => {
+    const text = g.querySelector(".legendtext"), name = listed[k].name;
+    if (!text || name === undefined) return;
     const walker = document.createTreeWalker(text, NodeFilter.SHOW_TEXT);
     let last = null;
     while (walker.nextNode()) last = walker.currentNode;
     const tail = plainTail(name);
     if (last && last.textContent !== tail) last.textContent = tail;
-  }
+  });
 }

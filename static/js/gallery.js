@@ -44,11 +44,14 @@ function pump() {
   }
 }
 
+/** Each plot div's card item, for the observer that draws it when it scrolls near. */
+const items = new WeakMap();
+
 const observer = new IntersectionObserver((entries) => {
   for (const e of entries) {
     if (!e.isIntersecting) continue;
     observer.unobserve(e.target);
-    queue.push(e.target._item);
+    queue.push(items.get(e.target));
     pump();
   }
 }, { rootMargin: "300px" });
@@ -70,7 +73,7 @@ function card(entry) {
       el("p", { class: "gallery-source", text: entry.source }),
       el("div", { class: "gallery-links" }, el("a", { href: entry.explorer, class: "open" }, "Open in the explorer →"), bar),
       note));
-  div._item = item;
+  items.set(div, item);
   return item.card;
 }
 

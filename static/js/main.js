@@ -170,8 +170,11 @@ const inViewObserver = new IntersectionObserver((entries) => {
 // Plots fit their boxes when the layout changes (a panel shown, the sidebar wraps).
 const resizeObserver = new ResizeObserver((entries) => {
   for (const { target: div, contentRect: { width, height } } of entries) {
-    if (!div._fullLayout || div.offsetParent === null || width < 10 || height < 10) continue;
-    if (Math.abs(div._fullLayout.width - width) < 1 && Math.abs(div._fullLayout.height - height) < 1) continue;
+    // the size Plotly drew at: its SVG's (none before the first draw)
+    const svg = div.querySelector("svg.main-svg");
+    if (!svg || div.offsetParent === null || width < 10 || height < 10) continue;
+    const drawnW = Number(svg.getAttribute("width")), drawnH = Number(svg.getAttribute("height"));
+    if (Math.abs(drawnW - width) < 1 && Math.abs(drawnH - height) < 1) continue;
     const panel = panels.find((p) => p.div === div);
     Promise.resolve(panel?.sync()).then(() => Plotly.Plots.resize(div)).catch(() => {});
   }

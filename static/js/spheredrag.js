@@ -8,15 +8,21 @@
  * images come coarser and axes stay put; the sidebar's θ_i and φ_i follow the drag.
  * A press off the disk is left to Plotly (zoom, pan).
  */
+import { plotBox } from "./svgpaths.js";
+
 const DEG = 180 / Math.PI;
 const round1 = (v) => Math.round(v * 10) / 10;
 
-/** The pointer in the plot's data coordinates, or null before the first draw. */
+/** The pointer in the plot's data coordinates (the axes' ranges as Plotly writes them
+ * back into the figure's layout, over the plot area it drew), or null before the first
+ * draw. */
 function dataAt(div, ev) {
-  const xa = div._fullLayout?.xaxis, ya = div._fullLayout?.yaxis;
-  if (!xa?.p2c || !ya?.p2c) return null;
-  const box = div.getBoundingClientRect();
-  return [xa.p2c(ev.clientX - box.left - xa._offset), ya.p2c(ev.clientY - box.top - ya._offset)];
+  const xr = div.layout?.xaxis?.range, yr = div.layout?.yaxis?.range, area = plotBox(div);
+  const svg = div.querySelector("svg.main-svg");
+  if (!Array.isArray(xr) || !Array.isArray(yr) || !area || !svg) return null;
+  const at = svg.getBoundingClientRect();
+  const u = (ev.clientX - at.left - area.x) / area.w, v = (ev.clientY - at.top - area.y) / area.h;
+  return [xr[0] + u * (xr[1] - xr[0]), yr[1] - v * (yr[1] - yr[0])];
 }
 
 /** (θ_i, φ_i) in degrees for the light facing the sphere's point (x, y). */

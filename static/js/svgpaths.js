@@ -3,9 +3,12 @@
  * When only a figure's arrays move (fastdraw.js decides that), Plotly still re-runs
  * its defaults, calc and transition machinery for the whole figure: 15–20 ms of main
  * thread a panel. The new curves need none of it: each point goes through the axes
- * Plotly has already laid out (c2p; for a polar trace, its radial and angular c2g as
- * Plotly's scatterpolar uses them), and the trace's existing <path> elements get new
- * `d` attributes — about a millisecond for a whole panel.
+ * Plotly has already laid out (their ranges and types as Plotly writes them back into the
+ * figure's public layout, the plot area's size from the clip Plotly drew it in; for a
+ * polar trace, the centre and radius of its radial axis line), and the trace's existing
+ * <path> elements get new `d` attributes — about a millisecond for a whole panel. No
+ * private field of Plotly is read: its public figure (gd.layout, gd.data) and the SVG it
+ * drew say where each point goes.
  *
  * Supported: scatter and scatterpolar traces drawn as lines and/or markers, with a
  * `toself` fill and y error bars. Anything the page cannot place exactly as Plotly
@@ -23,29 +26,58 @@ import { numbers } from "./fastdraw.js";
 const round = (v) => Math.round(v * 100) / 100;       // Plotly writes 2 decimals too
 const finite = (p) => Number.isFinite(p[0]) && Number.isFinite(p[1]);
 
-function axis(fl, id, letter) {
-  const n = id && id.length > 1 ? id.slice(1) : "";
-  return fl[`${letter}axis${n}`];
+/** An axis of the drawn figure (layout key "xaxis2", "polar.radialaxis") as a map from
+ * data to its range's units (log10 on a log axis), or null where Plotly laid out none
+ * or a kind of axis the page does not place (category, date). */
+function axisScale(gd, key) {
+  const ax = key.split(".").reduce((o, k) => o?.[k], gd.layout);
+  const r = ax?.range, type = ax?.type || "linear";
+  if (!Array.isArray(r) || r.length !== 2 || r[0] === r[1] || (type !== "linear" && type !== "log")) return null;
+  return { r0: r[0], r1: r[1], l: type === "log" ? (v) => (v > 0 ? Math.log10(v) : NaN) : (v) => v };
+}
+
+/** An element's translation (its transform's leading translate()), or null. */
+function translateOf(node) {
+  const m = /^\s*translate\(\s*(-?[\d.e+-]+)[\s,]+(-?[\d.e+-]+)\s*\)/.exec(node?.getAttribute("transform") || "");
+  return m ? [Number(m[1]), Number(m[2])] : null;
+}
+
+/** The plot area of a cartesian subplot ("xy", "x2y2") in the SVG's pixels, as Plotly
+ * clips it: {x, y, w, h}, or null before it is drawn. */
+export function plotBox(gd, subplot = "xy") {
+  const rect = gd.querySelector(`clipPath.axesclip[id$="${subplot}"] rect`);
+  const n = (a) => Number(rect?.getAttribute(a));
+  const box = { x: n("x"), y: n("y"), w: n("width"), h: n("height") };
+  return rect && Object.values(box).every(Number.isFinite) && box.w > 0 && box.h > 0 ? box : null;
 }
 
 /** (u, v) data → [px, py] in the trace layer's pixels, as Plotly draws the trace type. */
-function projector(gd, ft) {
-  const fl = gd._fullLayout;
-  if (ft.type === "scatterpolar") {
-    const sp = fl[ft.subplot || "polar"]?._subplot;
-    const ra = sp?.radialAxis, aa = sp?.angularAxis, xa = sp?.xaxis, ya = sp?.yaxis;
-    if (!ra?.c2g || !aa?.c2g || !xa?.c2p || !ya?.c2p || aa.type !== "linear") return null;
-    // Plotly's calcdata holds θ in radians (its calc converts a trace's degrees), which
-    // is what c2g takes
-    const toRad = ft.thetaunit === "radians" ? 1 : Math.PI / 180;
-    return { u: "r", v: "theta", at: (r, t) => {
-      const g = ra.c2g(r), a = aa.c2g(t * toRad);
-      return [xa.c2p(g * Math.cos(a)), ya.c2p(g * Math.sin(a))];
+function projector(gd, t) {
+  if (t.type === "scatterpolar") {
+    const key = t.subplot || "polar", aa = gd.layout?.[key]?.angularaxis || {};
+    const ra = axisScale(gd, `${key}.radialaxis`);
+    const g = gd.querySelector(`.polarlayer g.${key}`);
+    const line = g?.querySelector(".radial-line line"), centre = translateOf(line), at = translateOf(g?.querySelector(".frontplot"));
+    const inner = Number(line?.getAttribute("x1")), outer = Number(line?.getAttribute("x2"));
+    if (!ra || !centre || !at || !(outer > inner) || (aa.type && aa.type !== "linear")) return null;
+    // Plotly's angle: counterclockwise from +x by default, `rotation` where θ = 0 is
+    // (90° by default when clockwise); θ in the trace's unit
+    const dir = aa.direction === "clockwise" ? -1 : 1, rotation = aa.rotation ?? (dir < 0 ? 90 : 0);
+    const toDeg = t.thetaunit === "radians" ? 180 / Math.PI : 1;
+    const perUnit = (outer - inner) / (ra.r1 - ra.r0), cx = centre[0] - at[0], cy = centre[1] - at[1];
+    return { u: "r", v: "theta", at: (r, th) => {
+      const rad = inner + (ra.l(r) - ra.r0) * perUnit, a = (rotation + dir * th * toDeg) * Math.PI / 180;
+      return [cx + rad * Math.cos(a), cy - rad * Math.sin(a)];
     } };
   }
-  const xa = axis(fl, ft.xaxis, "x"), ya = axis(fl, ft.yaxis, "y");
-  if (!xa?.c2p || !ya?.c2p) return null;
-  return { u: "x", v: "y", ya, at: (x, y) => [xa.c2p(x), ya.c2p(y)] };
+  const xid = t.xaxis || "x", yid = t.yaxis || "y";
+  const xa = axisScale(gd, `xaxis${xid.slice(1)}`), ya = axisScale(gd, `yaxis${yid.slice(1)}`);
+  // the size of the subplot's plot area (an overlaying axis's subplot has its own clip)
+  const rect = gd.querySelector(`clipPath.plotclip[id$="${xid}${yid}plot"] rect`);
+  const box = { w: Number(rect?.getAttribute("width")), h: Number(rect?.getAttribute("height")) };
+  if (!xa || !ya || !(box.w > 0) || !(box.h > 0)) return null;
+  const py = (y) => (ya.r1 - ya.l(y)) * box.h / (ya.r1 - ya.r0);
+  return { u: "x", v: "y", py, at: (x, y) => [(xa.l(x) - xa.r0) * box.w / (xa.r1 - xa.r0), py(y)] };
 }
 
 /** The pixel points of one trace (null where Plotly leaves a gap). */
@@ -83,8 +115,8 @@ const pathOf = (run) => `M${run.map((p) => `${round(p[0])},${round(p[1])}`).join
  * (segs: the line runs; drawn: the points with a marker; ticks: each error bar's
  * [x, top, bottom]; half: half its cap width). */
 function traceGeometry(gd, group, t) {
-  const ft = group.__data__?.[0]?.trace;
-  if (!ft || (ft.type !== "scatter" && ft.type !== "scatterpolar")) return null;
+  const ft = { ...t, type: t.type || "scatter" };
+  if (ft.type !== "scatter" && ft.type !== "scatterpolar") return null;
   const proj = projector(gd, ft);
   const points = proj && pixels(proj, t);
   if (!points) return null;
@@ -105,13 +137,13 @@ function traceGeometry(gd, group, t) {
   let half = 0;
   if (bars.length || t.error_y?.array) {
     const plus = numbers(t.error_y?.array), minus = numbers(t.error_y?.arrayminus) || plus;
-    const ys = numbers(t.y), ya = proj.ya;
-    if (!plus || !ya || bars.length !== drawn.length) return null;
+    const ys = numbers(t.y), py = proj.py;
+    if (!plus || !py || bars.length !== drawn.length) return null;
     half = Number(/h(-?[\d.]+)/.exec(bars[0]?.getAttribute("d") || "")?.[1]) / 2;
     if (bars.length && !Number.isFinite(half)) return null;
     for (let i = 0; i < points.length; i++) {
       if (!points[i]) continue;
-      const hi = ya.c2p(ys[i] + (plus[i] || 0)), lo = ya.c2p(ys[i] - (minus[i] || 0));
+      const hi = py(ys[i] + (plus[i] || 0)), lo = py(ys[i] - (minus[i] || 0));
       if (!Number.isFinite(hi) || !Number.isFinite(lo)) return null;
       ticks.push([points[i][0], hi, lo]);
     }
@@ -130,26 +162,51 @@ function traceWrites({ lines, fill, marks, bars, half: w, segs, drawn, ticks }) 
   return writes;
 }
 
+/** The indices of the traces of `data` that Plotly draws (visible: true, its default). */
+export const drawnTraces = (data) => data.map((t, i) => (t.visible ?? true) === true ? i : -1).filter((i) => i >= 0);
+
+/** The subplot a trace is drawn in ("xy", "xy2", "polar"). */
+const subplotOfTrace = (t) => (t.type === "scatterpolar" ? t.subplot || "polar" : `${t.xaxis || "x"}${t.yaxis || "y"}`);
+
+/** The subplot a drawn trace group is in: the class of its nearest subplot group. */
+function subplotOfGroup(gd, g) {
+  for (let n = g.parentElement; n && n !== gd; n = n.parentElement) {
+    const c = [...n.classList].find((k) => /^(x\d*y\d*|polar\d*)$/.test(k));
+    if (c) return c;
+  }
+  return null;
+}
+
 /** Every drawn trace of `data` placed on `gd` as Plotly would place it (trace order),
- * or null if they cannot all be: read in an animation frame, with the axes as they are. */
+ * or null if they cannot all be: read in an animation frame, with the axes as they are.
+ * Plotly draws one group a visible trace, subplot by subplot in trace order, so within
+ * each subplot the groups drawn and its visible traces pair up in order; any mismatch
+ * of count or kind answers null. */
 export function geometry(gd, data) {
-  // every trace that Plotly drew (a hidden one is not drawn) must be placed
-  if (!gd._fullLayout || !gd._fullData || gd._fullData.length !== data.length) return null;
-  const groups = new Map();
+  if (!gd.layout) return null;
+  const groups = new Map(), traces = new Map();
   for (const g of gd.querySelectorAll(".scatterlayer g.trace")) {
-    const i = g.__data__?.[0]?.trace?.index;
-    if (Number.isInteger(i)) groups.set(i, g);
+    const sub = subplotOfGroup(gd, g);
+    if (!groups.has(sub)) groups.set(sub, []);
+    groups.get(sub).push(g);
   }
-  for (let i = 0; i < data.length; i++) {
-    if ((gd._fullData[i].visible === true) !== groups.has(i)) return null;
+  for (const i of drawnTraces(data)) {
+    const sub = subplotOfTrace({ ...data[i], type: data[i].type || "scatter" });
+    if (!traces.has(sub)) traces.set(sub, []);
+    traces.get(sub).push(i);
   }
+  if (groups.size !== traces.size) return null;
   const out = [];
-  for (const i of [...groups.keys()].sort((a, b) => a - b)) {
-    const g = traceGeometry(gd, groups.get(i), data[i]);
-    if (!g) return null;
-    out.push(g);
+  for (const [sub, indices] of traces) {
+    const gs = groups.get(sub);
+    if (!gs || gs.length !== indices.length) return null;
+    for (let k = 0; k < indices.length; k++) {
+      const g = traceGeometry(gd, gs[k], data[indices[k]]);
+      if (!g) return null;
+      out.push([indices[k], g]);
+    }
   }
-  return out;
+  return out.sort((a, b) => a[0] - b[0]).map(([, g]) => g);
 }
 
 /** Draws `data` on `gd` by writing its paths (in an animation frame: it reads the axes

@@ -69,6 +69,19 @@ def test_a_dropped_dump_shows_on_the_lobe_and_its_error_where_the_bug_predicts(p
     assert not [p for p in page_log.problems() if "/datasets" in p], page_log.problems()
 
 
+SLICE_LOOKS_JS = """() => {
+  const div = document.getElementById('plot-slice'), box = (n) => n.getBoundingClientRect();
+  const meet = (a, b) => a.left < b.right - 1 && b.left < a.right - 1 && a.top < b.bottom - 1 && b.top < a.bottom - 1;
+  const yt = div.querySelector('.g-ytitle text'), others = [...div.querySelectorAll('.annotation-text, .cbtitle text, .g-gtitle text, .g-xtitle text')];
+  const ticks = [...div.querySelectorAll('.colorbar .cbaxis text')].map(box);
+  let tickOverlaps = 0;
+  for (let i = 0; i < ticks.length; i++) for (let j = i + 1; j < ticks.length; j++) tickOverlaps += meet(ticks[i], ticks[j]);
+  const y = yt && box(yt);
+  return { figure: box(div).toJSON(), ytitle: y && y.toJSON(), ticks: ticks.map((b) => b.toJSON()), tickOverlaps,
+           crossing: y ? others.filter((o) => meet(y, box(o))).map((o) => o.textContent) : [],
+           bar: [...div.querySelectorAll('.cbtitle text')].map((t) => t.textContent).join(' ') }; }"""
+
+
 def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_path, shots):
     path = tmp_path / "coppery.binary"
     path.write_bytes(known.measured_style_bytes())
@@ -79,10 +92,11 @@ def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_pa
     assert "merl" in page.text_content("#data-status")
     # the data's peak (its α = 0.06 lobe, far above the model's α = 0.3) is on the axis
     # drawn, not cut off at the model's top
-    top, peak = page.evaluate("""() => { const d = document.getElementById('plot-lobe');
-        const r = d._fullData.filter((t) => t.name && t.name.startsWith('data')).flatMap((t) => Array.from(t.r))
+    top, peak = page.evaluate("""async () => { const d = document.getElementById('plot-lobe');
+        const { numbers } = await import('/static/js/fastdraw.js');     // a typed array sent as {dtype, bdata}
+        const r = d.data.filter((t) => t.name && t.name.startsWith('data')).flatMap((t) => Array.from(numbers(t.r)))
           .filter(Number.isFinite);
-        return [d._fullLayout.polar.radialaxis.range[1], Math.max(...r)]; }""")
+        return [d.layout.polar.radialaxis.range[1], Math.max(...r)]; }""")
     assert peak > 0.1 and top >= peak, (top, peak)
     page.select_option("#data-channel", "r")
     page.click("#data-fit")
@@ -97,6 +111,13 @@ def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_pa
     page.wait_for_function("() => window.__brdf.pending() === 0")
     page.screenshot(path=str(shots / "screenshot-data.png"), full_page=False)
     assert "data (r)" in plot(page, "lobe")["names"]
+    # the data's slice as a person reads it (issue 34): its y title inside the figure and
+    # clear of every other text, the colour bar saying it is the data, its labels apart
+    looks = page.evaluate(SLICE_LOOKS_JS)
+    assert looks["ytitle"] and looks["ytitle"]["top"] >= looks["figure"]["top"] - 1, looks
+    assert looks["crossing"] == [], looks
+    assert "data (r)" in looks["bar"], looks
+    assert len(looks["ticks"]) >= 2 and looks["tickOverlaps"] == 0, looks
     assert not [p for p in page_log.problems() if "/datasets" in p or "/fit" in p], page_log.problems()
 
 

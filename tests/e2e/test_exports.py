@@ -39,12 +39,19 @@ def views(base_url) -> list[dict]:
         return json.load(r)
 
 
+#: The embeds' cheaper queries of the views that compute for seconds at their defaults:
+#: what is checked (the frame filled, the title's lines in it) is the figure's layout,
+#: the same at any budget or resolution
+CHEAP_EMBED = {"tradeoff": "&max_budget=1024", "advise": "&alpha_min=0.5&tol=0.01",
+               "samples": "&n=4096", "sphere_env": "&n=96"}
+
+
 def test_every_view_embeds_without_errors(page, page_log, base_url):
     strict_csp(page)
     page.set_viewport_size({"width": 640, "height": 440})        # a typical iframe
     for v in views(base_url):
-        page.goto(f"/embed/{v['name']}?alpha=0.2")
-        page.wait_for_function(EMBED_QUIET, timeout=60_000)    # the trade-off view computes for seconds at load
+        page.goto(f"/embed/{v['name']}?alpha=0.2{CHEAP_EMBED.get(v['name'], '')}")
+        page.wait_for_function(EMBED_QUIET, timeout=60_000)
         box = page.locator("#plot").bounding_box()
         assert box["width"] >= 600 and box["height"] >= 250, (v["name"], box)   # fills the frame
         assert page.evaluate("() => document.documentElement.scrollHeight <= innerHeight + 1")
@@ -214,6 +221,33 @@ def test_every_control_is_labelled_and_keyboard_operable(page, page_log):
     assert page_log.problems() == []
 
 
+# Each gallery card's plot as a reader sees it (issue 34: crammed log labels, a right axis
+# labelled 0.00309, 0.00179, −0.00081 and a legend that squashed the albedo to a strip):
+# per axis, tick labels that overlap one another and linear ticks whose spacing is not a
+# round number (1, 2, 2.5 or 5 × 10^k, or 15° and 30° steps of an angle); and the plot area's share of the figure's height.
+CARD_LOOKS_JS = r"""() => [...document.querySelectorAll('.gallery-card')].map((card) => {
+  const div = card.querySelector('.gallery-plot'), out = { id: card.id, overlaps: [], unround: [] };
+  for (const cls of ['xtick', 'ytick', 'y2tick']) {
+    const texts = [...div.querySelectorAll(`.cartesianlayer g.${cls} text, .polarlayer g.${cls} text`)];
+    const boxes = texts.map((t) => t.getBoundingClientRect()).filter((b) => b.width > 0);
+    for (let i = 0; i < boxes.length; i++) for (let j = i + 1; j < boxes.length; j++) {
+      const a = boxes[i], b = boxes[j];
+      if (a.left < b.right - 1 && b.left < a.right - 1 && a.top < b.bottom - 1 && b.top < a.bottom - 1)
+        out.overlaps.push([cls, texts[i].textContent, texts[j].textContent]);
+    }
+    const values = texts.map((t) => t.textContent.replace('\u2212', '-'));
+    if (values.length >= 3 && values.every((v) => /^-?\d*\.?\d+$/.test(v))) {
+      const step = Math.abs(Number(values[1]) - Number(values[0]));
+      const m = step / 10 ** Math.floor(Math.log10(step));
+      if (![1, 1.5, 2, 2.5, 3, 5, 10].some((r) => Math.abs(m - r) < 1e-6 * r)) out.unround.push([cls, values.slice(0, 4)]);
+    }
+  }
+  const area = div.querySelector('.nsewdrag, .polarlayer .bg, .polarlayer path.bg');
+  const plot = div.getBoundingClientRect();
+  out.areaShare = area ? area.getBoundingClientRect().height / plot.height : null;
+  return out; })"""
+
+
 def test_gallery_renders_and_every_link_opens_its_state(page, page_log, shots):
     strict_csp(page)
     page.goto("/gallery")
@@ -227,6 +261,9 @@ def test_gallery_renders_and_every_link_opens_its_state(page, page_log, shots):
     assert page.evaluate("() => window.__gallery.done()") == count
     page.evaluate("() => window.scrollTo(0, 0)")
     page.screenshot(path=str(shots / "screenshot-gallery.png"))
+    for card in page.evaluate(CARD_LOOKS_JS):
+        assert card["overlaps"] == [] and card["unround"] == [], card
+        assert card["areaShare"] is None or card["areaShare"] >= 0.5, card
     links = page.eval_on_selector_all(".gallery-card a.open", "(as) => as.map((a) => a.href)")
     assert len(links) == count
     for link in links:

@@ -21,9 +21,13 @@ PATHS_JS = """(name) => { const gd = document.getElementById(`plot-${name}`);
       return gd.heldCurves.map((runs) => runs.map((run) => 'M' + run.map(([x, y]) => `${x},${y}`).join('L')));
     return [...gd.querySelectorAll('.scatterlayer g.trace')]
       .map((g) => [...g.querySelectorAll('path.js-line')].map((p) => p.getAttribute('d'))); }"""
-SIZE_JS = """(n) => { const fl = document.getElementById(`plot-${n}`)._fullLayout;
-    const ax = fl.polar ? fl.polar._subplot.xaxis : fl.xaxis, ay = fl.polar ? fl.polar._subplot.yaxis : fl.yaxis;
-    return [ax._length, ay._length]; }"""
+# The plot area's size as Plotly drew it (its public SVG): a cartesian plot's clip, a
+# half-disc polar plot's diameter and radius
+SIZE_JS = """(n) => { const gd = document.getElementById(`plot-${n}`);
+    const line = gd.querySelector('.polarlayer .radial-line line');
+    if (line) { const r = Number(line.getAttribute('x2')); return [2 * r, r]; }
+    const rect = gd.querySelector('clipPath.axesclip[id$="xy"] rect');
+    return [Number(rect.getAttribute('width')), Number(rect.getAttribute('height'))]; }"""
 NUMBER = re.compile(r"-?\d+(?:\.\d+)?(?:e-?\d+)?")
 
 

@@ -27,7 +27,7 @@ def test_every_field_of_a_view_says_what_it_is(client, name):
 def test_a_views_declared_flags_are_what_it_draws(name):
     view = VIEWS[name]
     declared = view.declared()
-    assert set(declared) == {"heavy", "overlayable", "layout"}
+    assert {"heavy", "overlayable", "layout", "material"} <= set(declared) <= {"heavy", "overlayable", "layout", "material", "material_refused"}
     assert declared["layout"] in LAYOUTS
     q = view.figure_query.model_validate(CHEAP.get(name, {}))
     result = run(view, q, Settings())
