@@ -93,11 +93,12 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
     t.add(terms.diffuse(getattr(brdf, "diffuse", None) or Lambert()))
     if g2.needs_phi:
         t.add(terms.lambda_phi(lambda_phi_entry(single.lambda_phi)))
+    fits: dict = {}                 # the Smith fits written so far (lobes of one shape share one)
     for k, (weight, lobe) in enumerate(lobes, start=1):
         t.consts.append(Const(f"W{k}", weight, f"weight of specular lobe {k}"))
         t.material.add(f"W{k}")
         t.add(terms.ndf_D(k, lobe.ndf))
-        ml = terms.mu_Lambda(k, lobe.ndf, lobe.masking)
+        ml = terms.mu_Lambda(k, lobe.ndf, lobe.masking, fits)
         if ml.tabulated:
             baked.update({name: BAKED_TABLE for name in t.material if name.startswith(f"NDF{k}_")})
             if not getattr(lobe.ndf, "shape_invariant", True):
@@ -107,11 +108,11 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
     if ms is not None:
         offset = 0                  # each lobe's pieces follow the previous lobe's
         for k, term in enumerate(ms.lobes, start=1):
-            c, tab, f = embed.kulla_conty_E(k, term, offset)
+            c, tab, e_fns = embed.kulla_conty_E(k, term, offset)
             offset += len(tab[0].values)
             t.consts.extend(c)
             t.tables.extend(tab)
-            t.fns.append(f)
+            t.fns.extend(e_fns)
             t.tabulated.append((f"E_{k}", "Kulla-Conty's E(μ) at the lobe's α, the cubic pieces of the "
                                           "project's E(μ, α) spline", term.table.error))
             scale = _channel_scales(single, ms, k - 1)
