@@ -7,6 +7,7 @@ frame n = +z. The terms are those of app/physics (terms.py, embed.py).
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import replace
 
@@ -57,7 +58,14 @@ def program(spec: ModelSpec, form: str = "const") -> Program:
 
 def _writes_microfacet(family) -> bool:
     """A family that takes a microfacet model's choices (NDF, masking, G2, Fresnel, diffuse)."""
-    return "ndf" in family.own_names()
+    known = _MICROFACET.get(id(family))
+    if known is None or known[0] is not family:
+        known = _MICROFACET[id(family)] = (family, "ndf" in family.own_names())
+    return known[1]
+
+
+#: Whether a family takes the microfacet choices, by family (own_names builds its fields).
+_MICROFACET: dict[int, tuple] = {}
 
 
 #: The writers, each (whether it writes a family, its assemble(spec, form) → (Program, info)).
@@ -134,8 +142,14 @@ def _library(fns: list[Fn]) -> list[Fn]:
     used = set()
     for fn in fns:
         for expr in [fn.result, *(e for _, _, e in fn.body)]:
-            used |= set(tokens(expr)) & set(LIBRARY)
+            used |= _library_names(expr)
     return [LIBRARY[name] for name in sorted(used)]
+
+
+@functools.lru_cache(maxsize=8192)
+def _library_names(expr: str) -> frozenset:
+    """The library functions an expression names (the same expressions recur in every program)."""
+    return frozenset(tokens(expr)) & frozenset(LIBRARY)
 
 
 def _merged(tables: list[Table]) -> list[Table]:
