@@ -66,8 +66,12 @@ def _pieces(bp, coeffs, what: str, offset: int) -> list:
 
 def _y_of_mu(k: int) -> list:
     """y = √a/(1 + √a), a = μ/(α sinθ): the tables' variable (1 at normal incidence)."""
+    return _y_of(f"KC_ALPHA_{k}")
+
+
+def _y_of(alpha: str) -> list:
     return [("float", "m", "clamp(mu, 0.0, 1.0)"),
-            ("float", "ra", f"sqrt(m / (KC_ALPHA_{k} * sqrt((1.0 - m) * (1.0 + m))))"),
+            ("float", "ra", f"sqrt(m / ({alpha} * sqrt((1.0 - m) * (1.0 + m))))"),
             ("float", "y", "sel(m < 1.0, ra / (1.0 + ra), 1.0)")]
 
 
@@ -77,39 +81,56 @@ def _piece_at_j(var: str = "y") -> list:
             ("float", "e", "((KC_C0[j] * d + KC_C1[j]) * d + KC_C2[j]) * d + KC_C3[j]")]
 
 
-def _slice_E(k: int, term, offset: int) -> tuple[list, list, Fn]:
+def _slice_search(steps: int, graded: bool) -> Fn:
+    """E(μ) of a slice whose padded part of 2^steps pieces starts at j0 in the shared
+    tables (its last real piece j_last): the piece found by a branch-free binary search
+    unrolled over the breakpoints (one ``sel`` a step); ``graded``: the pieces are in
+    x = y^q. One function for every lobe of that search length."""
+    params = [("float", "mu"), ("float", "alpha")] + ([("float", "q")] if graded else []) + \
+        [("int", "first"), ("int", "last")]
+    body = _y_of("alpha")
+    var = "y"
+    if graded:
+        body.append(("float", "x", "pow(y, q)"))
+        var = "x"
+    body.append(("int", "j0", "toint(first)"))      # toint: the Python form passes floats
+    for i in range(steps):
+        step = 1 << (steps - 1 - i)
+        body.append(("int", f"j{i + 1}", f"sel({var} >= KC_BP[j{i} + {step}], j{i} + {step}, j{i})"))
+    body += [("int", "j", f"min(j{steps}, toint(last))")] + _piece_at_j(var)
+    return Fn(f"kc_slice_E{steps}{'q' if graded else ''}", "float", params, body, "clamp(e, 0.0, 1.0)",
+              f"E(μ) at F = 1 from a lobe's {1 << steps} padded cubic pieces in y = √a/(1 + √a), a = μ/(α sinθ)"
+              + (", in x = y^q (where E is smooth at grazing)" if graded else "") + ",\nfrom index first (its last real piece: last) of KC_BP, "
+              "KC_C0..KC_C3; the piece by a branch-free binary search.")
+
+
+def _slice_E(k: int, term, offset: int) -> tuple[list, list, list]:
     """E_k(μ) from the per-α slice (integrate/tables/alpha_slice.py): its cubic pieces at
-    adaptive breakpoints, the piece found by a branch-free binary search unrolled over the
-    padded breakpoint list (log₂ of its length steps of one ``sel`` each)."""
+    adaptive breakpoints, read by the search function every lobe of its length shares."""
     table = term.table
     bp, coeffs = table.spline.x[:-1], table.spline.c
     m = bp.size
     steps = max(1, int(np.ceil(np.log2(m))))
     padded = np.concatenate([bp, np.full((1 << steps) - m, 2.0)])   # y ≤ 1 never passes 2
     consts = [Const(f"KC_ALPHA_{k}", float(term.alpha), f"α of lobe {k}, the slice's own")]
-    doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017), from the project's E(μ) slice at\n"
-           f"α = {term.alpha:g} ({m} cubic pieces in y, reported error {table.error:.1e}):"
-           " y = √a/(1 + √a), a = μ/(α sinθ).")
-    body = _y_of_mu(k)
-    var = "y"
-    if table.exponent != 1.0:     # the slice's axis is x = y^q where E ~ μ^(2γ−3) at grazing
+    doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017): the project's E(μ) slice at α = {term.alpha:g}"
+           f" ({m} pieces, reported error {table.error:.1e}).")
+    graded = table.exponent != 1.0   # the slice's axis is x = y^q where E ~ μ^(2γ−3) at grazing
+    args = ["mu", f"KC_ALPHA_{k}"]
+    if graded:
         consts.append(Const(f"KC_Q_{k}", float(table.exponent), f"q of lobe {k}'s axis x = y^q"))
-        body.append(("float", "x", f"pow(y, KC_Q_{k})"))
-        var = "x"
-        doc += f"\nThe pieces are in x = y^{table.exponent:g}, where E is smooth at grazing."
-    body.append(("int", "j0", f"{offset}"))
-    for i in range(steps):
-        step = 1 << (steps - 1 - i)
-        body.append(("int", f"j{i + 1}", f"sel({var} >= KC_BP[j{i} + {step}], j{i} + {step}, j{i})"))
-    body += [("int", "j", f"min(j{steps}, {offset + m - 1})")] + _piece_at_j(var)
+        args.append(f"KC_Q_{k}")
+    search = _slice_search(steps, graded)
     coeffs = np.concatenate([coeffs, np.zeros((4, padded.size - m))], axis=1)   # the padding's pieces
-    return (consts, _pieces(padded.tolist(), coeffs, " (a slice's padded with 2)", offset),
-            Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc))
+    fn = Fn(f"E_{k}", "float", [("float", "mu")], [],
+            f"{search.name}({', '.join(args)}, {offset}, {offset + m - 1})", doc)
+    return consts, _pieces(padded.tolist(), coeffs, " (a slice's padded with 2)", offset), [search, fn]
 
 
-def kulla_conty_E(k: int, term, offset: int = 0) -> tuple[list, list, Fn]:
+def kulla_conty_E(k: int, term, offset: int = 0) -> tuple[list, list, list]:
     """E_k(μ): the lobe's E(μ, α) table at its α, as the cubic pieces of its spline in y,
-    from ``offset`` in the tables the lobes share (the previous lobes' parts before it)."""
+    from ``offset`` in the tables the lobes share (the previous lobes' parts before it);
+    the functions it needs, E_k last."""
     table = term.table
     if isinstance(table.spline, CubicSpline):      # a slice at the lobe's own α
         return _slice_E(k, term, offset)
@@ -137,4 +158,4 @@ def kulla_conty_E(k: int, term, offset: int = 0) -> tuple[list, list, Fn]:
     body = _y_of_mu(k) + [
         ("int", "j", f"{offset} + clamp(toint(floor(KC_NM1_{k} * pow(y, KC_INV_GRADING))) - 1, 0, {m - 1})")
     ] + _piece_at_j()
-    return consts, tabs, Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc)
+    return consts, tabs, [Fn(f"E_{k}", "float", [("float", "mu")], body, "clamp(e, 0.0, 1.0)", doc)]

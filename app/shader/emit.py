@@ -5,9 +5,15 @@ trips through 9 digits), 17 in Python (float64).
 """
 from __future__ import annotations
 
+import functools
 import textwrap
 
-from .dsl import LANGS, TYPES, Fn, Program, literal, translate
+from .dsl import LANGS, TYPES, Fn, Program, literal
+from .dsl import translate as _translate
+
+#: The translation of an expression depends on its text and the language only, and the
+#: same few hundred expressions recur in every program: translated once each.
+translate = functools.lru_cache(maxsize=8192)(_translate)
 
 PY_PRELUDE = '''import functools
 

@@ -7,6 +7,7 @@ frame n = +z. The terms are those of app/physics (terms.py, embed.py).
 """
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import replace
 
@@ -57,7 +58,14 @@ def program(spec: ModelSpec, form: str = "const") -> Program:
 
 def _writes_microfacet(family) -> bool:
     """A family that takes a microfacet model's choices (NDF, masking, G2, Fresnel, diffuse)."""
-    return "ndf" in family.own_names()
+    known = _MICROFACET.get(id(family))
+    if known is None or known[0] is not family:
+        known = _MICROFACET[id(family)] = (family, "ndf" in family.own_names())
+    return known[1]
+
+
+#: Whether a family takes the microfacet choices, by family (own_names builds its fields).
+_MICROFACET: dict[int, tuple] = {}
 
 
 #: The writers, each (whether it writes a family, its assemble(spec, form) → (Program, info)).
@@ -93,11 +101,12 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
     t.add(terms.diffuse(getattr(brdf, "diffuse", None) or Lambert()))
     if g2.needs_phi:
         t.add(terms.lambda_phi(lambda_phi_entry(single.lambda_phi)))
+    fits: dict = {}                 # the Smith fits written so far (lobes of one shape share one)
     for k, (weight, lobe) in enumerate(lobes, start=1):
         t.consts.append(Const(f"W{k}", weight, f"weight of specular lobe {k}"))
         t.material.add(f"W{k}")
         t.add(terms.ndf_D(k, lobe.ndf))
-        ml = terms.mu_Lambda(k, lobe.ndf, lobe.masking)
+        ml = terms.mu_Lambda(k, lobe.ndf, lobe.masking, fits)
         if ml.tabulated:
             baked.update({name: BAKED_TABLE for name in t.material if name.startswith(f"NDF{k}_")})
             if not getattr(lobe.ndf, "shape_invariant", True):
@@ -107,11 +116,11 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
     if ms is not None:
         offset = 0                  # each lobe's pieces follow the previous lobe's
         for k, term in enumerate(ms.lobes, start=1):
-            c, tab, f = embed.kulla_conty_E(k, term, offset)
+            c, tab, e_fns = embed.kulla_conty_E(k, term, offset)
             offset += len(tab[0].values)
             t.consts.extend(c)
             t.tables.extend(tab)
-            t.fns.append(f)
+            t.fns.extend(e_fns)
             t.tabulated.append((f"E_{k}", "Kulla-Conty's E(μ) at the lobe's α, the cubic pieces of the "
                                           "project's E(μ, α) spline", term.table.error))
             scale = _channel_scales(single, ms, k - 1)
@@ -133,8 +142,14 @@ def _library(fns: list[Fn]) -> list[Fn]:
     used = set()
     for fn in fns:
         for expr in [fn.result, *(e for _, _, e in fn.body)]:
-            used |= set(tokens(expr)) & set(LIBRARY)
+            used |= _library_names(expr)
     return [LIBRARY[name] for name in sorted(used)]
+
+
+@functools.lru_cache(maxsize=8192)
+def _library_names(expr: str) -> frozenset:
+    """The library functions an expression names (the same expressions recur in every program)."""
+    return frozenset(tokens(expr)) & frozenset(LIBRARY)
 
 
 def _merged(tables: list[Table]) -> list[Table]:

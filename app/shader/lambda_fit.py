@@ -26,9 +26,23 @@ TRIM = 1e-9
 FIT_CHECK = 20001
 
 
+#: The fits made, by the table they fit (its identity: smith_table caches one table per
+#: shape): a fit costs a Chebyshev interpolation and a check on FIT_CHECK points, and the
+#: same shape is written for every model, form and language that uses it.
+_FITS: dict[int, tuple] = {}
+
+
 def fit(ndf):
     """(table, coefficients (PIECES, DEGREE + 1), x0, width, max |ΔG1| of the fit)."""
     table = smith_table.lambda_table(ndf)
+    done = _FITS.get(id(table))
+    if done is not None and done[0] is table:
+        return done
+    done = _FITS[id(table)] = _fit(table)
+    return done
+
+
+def _fit(table):
     x0, x1 = np.log(table.a_min), np.log(table.a_max)
     width = (x1 - x0) / PIECES
     coef = np.empty((PIECES, DEGREE + 1))
@@ -41,34 +55,42 @@ def fit(ndf):
     a = np.exp(x)
     i = np.clip(np.floor((x - x0) / width), 0, PIECES - 1).astype(int)
     t = 2.0 * (x - x0 - i * width) / width - 1.0
-    h_fit = np.array([np.polynomial.chebyshev.chebval(tt, coef[ii]) for tt, ii in zip(t, i)])
+    h_fit = np.empty_like(x)
+    for piece in range(PIECES):
+        at = i == piece
+        h_fit[at] = np.polynomial.chebyshev.chebval(t[at], coef[piece])
     h_tab = table.h(a)
     error = float(np.max(np.abs(a / (a + h_fit) - a / (a + h_tab))))
     return table, coef, x0, width, error
 
 
-def lambda_fit(k: int, ndf):
+def lambda_fit(k: int, ndf, parts: dict):
     """(constants, tables, doc, body, result) of μΛ = s h(μ/s) by the fit; the doc and
-    the returned error (last) state its largest |ΔG1| against the table."""
+    the returned error (last) state its largest |ΔG1| against the table. ``parts``: the
+    program's fits so far (table identity → offset in LAM_C): two lobes of one shape (a
+    shape-invariant NDF at two α) read one set of coefficients, written once."""
     table, coef, x0, width, error = fit(ndf)
     total = error + smith_table.TABLE_G1_ERROR
-    # the fit's range is the table's, the same for every lobe: one set of constants
+    n = DEGREE + 1
+    shared = id(table) in parts
+    base = parts[id(table)] if shared else PIECES * n * len(parts)
+    parts[id(table)] = base
+    j = base // (PIECES * n) + 1          # the shape's number in this program
+    # the fit's range is the table's, the same for every shape: one set of constants
     consts = [Const("LAM_X0", x0, f"ln a of the fit's start (a = {table.a_min:g})"),
               Const("LAM_W", width, f"width in ln a of each of the {PIECES} pieces"),
               Const("LAM_A_MIN", table.a_min, "below: linear to the exact grazing value h(0)"),
               Const("LAM_A_MAX", table.a_max, "above: h(A_MAX) A_MAX/a (the tail law)"),
-              Const(f"LAM_H0_{k}", table.h0, f"h(0) of lobe {k}, the grazing limit of μΛ/s"),
-              Const(f"LAM_HMIN_{k}", table.h_min, f"h(A_MIN) of lobe {k}")]
-    n = DEGREE + 1
-    base = (k - 1) * PIECES * n
-    tables = [Table("LAM_C", coef.ravel().tolist(),
+              Const(f"LAM_H0_{j}", table.h0, f"h(0) of shape {j} (lobe {k}), the grazing limit of μΛ/s"),
+              Const(f"LAM_HMIN_{j}", table.h_min, f"h(A_MIN) of shape {j}")]
+    tables = [] if shared else [Table("LAM_C", coef.ravel().tolist(),
                     f"h(a) = μΛ/s: Chebyshev coefficients c_0..c_{DEGREE} of each of {PIECES} pieces in x = ln a "
-                    f"(lobe k, piece i: {n} entries from {PIECES * n}(k − 1) + {n} i), t = 2(x − X0 − i W)/W − 1.",
+                    f"(a shape's piece i: {n} entries from the shape's offset + {n} i), t = 2(x − X0 − i W)/W − 1.",
                     offset=base)]
     doc = (f"μΛ = s h(a), a = μ/s, h of the general Smith integral (Heitz 2014, eq. 43) by {PIECES} Chebyshev\n"
            f"pieces of degree {DEGREE} in ln a: |ΔG1| ≤ {total:.1e} against the integral (fit {error:.1e}).")
     body = [("float", "a", "mu / max(s, 1e-30)"),
-            ("float", "h", f"smith_fit_h(a, {base}, LAM_X0, LAM_W, LAM_A_MIN, LAM_A_MAX, LAM_H0_{k}, LAM_HMIN_{k})")]
+            ("float", "h", f"smith_fit_h(a, {base}, LAM_X0, LAM_W, LAM_A_MIN, LAM_A_MAX, LAM_H0_{j}, LAM_HMIN_{j})")]
     return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)", total, clenshaw()
 
 

@@ -124,10 +124,10 @@ def assemble(spec, form: str):
         total.append(_vec("sp"))
         if values["principled_multiscatter"] == "kulla_conty":
             term = m.multiscatter()[0].lobes[0]       # the channels share the table and α
-            c, tab, e_fn = embed.kulla_conty_E(1, term, 0)
+            c, tab, e_fns = embed.kulla_conty_E(1, term, 0)
             consts += c + [Const("E_AVG_1", term.E_avg, "E_avg of the GGX lobe (F = 1) at the baked roughness")]
             tables += tab
-            fns.append(e_fn)
+            fns.extend(e_fns)
             f_avg = FRESNELS["schlick"].F_avg_formula
             formulas += [f_avg, P.KC_SCALE_FORMULA]
             body += [("float", "ms", "(1.0 - E_1(ml)) * (1.0 - E_1(mv))")]

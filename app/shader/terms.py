@@ -93,12 +93,12 @@ def ndf_D(k: int, ndf) -> Terms:
     return t
 
 
-def mu_Lambda(k: int, ndf, masking) -> Terms:
+def mu_Lambda(k: int, ndf, masking, fits: dict) -> Terms:
     """muLambda_k(w) = μΛ(ω), finite everywhere (Heitz 2014, eq. 43); s = α(φ) sinθ.
 
     The masking's own formula if it has one (an approximation); else the exact Smith μΛ:
     the NDF's formula where that is the exact one, else a compact fit of the Smith
-    integral (lambda_fit.py)."""
+    integral (lambda_fit.py), shared with an earlier lobe of the same shape (``fits``)."""
     body = [("float", "mu", "max(Z(w), 0.0)"),
             ("float", "s", f"sqrt(ALPHA_X{k} * ALPHA_X{k} * X(w) * X(w) + ALPHA_Y{k} * ALPHA_Y{k} * Y(w) * Y(w))"),
             ("float", "sin_t", "sqrt(X(w) * X(w) + Y(w) * Y(w))")]
@@ -112,7 +112,7 @@ def mu_Lambda(k: int, ndf, masking) -> Terms:
         t.add(with_params(ndf_formula, f"NDF{k}", ndf.kernel_params(), f"the NDF of lobe {k}"))
         result, doc = call(ndf_formula, ["mu", "s"], f"NDF{k}"), f"μΛ of lobe {k}: the NDF's Smith Λ times μ."
     elif masking.uses_ndf_Lambda or exact:
-        consts, tables, doc, fit_body, result, error, helper = lambda_fit(k, ndf)
+        consts, tables, doc, fit_body, result, error, helper = lambda_fit(k, ndf, fits)
         t.consts += consts
         t.tables += tables
         t.fns.append(helper)

@@ -5,15 +5,20 @@
 * one compiled parameterised shader (form="uniform") drawing two different materials
   by changing only its uniforms, each against /eval of its own material;
 * the one-file models (tests/kernels/test_one_file_models.py: an NDF, a Fresnel model
-  and a diffuse model, each one file) in WebGL2 and through glslangValidator.
+  and a diffuse model, each one file) from /code and /eval of a process that has the
+  files installed, in WebGL2 and through glslangValidator.
 
 Directions as in tests/e2e/test_shader_webgl.py: float64 angles to /eval, float32
 vectors to the shader, θ ≤ 88° (off the horizon, where a float32 rounding below it is 0).
 """
 from __future__ import annotations
 
+import json
+import os
 import shutil
 import subprocess
+import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -30,6 +35,7 @@ from tests.shader.test_code import HLSL_MAIN
 from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_BATCH_JS, VERTEX
 
 GLSLANG = shutil.which("glslangValidator")
+ROOT = Path(__file__).resolve().parents[2]
 SIDE = 32                         # 1024 direction pairs per model
 REL, FLOOR = 1e-5, 1e-6
 
@@ -143,26 +149,52 @@ ONE_FILE = [{"ndf": "t3_throwaway", "alpha": 0.3, "fresnel": "none"},
             {"ndf": "t3_throwaway", "alpha": 0.25, "alpha_y": 0.4, "fresnel": "constant_throwaway", "f_const": 0.6},
             {"ndf": "ggx", "alpha": 0.3, "diffuse": "minnaert_throwaway", "minnaert_k": 1.2, "kd": 0.5}]
 
+#: A new process with the three files on its path, imported before the app as files in the
+#: package would be (the app's query schema is made at import): each model's GLSL and HLSL
+#: from GET /api/v1/code and its f from POST /api/v1/eval on the given angles.
+SERVE_ONE_FILE = """
+import json, sys
+import ndf_t3_throwaway, fresnel_constant_throwaway, diffuse_minnaert_throwaway
+from urllib.parse import urlencode
+from fastapi.testclient import TestClient
+from app.main import create_app
+models, angles = json.load(sys.stdin)
+c = TestClient(create_app())
+out = []
+for m in models:
+    code = {lang: c.get("/api/v1/code?" + urlencode({**m, "lang": lang})) for lang in ("glsl", "hlsl")}
+    ev = c.post("/api/v1/eval", json={**m, **angles, "quantities": ["f"]})
+    out.append({"status": [code["glsl"].status_code, code["hlsl"].status_code, ev.status_code],
+                "glsl": code["glsl"].text, "hlsl": code["hlsl"].text, "f": ev.json().get("f")})
+print(json.dumps(out))
+"""
+
 
 def test_one_file_models_in_webgl2_and_glslang(throwaway, page, pairs, tmp_path):  # noqa: F811
-    """An NDF, a Fresnel model and a diffuse model added as one file each: written by
-    /code's generator, compiled by glslangValidator (GLSL and HLSL), and in WebGL2 equal
-    to the numpy evaluation (/eval's) to 1e-5."""
-    _, l, v, _ = pairs
-    specs = [make_spec(**m) for m in ONE_FILE]
-    if GLSLANG is not None:
-        for spec in specs:
-            for name, src, args in (("b.frag", _fs(generate(spec, "glsl")), ()),
-                                    ("b.hlsl", generate(spec, "hlsl") + HLSL_MAIN,
-                                     ("-D", "-V", "-e", "main", "-S", "frag", "-o", str(tmp_path / "b.spv")))):
-                (tmp_path / name).write_text(src)
-                res = subprocess.run([GLSLANG, *args, str(tmp_path / name)], capture_output=True, text=True)
-                assert res.returncode == 0, res.stdout[-1500:]
-    results = _run(page, pairs, [{"fs": _fs(generate(s, "glsl")), "uniforms": [{}]} for s in specs])
-    for spec, r in zip(specs, results):
-        assert not isinstance(r, dict), r
-        ref = spec.brdf().evaluate(l, v, ("f",))["f"][:, None]
-        assert _error(r[0], ref) <= REL
+    """An NDF, a Fresnel model and a diffuse model added as one file each: GET /api/v1/code
+    writes them (GLSL and HLSL, both compiled by glslangValidator), and the GLSL in
+    WebGL2 equals POST /api/v1/eval (numpy) to 1e-5 — both from a process that has the
+    three files installed."""
+    assert GLSLANG is not None, "glslangValidator (Debian glslang-tools) is needed: CI installs it"
+    angles = {k: a.tolist() for k, a in pairs[0].items()}
+    env = {**os.environ, "PYTHONPATH": os.pathsep.join([str(throwaway), str(ROOT)]), "BRDF_MAX_SECONDS": "600"}
+    run = subprocess.run([sys.executable, "-c", SERVE_ONE_FILE], input=json.dumps([ONE_FILE, angles]), cwd=ROOT,
+                         env=env, capture_output=True, text=True, timeout=600)
+    assert run.returncode == 0, run.stderr[-3000:]
+    served = json.loads(run.stdout.strip().splitlines()[-1])
+    for m, got in zip(ONE_FILE, served):
+        assert got["status"] == [200, 200, 200], (m, got["status"], got["glsl"][:300])
+        for name, src, args in (("b.frag", _fs(got["glsl"]), ()),
+                                ("b.hlsl", got["hlsl"] + HLSL_MAIN,
+                                 ("-D", "-V", "-e", "main", "-S", "frag", "-o", str(tmp_path / "b.spv")))):
+            (tmp_path / name).write_text(src)
+            res = subprocess.run([GLSLANG, *args, str(tmp_path / name)], capture_output=True, text=True)
+            assert res.returncode == 0, (m, res.stdout[-1500:])
+    results = _run(page, pairs, [{"fs": _fs(got["glsl"]), "uniforms": [{}]} for got in served])
+    for m, got, r in zip(ONE_FILE, served, results):
+        assert not isinstance(r, dict), (m, r)
+        ref = np.array([np.nan if x is None else x for x in got["f"]], dtype=float)[:, None]
+        assert _error(r[0], ref) <= REL, m
 
 
 def _grazing_rgba():

@@ -20,13 +20,21 @@ much (the lut tests' largest cost).
 """
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 N_XI, N_PHI = 384, 64
 
 
+@lru_cache(maxsize=None)
+def _legendre(n: int):
+    """Gauss-Legendre nodes and weights on [−1, 1] (an eigenproblem: made once per n)."""
+    return np.polynomial.legendre.leggauss(n)
+
+
 def _nodes(n: int, a: float, b: float):
-    x, w = np.polynomial.legendre.leggauss(n)
+    x, w = _legendre(n)
     return 0.5 * (b - a) * x + 0.5 * (b + a), 0.5 * (b - a) * w
 
 
@@ -44,7 +52,7 @@ def split_sum_integrals(alpha: float, mu_v: np.ndarray, g2: str, n_xi: int = N_X
                         k_of=k_ibl):
     """(E₁, E_S) at one α for view cosines ``mu_v`` (array, > 0)."""
     k = k_of(alpha)
-    g, wg = np.polynomial.legendre.leggauss(n_phi)
+    g, wg = _legendre(n_phi)
     e1, es = [], []
     for mv in np.atleast_1d(mu_v):
         sv = np.sqrt(1.0 - mv * mv)
