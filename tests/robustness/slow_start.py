@@ -2,6 +2,6 @@
 starts at least that slowly (tests/robustness/test_heavy_pool.py), whatever the load."""
 import time
 
-START_SECONDS = 1.5
+START_SECONDS = 3.0
 
 time.sleep(START_SECONDS)

@@ -247,7 +247,7 @@ def test_a_job_behind_a_worker_slower_to_start_than_its_budget_is_busy_at_once()
     the job's budget is a 503 at once (it waited its whole budget for that 503 before),
     with Retry-After covering the start; once started, the worker runs jobs."""
     from tests.robustness.slow_start import START_SECONDS
-    pool = HeavyPool(workers=1, queue=1, max_seconds=1.0, warm="tests.robustness.slow_start")
+    pool = HeavyPool(workers=1, queue=1, max_seconds=2.0, warm="tests.robustness.slow_start")
     try:
         async def main():
             await pool.started()
