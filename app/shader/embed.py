@@ -112,11 +112,11 @@ def _slice_E(k: int, term, offset: int) -> tuple[list, list, list]:
     m = bp.size
     steps = max(1, int(np.ceil(np.log2(m))))
     padded = np.concatenate([bp, np.full((1 << steps) - m, 2.0)])   # y ≤ 1 never passes 2
-    consts = [Const(f"KC_ALPHA_{k}", float(term.alpha), f"α of lobe {k}, the slice's own")]
+    consts = []                     # the slice is at the lobe's own α, ALPHA_X{k}
     doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017): the project's E(μ) slice at α = {term.alpha:g}"
            f" ({m} pieces, reported error {table.error:.1e}).")
     graded = table.exponent != 1.0   # the slice's axis is x = y^q where E ~ μ^(2γ−3) at grazing
-    args = ["mu", f"KC_ALPHA_{k}"]
+    args = ["mu", f"ALPHA_X{k}"]
     if graded:
         consts.append(Const(f"KC_Q_{k}", float(table.exponent), f"q of lobe {k}'s axis x = y^q"))
         args.append(f"KC_Q_{k}")

@@ -81,8 +81,7 @@ def lambda_fit(k: int, ndf, parts: dict):
               Const("LAM_W", width, f"width in ln a of each of the {PIECES} pieces"),
               Const("LAM_A_MIN", table.a_min, "below: linear to the exact grazing value h(0)"),
               Const("LAM_A_MAX", table.a_max, "above: h(A_MAX) A_MAX/a (the tail law)"),
-              Const(f"LAM_H0_{j}", table.h0, f"h(0) of shape {j} (lobe {k}), the grazing limit of μΛ/s"),
-              Const(f"LAM_HMIN_{j}", table.h_min, f"h(A_MIN) of shape {j}")]
+              Const(f"LAM_H0_{j}", table.h0, f"h(0) of shape {j} (lobe {k}), the grazing limit of μΛ/s")]
     tables = [] if shared else [Table("LAM_C", coef.ravel().tolist(),
                     f"h(a) = μΛ/s: Chebyshev coefficients c_0..c_{DEGREE} of each of {PIECES} pieces in x = ln a "
                     f"(a shape's piece i: {n} entries from the shape's offset + {n} i), t = 2(x − X0 − i W)/W − 1.",
@@ -90,7 +89,7 @@ def lambda_fit(k: int, ndf, parts: dict):
     doc = (f"μΛ = s h(a), a = μ/s, h of the general Smith integral (Heitz 2014, eq. 43) by {PIECES} Chebyshev\n"
            f"pieces of degree {DEGREE} in ln a: |ΔG1| ≤ {total:.1e} against the integral (fit {error:.1e}).")
     body = [("float", "a", "mu / max(s, 1e-30)"),
-            ("float", "h", f"smith_fit_h(a, {base}, LAM_X0, LAM_W, LAM_A_MIN, LAM_A_MAX, LAM_H0_{j}, LAM_HMIN_{j})")]
+            ("float", "h", f"smith_fit_h(a, {base}, LAM_X0, LAM_W, LAM_A_MIN, LAM_A_MAX, LAM_H0_{j})")]
     return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)", total, clenshaw()
 
 
@@ -111,7 +110,8 @@ def clenshaw() -> Fn:
     body.append(("float", "h_in", f"LAM_C[o] + t * b1 - {prev2}"))
     return Fn("smith_fit_h", "float",
               [("float", "a"), ("int", "base"), ("float", "x0"), ("float", "w"), ("float", "a_min"),
-               ("float", "a_max"), ("float", "h0"), ("float", "h_min")], body,
-              "sel(a < a_min, h0 + (h_min - h0) * (a / a_min), sel(a > a_max, h_in * (a_max / a), h_in))",
+               ("float", "a_max"), ("float", "h0")], body,
+              "sel(a < a_min, h0 + (h_in - h0) * (a / a_min), sel(a > a_max, h_in * (a_max / a), h_in))",
               f"h(a) = μΛ/s by {PIECES} Chebyshev pieces of degree {DEGREE} in x = ln a (one lobe's, from base in\n"
-              "LAM_C); below A_MIN linear to the grazing limit h(0), above A_MAX the tail law h(A_MAX) A_MAX/a.")
+              "LAM_C); below A_MIN linear to the grazing limit h(0), above A_MAX the tail law h(A_MAX) A_MAX/a\n"
+              "(h_in: the fit at a clamped to [A_MIN, A_MAX]).")
