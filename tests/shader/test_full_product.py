@@ -116,10 +116,12 @@ def _covering(codes) -> list[int]:
     return chosen
 
 
-#: Kulla-Conty with the longest options (two lobes; direction-correlated G2 with λ(φ), a
-#: conductor, EON — measured the longest over every masking, G2, λ(φ), Fresnel and diffuse)
+#: Kulla-Conty with the longest options: two lobes, direction-correlated G2 with van
+#: Ginneken's λ(φ), a conductor, EON (measured the longest of Student-t's and GGX's over
+#: every masking, G2, λ(φ), Fresnel — a coloured material too — and diffuse model)
 KULLA_CONTY_LONGEST = {"alpha": 0.3, "alpha2": 0.7, "lobe_mix": 0.5, "multiscatter": "kulla_conty",
-                       "g2": "height_direction_correlated", "fresnel": "conductor", "diffuse": "eon", "kd": 0.3}
+                       "g2": "direction_correlated", "lambda_phi": "van_ginneken", "fresnel": "conductor",
+                       "diffuse": "eon", "kd": 0.3}
 #: the principled BRDF's longest: every lobe, Kulla-Conty, EON, sRGB decoding
 PRINCIPLED_LONGEST = {"model": "principled", "principled_multiscatter": "kulla_conty", "lobe": "all",
                       "principled_diffuse": "eon", "principled_g2": "height_correlated", "base_color_space": "srgb"}
