@@ -118,8 +118,9 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
         t.add(terms.visibility(k, g2, lobe.ndf, lam))
     if ms is not None:
         offset = 0                  # each lobe's pieces follow the previous lobe's
+        steps = max(embed.slice_steps(term) for term in ms.lobes)   # one search function
         for k, term in enumerate(ms.lobes, start=1):
-            c, tab, e_fns = embed.kulla_conty_E(k, term, offset)
+            c, tab, e_fns = embed.kulla_conty_E(k, term, offset, steps)
             offset += len(tab[0].values)
             t.consts.extend(c)
             t.tables.extend(tab)
