@@ -19,6 +19,8 @@ def layout(tables: list[Table]) -> dict[str, tuple[int, int]]:
     """name → (offset, length) in the texture, the tables in the program's order."""
     out, at = {}, 0
     for t in tables:
+        if t.kind != "float":
+            raise ValueError(f"table {t.name}: an R32F texture holds floats, not {t.kind}")
         out[t.name] = (at, len(t.values))
         at += len(t.values)
     return out
