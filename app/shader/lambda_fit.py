@@ -4,12 +4,11 @@
 h(a) = μΛ/s of the project's table of the Smith integral (app/physics/smith_table.py,
 |ΔG1| ≤ 1e-9) is fitted in x = ln a over the table's range [A_MIN, A_MAX] by PIECES
 Chebyshev series of degree DEGREE, one per equal piece in x (h is analytic in ln a, so
-a series converges geometrically: 16 pieces of width 1.7 at degree 16 reach
-|ΔG1| ≤ 6e-8 on the shapes tried — GTR γ 0.5-10, Student-t γ 1.51-1000, Blinn-Phong —
-but 2.6e-9 at exponential power p = 1.5 and 3.2e-6 at p = 4, its largest; 272 numbers
-instead of the table's 8192). Evaluated by Clenshaw's recurrence, stable in float32. The
-fit's own error is
-measured at generation against the table on FIT_CHECK points and stated as the largest
+a series converges geometrically: 16 pieces of width 1.7 at degree 16 reach |ΔG1| ≤ 6e-8
+on the shapes tried — GTR γ 0.5-10, Student-t γ 1.51-1000, Blinn-Phong, exponential power
+p ≤ 1.5 — but 3.2e-6 at exponential power p = 4, the end of its range; 272 numbers instead
+of the table's 8192). Evaluated by Clenshaw's recurrence, stable in float32. The fit's own
+error is measured at generation against the table on FIT_CHECK points and stated as the largest
 |ΔG1| = |a/(a + h_fit) − a/(a + h_table)| (G1 = μ/(μ + s h) = a/(a + h)), to which the
 table's 1e-9 adds. Outside [A_MIN, A_MAX] the table's own end laws are kept.
 """
