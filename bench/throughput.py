@@ -81,7 +81,6 @@ def run(quick: bool = False) -> dict:
     functions = {
         "fast": lambda: kernels.f(brdf, l, v),
         "fast_serial": serial,
-        "numpy": numpy_path,
         "quantities": lambda: quantities.evaluate(brdf, theta[0], phi[0], theta[1], phi[1], ("f",)),
         "fast_mitsuba_model": lambda: kernels.f(same, l, v),
     }
@@ -101,6 +100,10 @@ def run(quick: bool = False) -> dict:
             # the speed of 1: 37-41 M/s against 69 without Mitsuba in the same run)
             settle = lambda: common.wait_idle(mitsuba.pid)   # noqa: E731
         times = common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu, settle=settle)
+    # the numpy reference in rounds of its own: interleaved with the others, the memory its
+    # temporaries freed (~5 800 page faults a call) left whichever function came next to fault
+    # its output in afresh (quantities: ~900 page faults a call, 14 ms of CPU against 12 ms)
+    times.update(common.interleaved({"numpy": numpy_path}, repeat=repeat, warmup=1, cpu=cpu))
     out = {"throughput_pairs": n, "throughput_compiled": have_fast,
            "throughput_loadavg": [load0, common.loadavg()]}
     for name, ts in times.items():
