@@ -17,7 +17,6 @@ from .physics.brdf import BRDF
 from .physics.masking import G1
 from .physics.numeric import where_valid
 from .physics.vectors import direction_deg
-from .kernels.kernel import once_or_all
 from .shader.conventions import ALPHA_MAX, ALPHA_MIN, table
 
 
@@ -77,22 +76,22 @@ def _f_fused(brdf: BRDF, shape: tuple, count: int, angles: tuple) -> np.ndarray 
     them; None when the model has no ready loop (the caller takes the directions path)."""
     if count <= FUSED_CHUNK:
         return kernels.f_deg(brdf, *angles)
-    given = [once_or_all(a, shape) for a in angles]      # a single angle is not repeated
+    flat = [np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1) for a in angles]
     out = np.empty(count)
     for start in range(0, count, FUSED_CHUNK):
         if start:
             cost.check_deadline(f"{count} BRDF evaluations")
         part = slice(start, start + FUSED_CHUNK)
-        if kernels.f_deg(brdf, *(a[part] if a.size > 1 else a for a in given), out=out[part]) is None:
-            return None if not start else _finish_numpy(brdf, given, out, start).reshape(shape)
+        if kernels.f_deg(brdf, *(a[part] for a in flat), out=out[part]) is None:
+            return None if not start else _finish_numpy(brdf, flat, out, start).reshape(shape)
     return out.reshape(shape)
 
 
-def _finish_numpy(brdf: BRDF, given: list, out: np.ndarray, start: int) -> np.ndarray:
+def _finish_numpy(brdf: BRDF, flat: list, out: np.ndarray, start: int) -> np.ndarray:
     """The rest of a fused evaluation by numpy (the compiled loops were switched off
-    between two chunks: kernels.disabled); ``given`` as _f_fused's."""
-    rest = [a[start:] if a.size > 1 else a for a in given]
-    l, v = direction_deg(rest[0], rest[1]), direction_deg(rest[2], rest[3])
+    between two chunks: kernels.disabled)."""
+    l = direction_deg(flat[0][start:], flat[1][start:])
+    v = direction_deg(flat[2][start:], flat[3][start:])
     out[start:] = kernels.f(brdf, l, v)
     return out
 

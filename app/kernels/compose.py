@@ -244,43 +244,18 @@ def angles_iso(theta_l, phi_l, theta_v, phi_v, w, n):
         w[4, k], w[5, k] = sincos_deg(hi, lo)
 
 
-@device
-def block_angles(theta_l, phi_l, theta_v, phi_v, given, b0, e):
-    # the angles of pairs b0..e into the rows of ``given``: copied from the arrays, except an
-    # angle given once (size 1, as a view of stride 0 broadcasts it), whose row the caller
-    # filled with it once
-    n = e - b0
-    if theta_l.size > 1:
-        given[0, :n] = theta_l[b0:e]
-    if phi_l.size > 1:
-        given[1, :n] = phi_l[b0:e]
-    if theta_v.size > 1:
-        given[2, :n] = theta_v[b0:e]
-    if phi_v.size > 1:
-        given[3, :n] = phi_v[b0:e]
-
-
 @numba.njit(**JIT)
 def f_deg_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, ax, ay, rho,
                p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
     # f at angles in degrees, ω = (sinθ cosφ, sinθ sinφ, cosθ): per block of pairs the
-    # directions first, then f_core, both loops over zero-based slices (so vectorised).
-    # An angle array of size 1 is the same angle for every pair.
+    # directions first, then f_core, both loops over zero-based slices (so vectorised)
     inv_ax2, inv_ay2, inv_axay = 1.0 / (ax * ax), 1.0 / (ay * ay), 1.0 / (ax * ay)
     p_g2, p_fresnel, p_diffuse = {params}
     w = np.empty((8, BLOCK))
-    once = np.empty((4, BLOCK))
-    for i, a in enumerate((theta_l, phi_l, theta_v, phi_v)):
-        once[i, :] = a[0]
-    every = (theta_l.size > 1) & (phi_l.size > 1) & (theta_v.size > 1) & (phi_v.size > 1)
     for b0 in range(start, stop, BLOCK):
         n = min(BLOCK, stop - b0)
         e = b0 + n
-        if every:
-            directions_deg(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
-        else:
-            block_angles(theta_l, phi_l, theta_v, phi_v, once, b0, e)
-            directions_deg(once[0, :n], once[1, :n], once[2, :n], once[3, :n], w, n)
+        directions_deg(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
         o = out[b0:e]
         for k in range(n):
             lx, ly, vx, vy = w[0, k], w[1, k], w[3, k], w[4, k]
@@ -300,18 +275,10 @@ def f_deg_iso_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, a, rho,
     inv_a2 = 1.0 / (a * a)
     p_g2, p_fresnel, p_diffuse = {params}
     w = np.empty((6, BLOCK))
-    once = np.empty((4, BLOCK))
-    for i, x in enumerate((theta_l, phi_l, theta_v, phi_v)):
-        once[i, :] = x[0]
-    every = (theta_l.size > 1) & (phi_l.size > 1) & (theta_v.size > 1) & (phi_v.size > 1)
     for b0 in range(start, stop, BLOCK):
         n = min(BLOCK, stop - b0)
         e = b0 + n
-        if every:
-            angles_iso(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
-        else:
-            block_angles(theta_l, phi_l, theta_v, phi_v, once, b0, e)
-            angles_iso(once[0, :n], once[1, :n], once[2, :n], once[3, :n], w, n)
+        angles_iso(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
         o = out[b0:e]
         for k in range(n):
             st_l, ct_l, st_v, ct_v, sd, cd = w[0, k], w[1, k], w[2, k], w[3, k], w[4, k], w[5, k]

@@ -36,16 +36,6 @@ def inputs(*arrays, shape: tuple | None = None) -> tuple[np.ndarray, ...]:
     return tuple(out)
 
 
-def once_or_all(a, shape: tuple) -> np.ndarray:
-    """An angle argument of the degrees loops: one value as an array of size 1 (the loop
-    uses it for every pair), else all ``shape``'s values flat (a copy only when ``a``
-    broadcasts along some axes but not all)."""
-    a = np.asarray(a, dtype=float)
-    if a.size == 1:
-        return a.reshape(1)
-    return np.broadcast_to(a, shape).reshape(-1)
-
-
 def _split(loop, n: int, work: int, before: tuple, after: tuple) -> None:
     """loop(*before, start, stop, *after) over [0, n), in one block per core on the pool
     when the ``work`` (evaluations) makes it pay."""
@@ -107,14 +97,14 @@ class Kernel:
 
     def f_deg(self, lobe, theta_l, phi_l, theta_v, phi_v, out: np.ndarray | None = None) -> np.ndarray:
         """f of a single-lobe BRDF at angles in degrees (l at θ_l, φ_l; v at θ_v, φ_v),
-        broadcast together (a single angle is passed once, not repeated: the loop reads it
-        for every pair): the directions are built inside the loop, as
+        broadcast together: the directions are built inside the loop, as
         physics/vectors.direction_deg builds them (isotropic α: in the frame of l's azimuth,
         compose.f_deg_iso_loop). ``out``: a C-contiguous float64 array of the broadcast
         size to write into (else one is allocated)."""
         shape = np.broadcast_shapes(*(np.shape(a) for a in (theta_l, phi_l, theta_v, phi_v)))
-        angles = inputs(*(once_or_all(a, shape) for a in (theta_l, phi_l, theta_v, phi_v)))
-        out = np.empty(int(np.prod(shape))) if out is None else out.reshape(-1)
+        angles = inputs(*(np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1)
+                          for a in (theta_l, phi_l, theta_v, phi_v)))
+        out = np.empty(angles[0].size) if out is None else out.reshape(-1)
         ndf = lobe.ndf
         ax, ay = float(ndf.alpha_x), float(ndf.alpha_y)
         rest = (float(lobe.kd), *self.params(lobe), self.diffuse_params(lobe))
