@@ -72,8 +72,8 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
 
 def _f_fused(brdf: BRDF, shape: tuple, count: int, angles: tuple) -> np.ndarray | None:
     """f by the model's compiled loop with degrees in (the directions built inside it),
-    in chunks of FUSED_CHUNK pairs written in place, with the deadline checked between
-    them; None when the model has no ready loop (the caller takes the directions path)."""
+    in chunks of FUSED_CHUNK pairs with the deadline checked between them; None when
+    the model has no ready loop (the caller takes the directions path)."""
     if count <= FUSED_CHUNK:
         return kernels.f_deg(brdf, *angles)
     flat = [np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1) for a in angles]
@@ -82,8 +82,10 @@ def _f_fused(brdf: BRDF, shape: tuple, count: int, angles: tuple) -> np.ndarray 
         if start:
             cost.check_deadline(f"{count} BRDF evaluations")
         part = slice(start, start + FUSED_CHUNK)
-        if kernels.f_deg(brdf, *(a[part] for a in flat), out=out[part]) is None:
+        f = kernels.f_deg(brdf, *(a[part] for a in flat))
+        if f is None:
             return None if not start else _finish_numpy(brdf, flat, out, start).reshape(shape)
+        out[part] = f
     return out.reshape(shape)
 
 
@@ -96,10 +98,9 @@ def _finish_numpy(brdf: BRDF, flat: list, out: np.ndarray, start: int) -> np.nda
     return out
 
 
-#: Pairs per call of the fused loop: ~10 ms of work at 100 M/s, so the deadline is still
-#: checked often. Each call splits its pairs among the cores and waits for the last block:
-#: at 2^18 a 10^6-pair request took 4 calls and ~12 % more CPU time than one (load 12).
-FUSED_CHUNK = 1 << 20
+#: Pairs per call of the fused loop: ~5 ms of work at 50 M/s, so the deadline is checked
+#: often; its temporaries are the four angle arrays of a chunk (8 MB).
+FUSED_CHUNK = 1 << 18
 
 
 def _width_deg(brdf: BRDF) -> float:

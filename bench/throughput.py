@@ -9,8 +9,7 @@ directions → BRDF.evaluate, as GET/POST /eval do). Side by side in one run:
 * ``fast_serial`` the same loop on one thread (what each core does)
 * ``numpy``       BRDF.evaluate, the reference numpy path
 * ``quantities``  app.quantities.evaluate, degrees in: the compiled loop that builds the
-                  directions itself (isotropic α: f_deg_iso_loop, app/kernels/compose.py, three
-                  sines and cosines a pair), one block per core
+                  directions itself (f_deg_loop, app/kernels/compose.py), one block per core
 * ``mitsuba``     Mitsuba 3's LLVM backend (optional, float32) on the same pairs, timed in a
                   process of its own (bench/mitsuba_eval.py) interleaved with our rounds:
                   drjit's worker threads in this process halved our 2-thread numbers.
