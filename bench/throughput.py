@@ -9,7 +9,8 @@ directions → BRDF.evaluate, as GET/POST /eval do). Side by side in one run:
 * ``fast_serial`` the same loop on one thread (what each core does)
 * ``numpy``       BRDF.evaluate, the reference numpy path
 * ``quantities``  app.quantities.evaluate, degrees in: the compiled loop that builds the
-                  directions itself (f_deg_loop, app/kernels/compose.py), one block per core
+                  directions itself (isotropic α: f_deg_iso_loop, app/kernels/compose.py, three
+                  sines and cosines a pair), one block per core
 * ``mitsuba``     Mitsuba 3's LLVM backend (optional, float32) on the same pairs, timed in a
                   process of its own (bench/mitsuba_eval.py) interleaved with our rounds:
                   drjit's worker threads in this process halved our 2-thread numbers.
@@ -80,7 +81,6 @@ def run(quick: bool = False) -> dict:
     functions = {
         "fast": lambda: kernels.f(brdf, l, v),
         "fast_serial": serial,
-        "numpy": numpy_path,
         "quantities": lambda: quantities.evaluate(brdf, theta[0], phi[0], theta[1], phi[1], ("f",)),
         "fast_mitsuba_model": lambda: kernels.f(same, l, v),
     }
@@ -100,6 +100,10 @@ def run(quick: bool = False) -> dict:
             # the speed of 1: 37-41 M/s against 69 without Mitsuba in the same run)
             settle = lambda: common.wait_idle(mitsuba.pid)   # noqa: E731
         times = common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu, settle=settle)
+    # the numpy reference in rounds of its own: interleaved with the others, the memory its
+    # temporaries freed (~5 800 page faults a call) left whichever function came next to fault
+    # its output in afresh (quantities: ~900 page faults a call, 14 ms of CPU against 12 ms)
+    times.update(common.interleaved({"numpy": numpy_path}, repeat=repeat, warmup=1, cpu=cpu))
     out = {"throughput_pairs": n, "throughput_compiled": have_fast,
            "throughput_loadavg": [load0, common.loadavg()]}
     for name, ts in times.items():

@@ -153,21 +153,26 @@ def f(brdf: BRDF, l, v) -> np.ndarray:
     return out
 
 
-def f_deg(brdf: BRDF, theta_l, phi_l, theta_v, phi_v) -> np.ndarray | None:
+def f_deg(brdf: BRDF, theta_l, phi_l, theta_v, phi_v, out: np.ndarray | None = None) -> np.ndarray | None:
     """f at angles in degrees (l at θ_l, φ_l; v at θ_v, φ_v; broadcast together) by the
-    model's compiled loop, the directions built inside it; None when the model has no
-    ready loops or is compensated (the caller builds directions and calls :func:`f`)."""
+    model's compiled loop, the directions built inside it (into ``out`` if given: C-contiguous,
+    the broadcast size); None when the model has no ready loops or is compensated (the
+    caller builds directions and calls :func:`f`)."""
     if isinstance(brdf, CompensatedBRDF):
         return None           # its multiple-scattering term takes directions
     kernel = lookup(brdf)
     if kernel is None:
         return None
     first = replace(brdf, lobe2=None, lobe_mix=0.0)
-    out = kernel.f_deg(first, theta_l, phi_l, theta_v, phi_v)
-    if brdf.lobe2 is not None and brdf.lobe_mix > 0:
-        second = kernel.f_deg(replace(first, ndf=brdf.lobe2), theta_l, phi_l, theta_v, phi_v)
-        out = blend_lobes(brdf.lobe_mix, out, second)
-    return out
+    if brdf.lobe2 is None or not brdf.lobe_mix > 0:
+        return kernel.f_deg(first, theta_l, phi_l, theta_v, phi_v, out)
+    one = kernel.f_deg(first, theta_l, phi_l, theta_v, phi_v)
+    two = kernel.f_deg(replace(first, ndf=brdf.lobe2), theta_l, phi_l, theta_v, phi_v)
+    blended = blend_lobes(brdf.lobe_mix, one, two)
+    if out is None:
+        return blended
+    out.reshape(blended.shape)[...] = blended
+    return out.reshape(blended.shape)
 
 
 def _enqueue(cs: list[Components], front: bool = False) -> None:
@@ -243,7 +248,8 @@ def _build(c: Components, note: str = "") -> Kernel | None:
                 _cv.notify_all()
             log.warning("no compiled loops for %s (numpy serves it): %s", c.label, _failed[c])
             return None
-        loops = (module.f_loop, module.f_deg_loop, module.albedo_rows, module.smith_h)
+        loops = (module.f_loop, module.f_deg_loop, module.f_deg_iso_loop, module.albedo_rows,
+                 module.smith_h)
         hits = sum(sum(k.stats.cache_hits.values()) for k in loops)
         how = "loaded from numba's cache" if hits == len(loops) else "compiled"
         log.info("compiled loops ready for %s: %s%s in %.1f s", c.label, note, how,

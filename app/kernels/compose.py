@@ -3,7 +3,8 @@
 A model's loops are fixed by its NDF class, masking, G2 form, Fresnel class, diffuse
 model and, for the direction-correlated forms, λ(φ). For each such combination :func:`source` writes a
 small Python module that imports the components' scalar formulas (by module and name),
-wraps them for inlining and defines three loops — f(l, v) over direction pairs, the
+wraps them for inlining and defines its loops — f(l, v) over direction pairs, f at angles
+in degrees (the directions built in the loop; for isotropic α in l's azimuthal frame), the
 albedo quadrature's integrand over (μ, ψ) rows and the Smith table's integrals
 (physics/smith_table.py; it depends on the NDF alone) — and :func:`load` imports it from the
 kernel directory. numba caches each loop beside that file, named by a hash of every
@@ -98,11 +99,14 @@ register_scalars()
 {imports}
 JIT = dict(cache=True, nogil=True, error_model="numpy")
 HALF_VECTOR_MIN_NORM = {half_min!r}
-#: pairs whose directions are built at once by f_deg_loop (6 × 8 bytes each, in L1)
+#: pairs whose directions are built at once by the degrees loops (8 × 8 bytes each, in L1)
 BLOCK = 256
 DEG = math.pi / 180.0
 #: 1.5·2^52: (x + ROUND) − ROUND is x rounded to an integer (|x| < 2^51), no call
 ROUND = 6755399441055744.0
+#: 2^46: the largest |angle| in degrees whose reduction by 90° is exact (90 q and a − 90 q
+#: are doubles while |q| < 2^47); sin and cos of a larger or non-finite angle are NaN
+ANGLE_MAX = 70368744177664.0
 #: sin x = x + x³ S(x²), cos x = 1 + x² C(x²) on |x| ≤ π/4: least-squares fits in y = x² at 60
 #: Chebyshev nodes, solved in 40-digit arithmetic (mpmath) and rounded to doubles; the
 #: largest error measured against mpmath over 20 001 x is 1.2e-16 (sin, relative) and
@@ -136,24 +140,35 @@ def weight_phi(lx, ly, vx, vy):
 
 
 @device
-def f_pair(lx, ly, lz, vx, vy, vz, ax, ay, inv_ax2, inv_ay2, inv_axay, rho,
+def f_core(lx, ly, lz, vx, vy, vz, s_l, t_l, s_v, t_v, ax, ay, inv_ax2, inv_ay2, inv_axay, rho,
            p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
-    # f(l, v) of one pair. Every term is computed and the special cases are selected at
-    # the end (no branch), so that the compiler can keep simple models in SIMD registers.
+    # f(l, v) of one pair, given for each direction s = |(α_x ω_x, α_y ω_y)| and
+    # t = sin θ = |(ω_x, ω_y)| (mu_Lambda's). Every term is computed and the special cases are
+    # selected at the end (no branch), so that the compiler can keep simple models in SIMD registers.
     sx, sy, sz = lx + vx, ly + vy, lz + vz
     norm = math.sqrt(sx * sx + sy * sy + sz * sz)
     inv = 1.0 / norm
     hx, hy, hz = sx * inv, sy * inv, sz * inv
     D = NDF_D(hz, hx * hx * inv_ax2 + hy * hy * inv_ay2, p_ndf) * inv_axay
     DF = D * FRESNEL_F(vx * hx + vy * hy + vz * hz, p_fresnel)
-    ml_l = mu_Lambda(lx, ly, lz, ax, ay, p_ndf, p_mask)
-    ml_v = mu_Lambda(vx, vy, vz, ax, ay, p_ndf, p_mask)
+    ml_l = MASK_ML(positive(lz), s_l, t_l, p_mask, p_ndf, NDF_ML, NDF_CCDF, NDF_CCDF_INV)
+    ml_v = MASK_ML(positive(vz), s_v, t_v, p_mask, p_ndf, NDF_ML, NDF_CCDF, NDF_CCDF_INV)
     spec = DF * G2_V(positive(lz), positive(vz), ml_l, ml_v, weight_phi(lx, ly, vx, vy), p_g2)
     spec = spec if DF > 0.0 else 0.0
     spec = spec if norm > HALF_VECTOR_MIN_NORM else 0.0
     # the diffuse term f_d(ρ = kd; μ_l, μ_v, l·v) (physics/diffuse/base.py's signature)
     fd = DIFFUSE_F(rho, lz, vz, lx * vx + ly * vy + lz * vz, p_diffuse)
     return spec + fd if (lz >= 0.0) & (vz >= 0.0) else 0.0
+
+
+@device
+def f_pair(lx, ly, lz, vx, vy, vz, ax, ay, inv_ax2, inv_ay2, inv_axay, rho,
+           p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
+    # f(l, v) of one pair of directions: s and sin θ of each as mu_Lambda computes them
+    sxl, syl, sxv, syv = ax * lx, ay * ly, ax * vx, ay * vy
+    return f_core(lx, ly, lz, vx, vy, vz, math.sqrt(sxl * sxl + syl * syl), math.sqrt(lx * lx + ly * ly),
+                  math.sqrt(sxv * sxv + syv * syv), math.sqrt(vx * vx + vy * vy), ax, ay,
+                  inv_ax2, inv_ay2, inv_axay, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
 
 
 @numba.njit(**JIT)
@@ -176,60 +191,135 @@ def f_loop(l, v, out, start, stop, ax, ay, rho, p_ndf, p_mask, p_g2, p_fresnel, 
 
 
 @device
-def sincos_deg(a):
-    # (sin a, cos a) of an angle in degrees, exact 0 and ±1 at multiples of 90° (as
-    # physics/vectors.direction_deg): the reduction to x in [-45°, 45°] is exact in
-    # degrees (a - 360 k and r - 90 q are representable), then the polynomials S and C
-    # in radians (about 1 ulp; see their definition).
-    r = a - 360.0 * ((a * (1.0 / 360.0) + ROUND) - ROUND)
-    q = (r * (1.0 / 90.0) + ROUND) - ROUND
-    x = (r - 90.0 * q) * DEG
+def sincos_deg(a, lo):
+    # (sin, cos) of the angle a + lo in degrees (lo a rounding error of a's, else 0).
+    # Cody & Waite's reduction (Cody and Waite 1980, ch. 8) by the exact constant 90:
+    # q = a/90 rounded to an integer, r = a − 90 q exactly (|a| ≤ ANGLE_MAX), x = r in radians,
+    # |x| ≤ π/4, into the polynomials S and C (about 1 ulp). The quadrant k = q mod 4 in
+    # [−2, 2] enters as cos 90k = 1 − |k| and sin 90k = k (2 − |k|), which are 0 or ±1, so
+    # sin a = sin x cos 90k + cos x sin 90k is exact at multiples of 90° (0, ±1; + 0.0: no
+    # −0.0). No branch, no call: the loops calling it are vectorised.
+    q = (a * (1.0 / 90.0) + ROUND) - ROUND
+    r = a - 90.0 * q
+    r = r if abs(a) <= ANGLE_MAX else math.nan
+    k = q - 4.0 * ((q * 0.25 + ROUND) - ROUND)
+    x = r * DEG + lo * DEG
     x2 = x * x
     s = x + x * x2 * (S0 + x2 * (S1 + x2 * (S2 + x2 * (S3 + x2 * (S4 + x2 * S5)))))
     c = 1.0 + x2 * (C0 + x2 * (C1 + x2 * (C2 + x2 * (C3 + x2 * (C4 + x2 * (C5 + x2 * C6))))))
-    odd = (q == 1.0) | (q == -1.0)
-    sin_a = c if odd else s
-    cos_a = s if odd else c
-    sin_a = sin_a if (q == 0.0) | (q == 1.0) else -sin_a
-    cos_a = cos_a if (q == 0.0) | (q == -1.0) else -cos_a
-    return sin_a + 0.0, cos_a + 0.0      # + 0.0: no -0.0 (cos 90° = -sin 0)
+    ak = abs(k)
+    ck = 1.0 - ak
+    sk = k * (2.0 - ak)
+    return (s * ck + c * sk) + 0.0, c * ck - s * sk
+
+
+@device
+def two_diff(a, b):
+    # a − b = hi + lo exactly (Knuth's TwoSum, TAOCP vol. 2, 4.2.2, theorem B, on a and −b)
+    hi = a - b
+    bb = hi - a
+    return hi, (a - (hi - bb)) - (b + bb)
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={{"contract"}})
 def directions_deg(theta_l, phi_l, theta_v, phi_v, w, n):
-    # l and v of the pairs of one block (slices) into w[0:3, :n], w[3:6, :n]: arithmetic
-    # only, which the compiler vectorises; "contract" lets it fuse the polynomials'
-    # multiply-adds (one rounding instead of two; nothing else here has an add after a multiply)
+    # l and v of the pairs of one block (slices) into w[0:3, :n], w[3:6, :n], |sin θ_l| and
+    # |sin θ_v| (mu_Lambda's sin_t) into w[6], w[7]: arithmetic only, which the compiler
+    # vectorises; "contract" lets it fuse the polynomials' multiply-adds (one rounding
+    # instead of two)
     for k in range(n):
-        st, ct = sincos_deg(theta_l[k])
-        sp, cp = sincos_deg(phi_l[k])
-        w[0, k] = st * cp
-        w[1, k] = st * sp
-        w[2, k] = ct
-        st, ct = sincos_deg(theta_v[k])
-        sp, cp = sincos_deg(phi_v[k])
-        w[3, k] = st * cp
-        w[4, k] = st * sp
-        w[5, k] = ct
+        st, ct = sincos_deg(theta_l[k], 0.0)
+        sp, cp = sincos_deg(phi_l[k], 0.0)
+        w[0, k], w[1, k], w[2, k], w[6, k] = st * cp, st * sp, ct, abs(st)
+        st, ct = sincos_deg(theta_v[k], 0.0)
+        sp, cp = sincos_deg(phi_v[k], 0.0)
+        w[3, k], w[4, k], w[5, k], w[7, k] = st * cp, st * sp, ct, abs(st)
+
+
+@numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={{"contract"}})
+def angles_iso(theta_l, phi_l, theta_v, phi_v, w, n):
+    # sin and cos of θ_l, θ_v and of φ_v − φ_l (exact, as hi + lo) of one block into w[0:6, :n]
+    for k in range(n):
+        w[0, k], w[1, k] = sincos_deg(theta_l[k], 0.0)
+        w[2, k], w[3, k] = sincos_deg(theta_v[k], 0.0)
+        hi, lo = two_diff(phi_v[k], phi_l[k])
+        w[4, k], w[5, k] = sincos_deg(hi, lo)
+
+
+@device
+def block_angles(theta_l, phi_l, theta_v, phi_v, given, b0, e):
+    # the angles of pairs b0..e into the rows of ``given``: copied from the arrays, except an
+    # angle given once (size 1, as a view of stride 0 broadcasts it), whose row the caller
+    # filled with it once
+    n = e - b0
+    if theta_l.size > 1:
+        given[0, :n] = theta_l[b0:e]
+    if phi_l.size > 1:
+        given[1, :n] = phi_l[b0:e]
+    if theta_v.size > 1:
+        given[2, :n] = theta_v[b0:e]
+    if phi_v.size > 1:
+        given[3, :n] = phi_v[b0:e]
 
 
 @numba.njit(**JIT)
 def f_deg_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, ax, ay, rho,
                p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
     # f at angles in degrees, ω = (sinθ cosφ, sinθ sinφ, cosθ): per block of pairs the
-    # directions first, then f_pair as in f_loop, both loops over zero-based slices (so
-    # vectorised); the same values as directions built by direction_deg and f_loop.
+    # directions first, then f_core, both loops over zero-based slices (so vectorised).
+    # An angle array of size 1 is the same angle for every pair.
     inv_ax2, inv_ay2, inv_axay = 1.0 / (ax * ax), 1.0 / (ay * ay), 1.0 / (ax * ay)
     p_g2, p_fresnel, p_diffuse = {params}
-    w = np.empty((6, BLOCK))
+    w = np.empty((8, BLOCK))
+    once = np.empty((4, BLOCK))
+    for i, a in enumerate((theta_l, phi_l, theta_v, phi_v)):
+        once[i, :] = a[0]
+    every = (theta_l.size > 1) & (phi_l.size > 1) & (theta_v.size > 1) & (phi_v.size > 1)
     for b0 in range(start, stop, BLOCK):
         n = min(BLOCK, stop - b0)
         e = b0 + n
-        directions_deg(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
+        if every:
+            directions_deg(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
+        else:
+            block_angles(theta_l, phi_l, theta_v, phi_v, once, b0, e)
+            directions_deg(once[0, :n], once[1, :n], once[2, :n], once[3, :n], w, n)
         o = out[b0:e]
         for k in range(n):
-            o[k] = f_pair(w[0, k], w[1, k], w[2, k], w[3, k], w[4, k], w[5, k], ax, ay,
-                          inv_ax2, inv_ay2, inv_axay, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
+            lx, ly, vx, vy = w[0, k], w[1, k], w[3, k], w[4, k]
+            sxl, syl, sxv, syv = ax * lx, ay * ly, ax * vx, ay * vy
+            o[k] = f_core(lx, ly, w[2, k], vx, vy, w[5, k], math.sqrt(sxl * sxl + syl * syl), w[6, k],
+                          math.sqrt(sxv * sxv + syv * syv), w[7, k], ax, ay, inv_ax2, inv_ay2, inv_axay,
+                          rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
+
+
+@numba.njit(**JIT)
+def f_deg_iso_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, a, rho,
+                   p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
+    # f_deg_loop for α_x = α_y = a: every formula of f_core then depends on the directions
+    # only through rotation-invariant quantities (h_z, |h_t|, v·h, μ, s, sin θ, l·v,
+    # |φ_v − φ_l|), so l is taken at azimuth 0 and v at φ_v − φ_l: three sines and cosines
+    # a pair instead of four, and s = a |sin θ| without a square root
+    inv_a2 = 1.0 / (a * a)
+    p_g2, p_fresnel, p_diffuse = {params}
+    w = np.empty((6, BLOCK))
+    once = np.empty((4, BLOCK))
+    for i, x in enumerate((theta_l, phi_l, theta_v, phi_v)):
+        once[i, :] = x[0]
+    every = (theta_l.size > 1) & (phi_l.size > 1) & (theta_v.size > 1) & (phi_v.size > 1)
+    for b0 in range(start, stop, BLOCK):
+        n = min(BLOCK, stop - b0)
+        e = b0 + n
+        if every:
+            angles_iso(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
+        else:
+            block_angles(theta_l, phi_l, theta_v, phi_v, once, b0, e)
+            angles_iso(once[0, :n], once[1, :n], once[2, :n], once[3, :n], w, n)
+        o = out[b0:e]
+        for k in range(n):
+            st_l, ct_l, st_v, ct_v, sd, cd = w[0, k], w[1, k], w[2, k], w[3, k], w[4, k], w[5, k]
+            t_l, t_v = abs(st_l), abs(st_v)
+            o[k] = f_core(st_l, 0.0, ct_l, st_v * cd, st_v * sd, ct_v, a * t_l, t_l, a * t_v, t_v,
+                          a, a, inv_a2, inv_a2, inv_a2, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
 
 
 @numba.njit(**JIT)
@@ -385,7 +475,8 @@ def cached(module: ModuleType) -> bool:
     """Whether numba's disk cache holds both loops of a generated module (its index
     files exist: the one signature the warm-up compiles)."""
     return all(os.path.exists(loop._cache._cache_file._index_path)
-               for loop in (module.f_loop, module.f_deg_loop, module.albedo_rows, module.smith_h))
+               for loop in (module.f_loop, module.f_deg_loop, module.f_deg_iso_loop,
+                             module.albedo_rows, module.smith_h))
 
 
 def load(c: Components) -> ModuleType:

@@ -36,6 +36,16 @@ def inputs(*arrays, shape: tuple | None = None) -> tuple[np.ndarray, ...]:
     return tuple(out)
 
 
+def once_or_all(a, shape: tuple) -> np.ndarray:
+    """An angle argument of the degrees loops: one value as an array of size 1 (the loop
+    uses it for every pair), else all ``shape``'s values flat (a copy only when ``a``
+    broadcasts along some axes but not all)."""
+    a = np.asarray(a, dtype=float)
+    if a.size == 1:
+        return a.reshape(1)
+    return np.broadcast_to(a, shape).reshape(-1)
+
+
 def _split(loop, n: int, work: int, before: tuple, after: tuple) -> None:
     """loop(*before, start, stop, *after) over [0, n), in one block per core on the pool
     when the ``work`` (evaluations) makes it pay."""
@@ -66,6 +76,7 @@ class Kernel:
         self.components = components
         self._f_loop = module.f_loop
         self._f_deg_loop = module.f_deg_loop
+        self._f_deg_iso_loop = module.f_deg_iso_loop
         self._albedo_rows = module.albedo_rows
         self._smith_h = module.smith_h
 
@@ -94,18 +105,23 @@ class Kernel:
                 self.diffuse_params(lobe)))
         return out.reshape(shape)
 
-    def f_deg(self, lobe, theta_l, phi_l, theta_v, phi_v) -> np.ndarray:
+    def f_deg(self, lobe, theta_l, phi_l, theta_v, phi_v, out: np.ndarray | None = None) -> np.ndarray:
         """f of a single-lobe BRDF at angles in degrees (l at θ_l, φ_l; v at θ_v, φ_v),
-        broadcast together: the directions are built inside the loop, as
-        physics/vectors.direction_deg builds them."""
+        broadcast together (a single angle is passed once, not repeated: the loop reads it
+        for every pair): the directions are built inside the loop, as
+        physics/vectors.direction_deg builds them (isotropic α: in the frame of l's azimuth,
+        compose.f_deg_iso_loop). ``out``: a C-contiguous float64 array of the broadcast
+        size to write into (else one is allocated)."""
         shape = np.broadcast_shapes(*(np.shape(a) for a in (theta_l, phi_l, theta_v, phi_v)))
-        angles = inputs(*(np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1)
-                          for a in (theta_l, phi_l, theta_v, phi_v)))
-        out = np.empty(angles[0].size)
+        angles = inputs(*(once_or_all(a, shape) for a in (theta_l, phi_l, theta_v, phi_v)))
+        out = np.empty(int(np.prod(shape))) if out is None else out.reshape(-1)
         ndf = lobe.ndf
-        _split(self._f_deg_loop, out.size, out.size, (*angles, out),
-               (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd), *self.params(lobe),
-                self.diffuse_params(lobe)))
+        ax, ay = float(ndf.alpha_x), float(ndf.alpha_y)
+        rest = (float(lobe.kd), *self.params(lobe), self.diffuse_params(lobe))
+        if ax == ay:
+            _split(self._f_deg_iso_loop, out.size, out.size, (*angles, out), (ax, *rest))
+        else:
+            _split(self._f_deg_loop, out.size, out.size, (*angles, out), (ax, ay, *rest))
         return out.reshape(shape)
 
     def albedo_rows(self, lobe, v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log) -> np.ndarray:
@@ -134,7 +150,7 @@ class Kernel:
         return h, slope, curvature
 
     def warm(self) -> None:
-        """Compile (or load from numba's cache) the four loops, on one point each (none
+        """Compile (or load from numba's cache) the five loops, on one point each (none
         for smith_h), with the argument types the calls above use."""
         l, = inputs([[0.0, 0.0, 1.0]])
         # parameters: long enough for any formula's (the loops read them into tuples
@@ -142,6 +158,7 @@ class Kernel:
         p, = inputs(np.zeros(16))
         self._f_loop(p, p, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
         self._f_deg_loop(p, p, p, p, np.empty(1), 0, 0, 0.5, 0.5, 0.0, p, p, p, p, p)
+        self._f_deg_iso_loop(p, p, p, p, np.empty(1), 0, 0, 0.5, 0.0, p, p, p, p, p)
         node, = inputs([[0.5]])
         rule, = inputs([0.5])
         self._albedo_rows(l, node, node, node, node, rule, rule, rule, rule, rule, False,

@@ -104,19 +104,26 @@ def _slice_search(steps: int, graded: bool) -> Fn:
               "KC_C0..KC_C3; the piece by a branch-free binary search.")
 
 
-def _slice_E(k: int, term, offset: int) -> tuple[list, list, list]:
+def slice_steps(term) -> int:
+    """Binary-search steps over a lobe's slice pieces (0: not a slice, a whole table)."""
+    spline = term.table.spline
+    return max(1, int(np.ceil(np.log2(spline.x.size - 1)))) if isinstance(spline, CubicSpline) else 0
+
+
+def _slice_E(k: int, term, offset: int, steps: int = 0) -> tuple[list, list, list]:
     """E_k(μ) from the per-α slice (integrate/tables/alpha_slice.py): its cubic pieces at
-    adaptive breakpoints, read by the search function every lobe of its length shares."""
+    adaptive breakpoints, read by the search function every lobe of its length shares;
+    ``steps``: at least this search length (the program's lobes share one function)."""
     table = term.table
     bp, coeffs = table.spline.x[:-1], table.spline.c
     m = bp.size
-    steps = max(1, int(np.ceil(np.log2(m))))
+    steps = max(steps, slice_steps(term))
     padded = np.concatenate([bp, np.full((1 << steps) - m, 2.0)])   # y ≤ 1 never passes 2
-    consts = [Const(f"KC_ALPHA_{k}", float(term.alpha), f"α of lobe {k}, the slice's own")]
+    consts = []                     # the slice is at the lobe's own α, ALPHA_X{k}
     doc = (f"E(μ) of lobe {k} at F = 1 (Kulla & Conty 2017): the project's E(μ) slice at α = {term.alpha:g}"
            f" ({m} pieces, reported error {table.error:.1e}).")
     graded = table.exponent != 1.0   # the slice's axis is x = y^q where E ~ μ^(2γ−3) at grazing
-    args = ["mu", f"KC_ALPHA_{k}"]
+    args = ["mu", f"ALPHA_X{k}"]
     if graded:
         consts.append(Const(f"KC_Q_{k}", float(table.exponent), f"q of lobe {k}'s axis x = y^q"))
         args.append(f"KC_Q_{k}")
@@ -127,13 +134,13 @@ def _slice_E(k: int, term, offset: int) -> tuple[list, list, list]:
     return consts, _pieces(padded.tolist(), coeffs, " (a slice's padded with 2)", offset), [search, fn]
 
 
-def kulla_conty_E(k: int, term, offset: int = 0) -> tuple[list, list, list]:
+def kulla_conty_E(k: int, term, offset: int = 0, steps: int = 0) -> tuple[list, list, list]:
     """E_k(μ): the lobe's E(μ, α) table at its α, as the cubic pieces of its spline in y,
     from ``offset`` in the tables the lobes share (the previous lobes' parts before it);
-    the functions it needs, E_k last."""
+    the functions it needs, E_k last. ``steps``: a slice's search length at least."""
     table = term.table
     if isinstance(table.spline, CubicSpline):      # a slice at the lobe's own α
-        return _slice_E(k, term, offset)
+        return _slice_E(k, term, offset, steps)
     spline = table.spline
     tx, ty, c = spline.tck
     kx, ky = spline.degrees

@@ -8,6 +8,7 @@ from __future__ import annotations
 import functools
 import textwrap
 
+from . import texture
 from .dsl import LANGS, TYPES, Fn, Program, literal
 from .dsl import translate as _translate
 
@@ -91,7 +92,14 @@ def write(program: Program, lang: str) -> str:
         else:
             prefix = "const float" if lang == "glsl" else "static const float"
             out.append(f"{prefix} {k.name} = {value};  {c} {k.comment}")
-    for t in program.tables:
+    in_texture = program.texture and lang != "python" and program.tables
+    parts = texture.layout(program.tables) if in_texture else {}
+    if in_texture:
+        out.append("")
+        comment, sampler = texture.declaration(lang, program.tables)
+        out += [f"{c} {line}" for line in textwrap.wrap(comment, 96)] + [sampler]
+        out += texture.reader(lang, texture.describe(program.tables)["width"])
+    for t in ([] if in_texture else program.tables):
         out.append("")
         out += [f"{c} {line}" for line in textwrap.wrap(t.comment, 96)]
         items = [_number(x, lang, t.kind) for x in t.values]
@@ -111,11 +119,15 @@ def write(program: Program, lang: str) -> str:
             out.append("};")
     for fn in program.functions:
         out.append("")
-        out += _function(fn, lang)
+        out += _function(fn, lang, parts)
     return "\n".join(out) + "\n"
 
 
-def _function(fn: Fn, lang: str) -> list[str]:
+def _function(fn: Fn, lang: str, parts: dict | None = None) -> list[str]:
+    """The function in ``lang``; ``parts``: tables read from the data texture (texture.py)."""
+    if parts:
+        fn = Fn(fn.name, fn.ret, fn.params, [(t, n, texture.rewrite(e, parts)) for t, n, e in fn.body],
+                texture.rewrite(fn.result, parts), fn.doc, fn.notes)
     c = _comment(lang)
     k = 0 if lang == "glsl" else 1
     lines: list[str] = []

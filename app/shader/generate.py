@@ -20,7 +20,7 @@ from ..model import ModelSpec
 from ..physics.diffuse.lambert import Lambert
 from ..physics.formula import tokens
 from ..physics.g2 import lambda_phi_entry
-from . import embed, principled, terms
+from . import embed, principled, terms, texture
 from .dsl import Const, Fn, Program, Table
 from .emit import write
 from .library import ERFCX_MAX_RELATIVE_ERROR, LIBRARY
@@ -42,7 +42,8 @@ def model_query(spec: ModelSpec) -> str:
 #: (the material's parameters as uniforms, each with its default value).
 FORMS = ("const", "uniform")
 BAKED_TABLE = "the embedded fit of the Smith integral is for this value"
-BAKED_KC = "Kulla-Conty's E table and scale are embedded for this value"
+BAKED_KC = ("Kulla-Conty's E(μ) (the data texture's cubic pieces, at the lobe's α) and its scale are "
+            "for this value")
 
 
 def fresnel_channels(fresnel) -> list:
@@ -99,8 +100,10 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
     baked: dict[str, str] = {}
     t.add(terms.fresnel(fresnel_channels(brdf.fresnel)))
     t.add(terms.diffuse(getattr(brdf, "diffuse", None) or Lambert()))
+    lam = "0.0"
     if g2.needs_phi:
         t.add(terms.lambda_phi(lambda_phi_entry(single.lambda_phi)))
+        lam = terms.lambda_phi_call(lambda_phi_entry(single.lambda_phi))
     fits: dict = {}                 # the Smith fits written so far (lobes of one shape share one)
     for k, (weight, lobe) in enumerate(lobes, start=1):
         t.consts.append(Const(f"W{k}", weight, f"weight of specular lobe {k}"))
@@ -112,21 +115,21 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
             if not getattr(lobe.ndf, "shape_invariant", True):
                 baked.update({f"ALPHA_X{k}": BAKED_TABLE, f"ALPHA_Y{k}": BAKED_TABLE})
         t.add(ml)
-        t.add(terms.visibility(k, g2, lobe.ndf, g2.needs_phi))
+        t.add(terms.visibility(k, g2, lobe.ndf, lam))
     if ms is not None:
         offset = 0                  # each lobe's pieces follow the previous lobe's
+        steps = max(embed.slice_steps(term) for term in ms.lobes)   # one search function
         for k, term in enumerate(ms.lobes, start=1):
-            c, tab, e_fns = embed.kulla_conty_E(k, term, offset)
+            c, tab, e_fns = embed.kulla_conty_E(k, term, offset, steps)
             offset += len(tab[0].values)
             t.consts.extend(c)
             t.tables.extend(tab)
             t.fns.extend(e_fns)
             t.tabulated.append((f"E_{k}", "Kulla-Conty's E(μ) at the lobe's α, the cubic pieces of the "
-                                          "project's E(μ, α) spline", term.table.error))
+                                          "project's E(μ, α) spline (in the data texture)", term.table.error))
             scale = _channel_scales(single, ms, k - 1)
             t.consts += [Const(f"MS{k}_{ch}", s, f"Kulla-Conty scale of lobe {k}, channel {ch}: "
-                               "w F_ms/(π(1 − E_avg))") for ch, s in zip("RGB", scale)]
-            t.consts.append(Const(f"E_AVG_{k}", term.E_avg, f"E_avg of lobe {k} (F = 1), of the table itself"))
+                               f"w F_ms/(π(1 − E_avg)), E_avg = {term.E_avg:.9g}") for ch, s in zip("RGB", scale)]
         baked.update({name: BAKED_KC for name in t.material if name != "KD"})
     fns = _library(t.fns) + t.fns + _public(len(lobes), g2.needs_phi, ms)
     uniforms = (t.material - set(baked)) if form == "uniform" else set()
@@ -134,7 +137,7 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
     info = {"uniforms": {c.name: c.value for c in consts if c.uniform},
             "baked": {k: v for k, v in sorted(baked.items())} if form == "uniform" else {},
             "tabulated": t.tabulated, "precision": precision_notes(brdf)}
-    return Program(_header(spec, brdf, ms), consts, _merged(t.tables), unique_fns(fns)), info
+    return Program(_header(spec, brdf, ms), consts, _merged(t.tables), unique_fns(fns), texture=ms is not None), info
 
 
 def _library(fns: list[Fn]) -> list[Fn]:
@@ -196,11 +199,11 @@ def _public(n_lobes: int, needs_phi: bool, ms) -> list[Fn]:
               "sel(mu_l * mu_v > 0.0, 4.0 * mu_l * mu_v * Vis, 0.0)", "G2 = 4 μ_l μ_v V, local frame.")]
     body = GEOMETRY + [("vec3", "Fr", "F(dot(v, h))")]
     if needs_phi:
-        body.append(("float", "phi", "azimuth_difference(l, v)"))
+        body.append(("float", "phi", "azimuth_difference(l, v)"))     # V_k below read it
     total = ["splat(fd(ml, mv, dot(l, v)))"]
     for k in range(1, n_lobes + 1):
         body += [(f"float", f"D{k}", f"D_{k}(h)"),
-                 ("float", f"V{k}", f"V_{k}(ml, mv, muLambda_{k}(l), muLambda_{k}(v), {_phi_expr(needs_phi)})"),
+                 ("float", f"V{k}", f"V_{k}(ml, mv, muLambda_{k}(l), muLambda_{k}(v), {'phi' if needs_phi else '0.0'})"),
                  ("vec3", f"s{k}", f"vec3(spec(D{k}, X(Fr), V{k}, h_ok), spec(D{k}, Y(Fr), V{k}, h_ok), "
                                    f"spec(D{k}, Z(Fr), V{k}, h_ok))")]
         total.append(f"W{k} * s{k}")
@@ -238,9 +241,14 @@ def _header(spec: ModelSpec, brdf, ms) -> list[str]:
 
 
 def precision_notes(brdf) -> list[str]:
-    """Where float32 suffices and where half precision breaks, from the model's values."""
+    """Where float32 suffices and where half precision breaks, from the model's values
+    (lobes with the same note share its line)."""
     single = brdf.single() if getattr(brdf, "multiscatter", None) is not None else brdf
-    return FLOAT32_NOTE + [half_note(f"lobe {k}", lobe.ndf) for k, (_, lobe) in enumerate(single.lobes(), start=1)]
+    notes: dict[str, list[int]] = {}
+    for k, (_, lobe) in enumerate(single.lobes(), start=1):
+        notes.setdefault(half_note("", lobe.ndf), []).append(k)
+    return FLOAT32_NOTE + [("lobe " if len(ks) == 1 else "lobes ") + " and ".join(map(str, ks)) + note
+                           for note, ks in notes.items()]
 
 
 def generate(spec: ModelSpec, lang: str, form: str = "const") -> str:
@@ -251,12 +259,16 @@ def generate(spec: ModelSpec, lang: str, form: str = "const") -> str:
 def describe(spec: ModelSpec, lang: str, form: str = "const") -> dict:
     """The code with what a caller needs beside it (for /code's JSON): its uniforms and
     their values for this material, what stays baked and why, every embedded table or
-    approximation with its stated error, the precision notes and the line count."""
+    approximation with its stated error, the data texture a Kulla-Conty shader reads
+    (``textures``: bind each as a sampler of its name; texture.py), the precision notes
+    and the line count."""
     prog, info = _assemble(spec, form)
     code = write(prog, lang)
     return {"lang": lang, "form": form, "code": code, "lines": len(code.splitlines()),
             "uniforms": info["uniforms"], "baked": info["baked"],
             "approximations": approximations(info["tabulated"], prog),
+            "textures": ({texture.NAME: texture.describe(prog.tables)}
+                         if prog.texture and prog.tables and lang != "python" else {}),
             "precision": info["precision"]}
 
 

@@ -4,9 +4,11 @@
 h(a) = μΛ/s of the project's table of the Smith integral (app/physics/smith_table.py,
 |ΔG1| ≤ 1e-9) is fitted in x = ln a over the table's range [A_MIN, A_MAX] by PIECES
 Chebyshev series of degree DEGREE, one per equal piece in x (h is analytic in ln a, so
-a series converges geometrically: 16 pieces of width 1.7 at degree 16 reach
-|ΔG1| ≤ 3e-8 on every registered shape tried, 272 numbers instead of the table's 8192). Evaluated by Clenshaw's recurrence, stable in float32. The fit's own error is
-measured at generation against the table on FIT_CHECK points and stated as the largest
+a series converges geometrically: 16 pieces of width 1.7 at degree 16 reach |ΔG1| ≤ 6e-8
+on the shapes tried — GTR γ 0.5-10, Student-t γ 1.51-1000, Blinn-Phong, exponential power
+p ≤ 1.5 — but 3.2e-6 at exponential power p = 4, the end of its range; 272 numbers instead
+of the table's 8192). Evaluated by Clenshaw's recurrence, stable in float32. The fit's own
+error is measured at generation against the table on FIT_CHECK points and stated as the largest
 |ΔG1| = |a/(a + h_fit) − a/(a + h_table)| (G1 = μ/(μ + s h) = a/(a + h)), to which the
 table's 1e-9 adds. Outside [A_MIN, A_MAX] the table's own end laws are kept.
 """
@@ -81,8 +83,7 @@ def lambda_fit(k: int, ndf, parts: dict):
               Const("LAM_W", width, f"width in ln a of each of the {PIECES} pieces"),
               Const("LAM_A_MIN", table.a_min, "below: linear to the exact grazing value h(0)"),
               Const("LAM_A_MAX", table.a_max, "above: h(A_MAX) A_MAX/a (the tail law)"),
-              Const(f"LAM_H0_{j}", table.h0, f"h(0) of shape {j} (lobe {k}), the grazing limit of μΛ/s"),
-              Const(f"LAM_HMIN_{j}", table.h_min, f"h(A_MIN) of shape {j}")]
+              Const(f"LAM_H0_{j}", table.h0, f"h(0) of shape {j} (lobe {k}), the grazing limit of μΛ/s")]
     tables = [] if shared else [Table("LAM_C", coef.ravel().tolist(),
                     f"h(a) = μΛ/s: Chebyshev coefficients c_0..c_{DEGREE} of each of {PIECES} pieces in x = ln a "
                     f"(a shape's piece i: {n} entries from the shape's offset + {n} i), t = 2(x − X0 − i W)/W − 1.",
@@ -90,7 +91,7 @@ def lambda_fit(k: int, ndf, parts: dict):
     doc = (f"μΛ = s h(a), a = μ/s, h of the general Smith integral (Heitz 2014, eq. 43) by {PIECES} Chebyshev\n"
            f"pieces of degree {DEGREE} in ln a: |ΔG1| ≤ {total:.1e} against the integral (fit {error:.1e}).")
     body = [("float", "a", "mu / max(s, 1e-30)"),
-            ("float", "h", f"smith_fit_h(a, {base}, LAM_X0, LAM_W, LAM_A_MIN, LAM_A_MAX, LAM_H0_{j}, LAM_HMIN_{j})")]
+            ("float", "h", f"smith_fit_h(a, {base}, LAM_X0, LAM_W, LAM_A_MIN, LAM_A_MAX, LAM_H0_{j})")]
     return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)", total, clenshaw()
 
 
@@ -111,7 +112,8 @@ def clenshaw() -> Fn:
     body.append(("float", "h_in", f"LAM_C[o] + t * b1 - {prev2}"))
     return Fn("smith_fit_h", "float",
               [("float", "a"), ("int", "base"), ("float", "x0"), ("float", "w"), ("float", "a_min"),
-               ("float", "a_max"), ("float", "h0"), ("float", "h_min")], body,
-              "sel(a < a_min, h0 + (h_min - h0) * (a / a_min), sel(a > a_max, h_in * (a_max / a), h_in))",
+               ("float", "a_max"), ("float", "h0")], body,
+              "sel(a < a_min, h0 + (h_in - h0) * (a / a_min), sel(a > a_max, h_in * (a_max / a), h_in))",
               f"h(a) = μΛ/s by {PIECES} Chebyshev pieces of degree {DEGREE} in x = ln a (one lobe's, from base in\n"
-              "LAM_C); below A_MIN linear to the grazing limit h(0), above A_MAX the tail law h(A_MAX) A_MAX/a.")
+              "LAM_C); below A_MIN linear to the grazing limit h(0), above A_MAX the tail law h(A_MAX) A_MAX/a\n"
+              "(h_in: the fit at a clamped to [A_MIN, A_MAX]).")

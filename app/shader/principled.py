@@ -8,7 +8,8 @@ Its parameters (base colour, roughness, metallic, …) are the program's uniform
 parameterised form, and everything derived from them (C_tint, C_spec0, C_sheen, α_x, α_y,
 the clearcoat's GTR1 normalisation, Kulla-Conty's per-channel scale) is formed in the
 shader, so one compiled program draws any material. Only Kulla-Conty's E(μ) stays baked
-for one roughness (a 1-D table at the lobe's α). The options are the program's structure.
+for one roughness (the cubic pieces at the lobe's α, read from the data texture,
+texture.py). The options are the program's structure.
 """
 from __future__ import annotations
 
@@ -29,7 +30,7 @@ from .terms import formula_consts, formula_fn
 #: The names the principled model takes: what :func:`accepts` looks for in a family.
 NAMES = frozenset(["base_color", ROUGHNESS.name, *(p.name for p in PARAMS)])
 CHANNELS = "RGB"
-BAKED_KC = "Kulla-Conty's E(μ) is embedded for this roughness (a 1-D table at its α)"
+BAKED_KC = ("Kulla-Conty's E(μ) is for this roughness (the data texture's cubic pieces at its α)")
 #: disney.brdf's base_color_space=srgb decoding exponent (app/principled/material.py GAMMA).
 GAMMA = 2.2
 
@@ -125,7 +126,8 @@ def assemble(spec, form: str):
         if values["principled_multiscatter"] == "kulla_conty":
             term = m.multiscatter()[0].lobes[0]       # the channels share the table and α
             c, tab, e_fns = embed.kulla_conty_E(1, term, 0)
-            consts += c + [Const("E_AVG_1", term.E_avg, "E_avg of the GGX lobe (F = 1) at the baked roughness")]
+            consts += c + [Const("E_AVG_1", term.E_avg, "E_avg of the GGX lobe (F = 1) at the baked roughness"),
+                           Const("ALPHA_X1", float(term.alpha), "α at the baked roughness (E's slice)")]
             tables += tab
             fns.extend(e_fns)
             f_avg = FRESNELS["schlick"].F_avg_formula
@@ -167,7 +169,7 @@ def assemble(spec, form: str):
     consts = [c if c.name not in baked else Const(c.name, c.value, c.comment) for c in consts]
     info = {"uniforms": {c.name: c.value for c in consts if c.uniform}, "baked": dict(sorted(baked.items())),
             "tabulated": tabulated, "precision": precision_notes(m)}
-    return Program(_header(spec, values), unique_consts(consts), tables, unique_fns(fns)), info
+    return Program(_header(spec, values), unique_consts(consts), tables, unique_fns(fns), texture=bool(tables)), info
 
 
 def _doc(name: str) -> str:

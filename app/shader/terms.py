@@ -11,7 +11,7 @@ Every function works in the local frame n = +z, t = +x (direction of α_x), b = 
 """
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 from ..errors import ParameterError
 from ..physics.formula import Formula
@@ -66,6 +66,13 @@ def with_params(formula: Formula, prefix: str, values, what: str) -> Terms:
     return t
 
 
+def used_params_only(formula: Formula, values) -> tuple[Formula, list]:
+    """The formula without the parameters its expressions never read (GTR's D reads γ and
+    ln D₀ of its six), and the values of those it keeps."""
+    keep = [i for i, p in enumerate(formula.p) if formula.uses(p)]
+    return replace(formula, p=tuple(formula.p[i] for i in keep)), [values[i] for i in keep]
+
+
 def _refuse(param: str, value: str, what: str) -> ParameterError:
     return ParameterError(param, f"{param}={value} has no shader form: it declares no {what} "
                                  "(app/physics/formula.py), so /code cannot write it")
@@ -84,7 +91,8 @@ def ndf_D(k: int, ndf) -> Terms:
     if formula is None:
         raise _refuse("ndf", ndf.name, "D_formula")
     t = alphas(k, ndf)
-    t.add(with_params(formula, f"NDF{k}", ndf.kernel_params(), f"the NDF of lobe {k}"))
+    formula, values = used_params_only(formula, ndf.kernel_params())
+    t.add(with_params(formula, f"NDF{k}", values, f"the NDF of lobe {k}"))
     body = [("float", "mz", "Z(m)"),
             ("float", "q2", f"X(m) * X(m) / (ALPHA_X{k} * ALPHA_X{k}) + Y(m) * Y(m) / (ALPHA_Y{k} * ALPHA_Y{k})")]
     t.fns.append(Fn(f"D_{k}", "float", [("vec3", "m")], body,
@@ -100,12 +108,12 @@ def mu_Lambda(k: int, ndf, masking, fits: dict) -> Terms:
     the NDF's formula where that is the exact one, else a compact fit of the Smith
     integral (lambda_fit.py), shared with an earlier lobe of the same shape (``fits``)."""
     body = [("float", "mu", "max(Z(w), 0.0)"),
-            ("float", "s", f"sqrt(ALPHA_X{k} * ALPHA_X{k} * X(w) * X(w) + ALPHA_Y{k} * ALPHA_Y{k} * Y(w) * Y(w))"),
-            ("float", "sin_t", "sqrt(X(w) * X(w) + Y(w) * Y(w))")]
+            ("float", "s", f"sqrt(ALPHA_X{k} * ALPHA_X{k} * X(w) * X(w) + ALPHA_Y{k} * ALPHA_Y{k} * Y(w) * Y(w))")]
     ndf_formula = type(ndf).mu_Lambda_formula
     exact = masking.exact(ndf) is masking
     t = alphas(k, ndf)
     if masking.formula is not None:
+        body.append(("float", "sin_t", "sqrt(X(w) * X(w) + Y(w) * Y(w))"))
         t.add(with_params(masking.formula, f"MASK{k}", masking.kernel_params(ndf), f"the masking of lobe {k}"))
         result, doc = call(masking.formula, ["mu", "s", "sin_t"], f"MASK{k}"), f"μΛ of lobe {k}: masking={masking.name}."
     elif ndf_formula is not None and (masking.uses_ndf_Lambda or (exact and type(ndf).smith_exact)):
@@ -126,12 +134,12 @@ def mu_Lambda(k: int, ndf, masking, fits: dict) -> Terms:
     return t
 
 
-def visibility(k: int, g2, ndf, needs_phi: bool) -> Terms:
-    """V_k = G2/(4 μ_l μ_v) from μ ≥ 0 and μΛ of both directions; +∞ where it diverges."""
+def visibility(k: int, g2, ndf, lam: str) -> Terms:
+    """V_k = G2/(4 μ_l μ_v) from μ ≥ 0 and μΛ of both directions; +∞ where it diverges.
+    ``lam``: λ(φ) as an expression of phi (lambda_phi_call), or "0.0"."""
     if g2.formula is None:
         raise _refuse("g2", g2.name, "formula")
     t = with_params(g2.formula, f"G2_{k}", g2.kernel_params(ndf), f"the G2 form of lobe {k}")
-    lam = "lambda_phi(phi)" if needs_phi else "0.0"
     t.fns.append(Fn(f"V_{k}", "float", [("float", "mu_l"), ("float", "mu_v"), ("float", "ml_l"),
                                         ("float", "ml_v"), ("float", "phi")], [],
                     call(g2.formula, ["mu_l", "mu_v", "ml_l", "ml_v", lam], f"G2_{k}"),
@@ -140,13 +148,15 @@ def visibility(k: int, g2, ndf, needs_phi: bool) -> Terms:
 
 
 def lambda_phi(entry) -> Terms:
-    """λ(φ) of the direction-correlated forms, φ ∈ [0, π] the azimuth difference."""
+    """λ(φ) of the direction-correlated forms, φ ∈ [0, π] the azimuth difference: the
+    entry's formula, called by V_k (lambda_phi_call)."""
     if entry is None or entry.formula is None:
         raise _refuse("lambda_phi", getattr(entry, "name", "?"), "formula")
-    t = with_params(entry.formula, "LAMBDA_PHI", (), "λ(φ)")
-    t.fns.append(Fn("lambda_phi", "float", [("float", "phi")], [], call(entry.formula, ["phi"], "LAMBDA_PHI"),
-                    f"λ(φ): lambda_phi={entry.name}."))
-    return t
+    return with_params(entry.formula, "LAMBDA_PHI", (), "λ(φ)")
+
+
+def lambda_phi_call(entry) -> str:
+    return call(entry.formula, ["phi"], "LAMBDA_PHI")
 
 
 def fresnel(channels: list) -> Terms:

@@ -17,10 +17,10 @@ import pytest
 
 from app.model import make_spec
 from app.physics.vectors import direction_deg
-from app.shader.generate import describe, generate
+from app.shader.generate import describe
 from tests.shader.conftest import client  # noqa: F401  (the fixture: the API in process)
 from tests.shader.principled_models import TWO_MATERIALS, covering_models, model_id
-from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_BATCH_JS, VERTEX
+from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_BATCH_JS, VERTEX, batch_entry
 
 SIDE = 32                         # 1024 direction pairs per program
 REL, FLOOR = 1e-5, 1e-6
@@ -87,8 +87,8 @@ def test_principled_in_webgl2(client, page):
     a, b = TWO_MATERIALS
     code_a, code_b = describe(make_spec(**a), "glsl", "uniform"), describe(make_spec(**b), "glsl", "uniform")
     assert code_a["uniforms"].keys() == code_b["uniforms"].keys() and code_a["uniforms"] != code_b["uniforms"]
-    programs = [{"fs": _fs(generate(make_spec(**m), "glsl")), "uniforms": [{}]} for m in models]
-    programs.append({"fs": _fs(code_a["code"]), "uniforms": [code_a["uniforms"], code_b["uniforms"]]})
+    programs = [batch_entry(describe(make_spec(**m), "glsl")) for m in models]
+    programs.append(batch_entry(code_a, [code_a["uniforms"], code_b["uniforms"]]))
     out = page.evaluate(RUN_BATCH_JS, [VERTEX, programs, SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
     assert "error" not in out, out.get("error")
     results = out["results"]
@@ -117,7 +117,7 @@ def test_principled_finite_in_float32_at_the_horizon(page):
     for m in covering_models()[:6]:
         body = describe(make_spec(**m), "glsl", "uniform")
         sets = [{**body["uniforms"], **{k: x for k, x in c.items() if k in body["uniforms"]}} for c in corners]
-        programs.append({"fs": _fs(body["code"]), "uniforms": sets})
+        programs.append(batch_entry(body, sets))
     out = page.evaluate(RUN_BATCH_JS, [VERTEX, programs, SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
     assert "error" not in out, out.get("error")
     for r in out["results"]:

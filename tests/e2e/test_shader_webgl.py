@@ -2,7 +2,8 @@
 4096 direction pairs into a float32 colour buffer, read back, and compared with
 /api/v1/eval — relative 1e-5 where f > 1e-6 — for a set of models in which every
 registry entry (each NDF, masking, G2 form, λ(φ), Fresnel, multiple scattering, two
-lobes, anisotropy, each embedded table) occurs at least once.
+lobes, anisotropy, each embedded table) occurs at least once; a Kulla-Conty shader with
+its data texture (/code's JSON "textures") bound.
 
 Directions are drawn in float64, sent to the shader as float32 (rounding 6e-8) and to
 /eval as angles; θ ≤ 88° keeps the comparison off the horizon, where f of a float32
@@ -77,10 +78,10 @@ def pairs():
 @pytest.mark.parametrize("params", COVERING, ids=model_id)
 def test_glsl_in_webgl2_agrees_with_eval(page, live_server, pairs, params):
     angles, (l_rgba, v_rgba) = pairs
-    glsl = _get(f"{live_server}/api/v1/code?{urlencode({**params, 'lang': 'glsl'})}").decode()
+    body = json.loads(_get(f"{live_server}/api/v1/code?{urlencode({**params, 'lang': 'glsl', 'format': 'json'})}"))
     page.goto(live_server + "/")
-    out = page.evaluate(RUN_JS, [VERTEX, FRAGMENT_HEAD + glsl + FRAGMENT_MAIN, SIDE, SIDE,
-                                 l_rgba, v_rgba, [0.0, 0.0, 1.0]])
+    out = page.evaluate(RUN_JS, [VERTEX, FRAGMENT_HEAD + body["code"] + FRAGMENT_MAIN, SIDE, SIDE,
+                                 l_rgba, v_rgba, [0.0, 0.0, 1.0], body["textures"]])
     assert "error" not in out, out.get("error")
     got = np.array(out["f"], dtype=float).reshape(-1, 4)[:, :3]
     ref = _eval(live_server, params, angles)

@@ -2,6 +2,9 @@
 
 * every registry combination (tests/shader/models.py) and every diffuse model, each
   compiled and drawn once, against /api/v1/eval — relative 1e-5 where f > 1e-6;
+* every NDF with Kulla-Conty and its longest options, two lobes, its data texture bound
+  (E's pieces and the Smith fit), against /eval to the same 1e-5; and at α = 1e-4 and 1
+  among the grazing models below (finite, ≥ 0);
 * one compiled parameterised shader (form="uniform") drawing two different materials
   by changing only its uniforms, each against /eval of its own material;
 * the one-file models (tests/kernels/test_one_file_models.py: an NDF, a Fresnel model
@@ -27,12 +30,13 @@ from app.errors import ParameterError
 from app.model import make_spec
 from app.physics.diffuse import DIFFUSES
 from app.physics.vectors import direction_deg
-from app.shader.generate import describe, generate
+from app.shader.generate import describe
 from tests.kernels.test_one_file_models import throwaway  # noqa: F401  (the fixture)
 from tests.shader.conftest import client  # noqa: F401  (the fixture: the API in process)
 from tests.shader.models import registry_models
 from tests.shader.test_code import HLSL_MAIN
-from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_BATCH_JS, VERTEX
+from tests.shader.test_full_product import KULLA_CONTY_LONGEST, kulla_conty_models
+from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_BATCH_JS, VERTEX, batch_entry
 
 GLSLANG = shutil.which("glslangValidator")
 ROOT = Path(__file__).resolve().parents[2]
@@ -107,7 +111,7 @@ FLOAT32_LIMITED = {("student_t", 50.0): 3e-5}
 def test_whole_registry_in_webgl2_agrees_with_eval(client, page, pairs):
     """Every combination of the registry, batched: one page, each shader compiled once."""
     models = _models()
-    programs = [{"fs": _fs(generate(make_spec(**m), "glsl")), "uniforms": [{}]} for m in models]
+    programs = [batch_entry(describe(make_spec(**m), "glsl")) for m in models]
     results = _run(page, pairs, programs)
     angles = pairs[0]
     bad = []
@@ -119,6 +123,19 @@ def test_whole_registry_in_webgl2_agrees_with_eval(client, page, pairs):
         if not err <= FLOAT32_LIMITED.get((m["ndf"], m.get("gamma")), REL):
             bad.append((m, f"relative error {err:.2e}"))
     assert not bad, bad[:5]
+
+
+def test_kulla_conty_longest_in_webgl2_agrees_with_eval(client, page, pairs):
+    """Every NDF with Kulla-Conty and its longest options (tests/shader/test_full_product.py),
+    two lobes: E's pieces and the Smith fit read from the data texture, against /eval."""
+    models = kulla_conty_models()
+    results = _run(page, pairs, [batch_entry(describe(make_spec(**m), "glsl")) for m in models])
+    bad = []
+    for m, r in zip(models, results):
+        err = r["error"][:200] if isinstance(r, dict) else _error(r[0], _eval(client, m, pairs[0]))
+        if isinstance(err, str) or not err <= REL:
+            bad.append((m["ndf"], err))
+    assert not bad, bad
 
 
 MATERIALS = [
@@ -138,8 +155,7 @@ def test_two_materials_one_compiled_shader(client, page, pairs, a, b):
     code_a, code_b = describe(make_spec(**a), "glsl", "uniform"), describe(make_spec(**b), "glsl", "uniform")
     assert code_a["uniforms"].keys() == code_b["uniforms"].keys()
     assert code_a["uniforms"] != code_b["uniforms"]
-    (ra, rb), = _run(page, pairs, [{"fs": _fs(code_a["code"]),
-                                     "uniforms": [code_a["uniforms"], code_b["uniforms"]]}])
+    (ra, rb), = _run(page, pairs, [batch_entry(code_a, [code_a["uniforms"], code_b["uniforms"]])])
     angles = pairs[0]
     assert _error(ra, _eval(client, a, angles)) <= REL
     assert _error(rb, _eval(client, b, angles)) <= REL
@@ -221,6 +237,8 @@ def test_no_nan_or_inf_in_webgl2_at_grazing_and_tiny_alpha(page):
             for alpha in (1e-4, 1.0):
                 models.append({**m, "alpha": alpha, **({"alpha_y": alpha} if "alpha_y" in m else {})})
     models += [{"ndf": "ggx", "alpha": 1e-4, "kd": 0.5, "diffuse": d} for d in DIFFUSES]
+    one_lobe = {k: v for k, v in KULLA_CONTY_LONGEST.items() if k not in ("alpha2", "lobe_mix")}
+    models += [m for alpha in (1e-4, 1.0) for m in kulla_conty_models({**one_lobe, "alpha": alpha})]
     specs = []
     for m in models:
         try:
@@ -229,8 +247,8 @@ def test_no_nan_or_inf_in_webgl2_at_grazing_and_tiny_alpha(page):
             pass                                    # e.g. a shape the model refuses at α = 1e-4
     assert len(specs) >= 0.9 * len(models), "most combinations must be accepted at α = 1e-4"
     L, V = _grazing_rgba()
-    out = page.evaluate(RUN_BATCH_JS, [VERTEX, [{"fs": _fs(generate(s, "glsl")), "uniforms": [{}]}
-                                                for _, s in specs], SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
+    out = page.evaluate(RUN_BATCH_JS, [VERTEX, [batch_entry(describe(s, "glsl")) for _, s in specs],
+                                       SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
     assert "error" not in out, out.get("error")
     bad = []
     for (m, _), r in zip(specs, out["results"]):

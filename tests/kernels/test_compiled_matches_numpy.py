@@ -148,6 +148,9 @@ def test_f_matches_numpy(case):
     L, V = np.broadcast_arrays(_direction_deg(th_l, 30.0)[:, None, None, :],
                                _direction_deg(th_v[:, None], phi_v[None, :])[None])
     _assert_close(got.ravel(), brdf.evaluate(L, V, ("f",))["f"].ravel())
+    # and isotropic (compose.f_deg_iso_loop: l at azimuth 0, v at φ_v − φ_l), small α
+    got = kernels.f_deg(iso, th_l[:, None, None], 30.0, th_v[None, :, None], phi_v)
+    _assert_close(got.ravel(), iso.evaluate(L, V, ("f",))["f"].ravel())
 
 
 @pytest.mark.parametrize("case", CASES, ids=_id)

@@ -3,7 +3,8 @@ numpy reference: BRDF.evaluate on directions that numpy builds from the same ang
 (ω = (sinθ cosφ, sinθ sinφ, cosθ), written out here), to 1e-12 relative, for several
 NDFs, every Fresnel model, a direction-correlated G2, a numeric masking, diffuse models and
 anisotropic α; angles random plus θ = 0, θ = 90° (grazing, both grazing), φ beyond ±360°
-and broadcast shapes."""
+and broadcast shapes; isotropic α (l at azimuth 0, v at φ_v − φ_l: f_deg_iso_loop) and
+anisotropic (f_deg_loop)."""
 from __future__ import annotations
 
 import numpy as np
@@ -45,9 +46,10 @@ def reference(brdf, th_l, ph_l, th_v, ph_v):
     return brdf.evaluate(l, v, ("f",))["f"]
 
 
+@pytest.mark.parametrize("alpha_y", [0.4, None], ids=["anisotropic", "isotropic"])
 @pytest.mark.parametrize("case", MODELS, ids=_id)
-def test_degrees_in_matches_numpy(case):
-    brdf = _brdf(case, alpha=0.25, alpha_y=0.4)
+def test_degrees_in_matches_numpy(case, alpha_y):
+    brdf = _brdf(case, alpha=0.25, alpha_y=alpha_y)
     assert kernels.compile_now(brdf) is not None
     a = angles()
     got = kernels.f_deg(brdf, *a)

@@ -175,3 +175,22 @@ def test_kulla_conty_E_in_the_code_is_the_albedo(client, query):
     mu = np.linspace(0.02, 1.0, 17)
     albedo = client.get(f"/api/v1/albedo?{model}&mu={','.join(map(str, mu))}").json()
     assert np.max(np.abs(ns["E_1"](mu) - np.array(albedo["E"]))) < 1e-4
+
+
+def test_kulla_conty_data_texture_holds_the_python_tables(client):
+    """/code's JSON texture (GLSL and HLSL read it unfiltered, entry i at texel (i mod w,
+    i div w)) is the float32 of the tables the Python form embeds, each at its stated
+    offset; the shader says where each table lies and declares the sampler."""
+    query = "ndf=gtr&gamma=1.5&alpha=0.3&alpha2=0.7&lobe_mix=0.5&multiscatter=kulla_conty"
+    ns = _load(client.get(f"/api/v1/code?lang=python&{query}").text)
+    for lang, sampler in (("glsl", "uniform highp sampler2D BRDF_DATA;"), ("hlsl", "Texture2D<float> BRDF_DATA;")):
+        body = client.get(f"/api/v1/code?lang={lang}&format=json&{query}").json()
+        tex = body["textures"]["BRDF_DATA"]
+        assert tex["format"] == "R32F" and len(tex["data"]) == tex["width"] * tex["height"]
+        assert sampler in body["code"]
+        assert set(tex["parts"]) == {"LAM_C", "KC_BP", "KC_C0", "KC_C1", "KC_C2", "KC_C3"}
+        for name, part in tex["parts"].items():
+            assert f"{name} at {part['offset']}" in " ".join(body["code"].replace("//", "").split())
+            got = np.array(tex["data"][part["offset"]:part["offset"] + part["length"]])
+            np.testing.assert_array_equal(got.astype(np.float32), np.asarray(ns[name], dtype=np.float32))
+    assert client.get(f"/api/v1/code?lang=python&format=json&{query}").json()["textures"] == {}

@@ -5,7 +5,7 @@ that contains every distinct HLSL function and declaration of the whole product 
 HLSL front end needs one run a file; what the product adds beyond those lines is names
 side by side, which the GLSL run checks with the same names). The numeric agreement of
 each entry: tests/shader/test_code.py and tests/e2e/test_webgl_one_source.py. Kulla-Conty
-with the longest options still exceeds 300 lines: the last test, expected to fail."""
+with the longest options of every NDF and of the principled BRDF: the last test."""
 from __future__ import annotations
 
 import itertools
@@ -22,7 +22,7 @@ from app.physics.g2 import G2_FORMS
 from app.physics.masking import MASKINGS
 from app.physics.ndf import NDFS
 from app.shader.emit import write
-from app.shader.generate import program
+from app.shader.generate import FORMS, program
 from tests.shader.test_code import GLSLANG, HLSL_MAIN
 from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN
 
@@ -116,24 +116,59 @@ def _covering(codes) -> list[int]:
     return chosen
 
 
-#: Kulla-Conty with the longest options (direction-correlated G2, a conductor, EON): one
-#: lobe and two, GGX and the NDFs whose Smith Λ is a fit
-KULLA_CONTY_LONGEST = [
-    {"ndf": "ggx", "alpha": 0.3, "alpha2": 0.7, "lobe_mix": 0.5},
-    {"ndf": "student_t", "gamma": 3.0, "alpha": 0.3},
-    {"ndf": "gtr", "gamma": 1.5, "alpha": 0.3, "alpha2": 0.7, "lobe_mix": 0.5},
-]
+#: Kulla-Conty with the longest options: two lobes, direction-correlated G2 with van
+#: Ginneken's λ(φ), a conductor, EON (measured the longest of Student-t's and GGX's over
+#: every masking, G2, λ(φ), Fresnel — a coloured material too — and diffuse model)
+KULLA_CONTY_LONGEST = {"alpha": 0.3, "alpha2": 0.7, "lobe_mix": 0.5, "multiscatter": "kulla_conty",
+                       "g2": "direction_correlated", "lambda_phi": "van_ginneken", "fresnel": "conductor",
+                       "diffuse": "eon", "kd": 0.3}
+#: the principled BRDF's longest: every lobe, Kulla-Conty, EON, sRGB decoding
+PRINCIPLED_LONGEST = {"model": "principled", "principled_multiscatter": "kulla_conty", "lobe": "all",
+                      "principled_diffuse": "eon", "principled_g2": "height_correlated", "base_color_space": "srgb"}
 
 
-@pytest.mark.xfail(strict=True, reason="open (issue 32): measured 319 (GGX, two lobes), 348 (Student-t, one lobe) "
-                                       "and 444 lines (GTR, two lobes) — the Smith fit's 272 coefficients per "
-                                       "shape and Kulla-Conty's cubic pieces are embedded as arrays")
-def test_kulla_conty_models_stay_within_300_lines():
-    long = []
-    for base in KULLA_CONTY_LONGEST:
-        params = {**base, "multiscatter": "kulla_conty", "g2": "height_direction_correlated",
-                  "fresnel": "conductor", "diffuse": "eon", "kd": 0.3}
-        n = len(write(program(make_spec(**params), "uniform"), "glsl").splitlines())
-        if n > MAX_LINES:
-            long.append((n, params))
+def kulla_conty_models(base: dict = KULLA_CONTY_LONGEST) -> list[dict]:
+    """Each NDF with Kulla-Conty: under its default masking, or the Smith integral
+    (masking=smith_numeric) where the default Λ is not exact (Blinn-Phong)."""
+    out = []
+    for ndf in NDFS:
+        for masking in ({}, {"masking": "smith_numeric"}):
+            params = {"ndf": ndf, **SHAPES.get(ndf, {}), **base, **masking}
+            try:
+                make_spec(**params)
+            except ParameterError:
+                continue
+            out.append(params)
+            break
+    return out
+
+
+def test_kulla_conty_models_stay_within_300_lines(tmp_path):
+    """Every NDF that takes Kulla-Conty, and the principled BRDF, with their longest options
+    (E's pieces and the Smith fit in the data texture, texture.py): ≤ 300 lines, GLSL and
+    HLSL, both forms; the GLSL and HLSL compile with the sampler they declare."""
+    models = kulla_conty_models()
+    assert {m["ndf"] for m in models} == set(NDFS)
+    long, paths = [], []
+    for k, params in enumerate(models + [PRINCIPLED_LONGEST]):
+        for form in FORMS:
+            prog = program(make_spec(**params), form)
+            assert prog.texture
+            for lang in ("glsl", "hlsl"):
+                code = write(prog, lang)
+                if len(code.splitlines()) > MAX_LINES:
+                    long.append((len(code.splitlines()), lang, form, params))
+                assert "BRDF_DATA" in code and not re.search(r"\[\d+\]\s*=", code), "no embedded array left"
+            if form == "uniform" and GLSLANG is not None:
+                path = tmp_path / f"kc{k}.frag"
+                path.write_text(FRAGMENT_HEAD + write(prog, "glsl") + FRAGMENT_MAIN)
+                paths.append(str(path))
+                hlsl = tmp_path / f"kc{k}.hlsl"
+                hlsl.write_text(write(prog, "hlsl") + HLSL_MAIN)
+                res = subprocess.run([GLSLANG, "-D", "-V", "-e", "main", "-S", "frag", "-o", str(tmp_path / "kc.spv"),
+                                      str(hlsl)], capture_output=True, text=True, timeout=120)
+                assert res.returncode == 0, (params, res.stdout[-1500:])
     assert not long, long
+    if paths:
+        res = subprocess.run([GLSLANG, *paths], capture_output=True, text=True, timeout=600)
+        assert res.returncode == 0, res.stdout[-3000:]

@@ -1,6 +1,7 @@
 """One source per formula: an entry without a shader formula is a 422 naming it; the
 generated code has no NaN or ∞ in the closed upper hemisphere, at grazing (one or
-both directions) and at α = 1e-4; the kernels' scalar functions are the formulas'."""
+both directions) and at α = 1e-4, Kulla-Conty included; the kernels' scalar functions
+are the formulas'."""
 from __future__ import annotations
 
 import numpy as np
@@ -67,6 +68,23 @@ def test_no_nan_or_inf_in_the_closed_upper_hemisphere(ndf, alpha):
             f = namespace["brdf"](np.array([0.0, 0.0, 1.0]), l, v)
         assert np.isfinite(f).all(), params
         assert (f >= 0).all(), params
+
+
+@pytest.mark.parametrize("alpha", [1e-4, 1.0])
+def test_no_nan_or_inf_with_kulla_conty(alpha):
+    """The same with Kulla-Conty (E's pieces at α = 1e-4 and 1), every NDF that takes it,
+    its longest options (tests/shader/test_full_product.py), one lobe."""
+    from tests.shader.test_full_product import KULLA_CONTY_LONGEST, kulla_conty_models
+    base = {k: v for k, v in KULLA_CONTY_LONGEST.items() if k not in ("alpha2", "lobe_mix")}
+    models = kulla_conty_models({**base, "alpha": alpha})
+    assert {m["ndf"] for m in models} == set(NDFS)
+    l, v = _grazing_pairs()
+    for params in models:
+        namespace: dict = {}
+        exec(compile(generate(make_spec(**params), "python"), "<generated>", "exec"), namespace)
+        with np.errstate(all="ignore"):
+            f = namespace["brdf"](np.array([0.0, 0.0, 1.0]), l, v)
+        assert np.isfinite(f).all() and (f >= 0).all(), params
 
 
 def test_the_kernels_scalar_functions_are_the_formulas():

@@ -28,8 +28,9 @@ void main() {
     color = vec4(brdf(u_n, l, v), 1.0);
 }"""
 
-#: (vertex, fragment, width, height, l as flat RGBA, v as flat RGBA, n) → {f: flat RGBA} or {error}
-RUN_JS = """async ([vs, fs, w, h, L, V, n]) => {
+#: (vertex, fragment, width, height, l as flat RGBA, v as flat RGBA, n[, textures]) → {f: flat
+#: RGBA} or {error}; textures: /code's JSON "textures" (a Kulla-Conty shader's data), bound from unit 3
+RUN_JS = """async ([vs, fs, w, h, L, V, n, textures]) => {
   const canvas = document.createElement('canvas');
   canvas.width = w; canvas.height = h;
   const gl = canvas.getContext('webgl2');
@@ -57,8 +58,18 @@ RUN_JS = """async ([vs, fs, w, h, L, V, n]) => {
     gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, new Float32Array(data));
     return t;
   };
+  const dataTexture = (prog, name, v, unit) => {   // /code's JSON "textures": R32F, unfiltered
+    const t = gl.createTexture();
+    gl.activeTexture(gl.TEXTURE0 + unit); gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, v.width, v.height, 0, gl.RED, gl.FLOAT, new Float32Array(v.data));
+    gl.uniform1i(gl.getUniformLocation(prog, name), unit);
+    gl.activeTexture(gl.TEXTURE0);
+  };
   gl.useProgram(prog);
   texture(0, L); texture(1, V);
+  Object.entries(textures || {}).forEach(([name, v], k) => dataTexture(prog, name, v, 3 + k));
   gl.uniform1i(gl.getUniformLocation(prog, 'u_l'), 0);
   gl.uniform1i(gl.getUniformLocation(prog, 'u_v'), 1);
   gl.uniform3f(gl.getUniformLocation(prog, 'u_n'), n[0], n[1], n[2]);
@@ -76,7 +87,8 @@ RUN_JS = """async ([vs, fs, w, h, L, V, n]) => {
   return {f: Array.from(out), ms: performance.now() - t0};
 }"""
 
-#: Many programs in one page load, each compiled once and drawn once per uniform set:
+#: Many programs in one page load, each compiled once and drawn once per uniform set (a
+#: set may hold a data texture by name, /code's JSON "textures"):
 #: ([vs, [{fs, uniforms: [{name: value}, ...]}, ...], w, h, L, V, n]) →
 #: {results: [[flat RGBA per uniform set] or {error}], ms}
 RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
@@ -106,6 +118,15 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
     if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
     return s;
   };
+  const dataTexture = (prog, name, v, unit) => {   // /code's JSON "textures": R32F, unfiltered
+    const t = gl.createTexture();
+    gl.activeTexture(gl.TEXTURE0 + unit); gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, v.width, v.height, 0, gl.RED, gl.FLOAT, new Float32Array(v.data));
+    gl.uniform1i(gl.getUniformLocation(prog, name), unit);
+    gl.activeTexture(gl.TEXTURE0);
+  };
   const vsh = compile(gl.VERTEX_SHADER, vs);
   const results = [];
   for (const p of programs) {
@@ -123,9 +144,12 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
     gl.uniform3f(gl.getUniformLocation(prog, 'u_n'), n[0], n[1], n[2]);
     const outs = [];
     for (const set of p.uniforms) {
+      let unit = 3;
       for (const [name, value] of Object.entries(set)) {
         const loc = gl.getUniformLocation(prog, name);
-        if (loc !== null) gl.uniform1f(loc, value);   // null: optimised away (unused)
+        if (loc === null) continue;                    // optimised away (unused)
+        if (typeof value === 'object') dataTexture(prog, name, value, unit++);   // a data texture
+        else gl.uniform1f(loc, value);
       }
       gl.drawArrays(gl.TRIANGLES, 0, 3);
       const out = new Float32Array(w * h * 4);
@@ -137,3 +161,10 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
   }
   return {results, ms: performance.now() - t0};
 }"""
+
+
+def batch_entry(body: dict, sets=({},)) -> dict:
+    """RUN_BATCH_JS's entry for a /code JSON body (app.shader.generate.describe): its GLSL
+    in the fragment shader, and each uniform set with the body's data textures."""
+    return {"fs": FRAGMENT_HEAD + body["code"] + FRAGMENT_MAIN,
+            "uniforms": [{**s, **body.get("textures", {})} for s in sets]}

@@ -40,14 +40,17 @@ class CodeQuery(schemas.ModelQuery):
     format: Annotated[Literal["text", "json"], Field(
         description="text: the code alone; json: the code with its uniforms and their values, "
                     "what stays baked and why, each approximation with its stated maximum "
-                    "error, the precision notes and the line count")] = "text"
+                    "error, the data texture a Kulla-Conty shader reads (textures), the "
+                    "precision notes and the line count")] = "text"
 
 
 @router.get("/code", summary="The configured model as self-contained GLSL, HLSL or Python",
             description="A function brdf(n, l, v) returning f as RGB (no cosine), with the helpers "
                         "D, G1, G2, F, each generated from the registry entry's one formula; where "
                         "Smith's Λ has no closed form, a Chebyshev fit with its stated maximum error; "
-                        "Kulla-Conty's E as the cubic pieces of the lobe's E(μ) at its α. A model "
+                        "Kulla-Conty's E as the cubic pieces of the lobe's E(μ) at its α — in GLSL and "
+                        "HLSL read, with the Smith fit, from one R32F data texture BRDF_DATA "
+                        "(unfiltered; its values in the JSON's textures). A model "
                         "entry without a shader form is a 422 naming it. Plain text, or JSON with "
                         "format=json.",
             responses={200: {"content": {"text/plain": {"example": "vec3 brdf(vec3 n, vec3 l, vec3 v) {…}"}}}})

@@ -109,8 +109,9 @@ export function readTarget(gl, target) {
 }
 
 /** Sets each named float uniform whose location exists (one the compiler removed as
- * unused has none); numbers → float, arrays of 2–4 → vecN. Locations are looked up once
- * per program (uniformLocation). */
+ * unused has none); numbers → float, arrays of 2–4 → vecN, a data texture ({width,
+ * height, data}) → a sampler (bindData). Locations are looked up once per program
+ * (uniformLocation). */
 const locations = new WeakMap();
 export function uniformLocation(gl, prog, name) {
   let m = locations.get(prog);
@@ -119,11 +120,36 @@ export function uniformLocation(gl, prog, name) {
   return m.get(name);
 }
 
+/** Data textures (/code's JSON "textures": {width, height, format "R32F", data}), one
+ * upload per context and value; bound from DATA_UNIT up (units the views' own textures
+ * leave free), the active unit restored. */
+const DATA_UNIT = 8;
+const dataTextures = new WeakMap();
+function bindData(gl, loc, v, unit) {
+  let m = dataTextures.get(gl);
+  if (!m) dataTextures.set(gl, (m = new WeakMap()));
+  const active = gl.getParameter(gl.ACTIVE_TEXTURE);
+  gl.activeTexture(gl.TEXTURE0 + unit);
+  let t = m.get(v);
+  if (!t) {
+    m.set(v, (t = gl.createTexture()));
+    gl.bindTexture(gl.TEXTURE_2D, t);
+    for (const [k, x] of [[gl.TEXTURE_MIN_FILTER, gl.NEAREST], [gl.TEXTURE_MAG_FILTER, gl.NEAREST],
+                          [gl.TEXTURE_WRAP_S, gl.CLAMP_TO_EDGE], [gl.TEXTURE_WRAP_T, gl.CLAMP_TO_EDGE]]) gl.texParameteri(gl.TEXTURE_2D, k, x);
+    gl.pixelStorei(gl.UNPACK_ALIGNMENT, 4);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, v.width, v.height, 0, gl.RED, gl.FLOAT, new Float32Array(v.data));
+  } else gl.bindTexture(gl.TEXTURE_2D, t);
+  gl.uniform1i(loc, unit);
+  gl.activeTexture(active);
+}
+
 export function setUniforms(gl, prog, values) {
+  let unit = DATA_UNIT;
   for (const [name, v] of Object.entries(values)) {
     const loc = uniformLocation(gl, prog, name);
     if (loc === null) continue;
-    if (typeof v === "number") gl.uniform1f(loc, v);
+    if (v && typeof v === "object" && Array.isArray(v.data)) bindData(gl, loc, v, unit++);
+    else if (typeof v === "number") gl.uniform1f(loc, v);
     else if (typeof v === "boolean") gl.uniform1f(loc, v ? 1 : 0);
     else if (Array.isArray(v) && v.length >= 2 && v.length <= 4) gl[`uniform${v.length}fv`](loc, v);
   }
