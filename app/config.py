@@ -80,7 +80,8 @@ class Settings:
     #: the compiled (numba) loops: BRDF_FAST ("0" turns them off; numpy answers)
     fast: bool = True
     #: directory of the generated and compiled loops, shared by processes: BRDF_KERNEL_DIR
-    #: (empty: app/kernels/_generated, else a temporary directory)
+    #: (empty: "kernels" in the user's cache, whatever BRDF_CACHE_DIR says — they are
+    #: code, not tables —, else a temporary directory)
     kernel_dir: str = ""
     #: other origins whose pages may write (POST, PUT, PATCH, DELETE) besides the
     #: server's own: BRDF_ALLOWED_ORIGINS, comma-separated (empty: only the page itself)
@@ -112,12 +113,14 @@ class Settings:
                 values[f.name] = _PARSERS.get(f.name, _non_negative)(name, type(f.default))(raw)
         return cls(**values)
 
-    def cache_directory(self) -> Path:
-        """Where the E(μ, α) tables go: cache_dir, else $XDG_CACHE_HOME/brdf-explorer
+    def user_cache(self) -> Path:
+        """The user's cache of the explorer: $XDG_CACHE_HOME/brdf-explorer
         (~/.cache/brdf-explorer when unset)."""
-        if self.cache_dir:
-            return Path(self.cache_dir)
         return Path(self.xdg_cache_home or Path.home() / ".cache") / "brdf-explorer"
+
+    def cache_directory(self) -> Path:
+        """Where the E(μ, α) tables go: cache_dir, else the user's cache."""
+        return Path(self.cache_dir) if self.cache_dir else self.user_cache()
 
 
 def variable(name: str) -> str:

@@ -132,9 +132,8 @@ def main() -> None:
     n = int(args[0]) if len(args) > 0 else 256
     samples = int(args[1]) if len(args) > 1 else 16
     repeat = int(args[2]) if len(args) > 2 else 5
-    # both trees load the compiled loops from one cache (same formulas, same files)
-    env = {**os.environ, "PYTHONPATH": "",
-           "BRDF_KERNEL_DIR": os.environ.get("BRDF_KERNEL_DIR", str(ROOT / "app/kernels/_generated"))}
+    # both trees load the compiled loops from the user's one cache (same formulas, same files)
+    env = {**os.environ, "PYTHONPATH": ""}
     procs = {k: subprocess.Popen([sys.executable, __file__, "--child", str(root), str(n), str(samples)],
                                  stdin=subprocess.PIPE, stdout=subprocess.PIPE, text=True, env=env, cwd=root)
              for k, root in trees.items()}

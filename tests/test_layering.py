@@ -48,7 +48,7 @@ def _module_name(path: Path) -> str:
     return ".".join(parts[:-1] if parts[-1] == "__init__" else parts)
 
 
-MODULES = {_module_name(p): p for p in APP.rglob("*.py") if "_generated" not in p.parts}
+MODULES = {_module_name(p): p for p in APP.rglob("*.py")}
 
 
 def _resolve(name: str) -> str | None:

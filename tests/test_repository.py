@@ -29,7 +29,7 @@ def _files(*tops: str, suffixes=SOURCE) -> list[Path]:
         path = ROOT / top
         out += [path] if path.is_file() else [p for p in sorted(path.rglob("*"))
                                              if p.is_file() and p.suffix in suffixes
-                                             and "vendor" not in p.parts and "_generated" not in p.parts]
+                                             and "vendor" not in p.parts]
     return out
 
 
@@ -49,7 +49,7 @@ def test_every_folder_of_app_is_a_package_the_wheel_ships():
     __init__.py (a namespace package) would work from the source tree and be missing from
     the installed wheel (app.environment and app.lut once were)."""
     folders = {p.parent for p in (ROOT / "app").rglob("*.py")
-               if "_generated" not in p.parts and "__pycache__" not in p.parts}
+               if "__pycache__" not in p.parts}
     assert sorted(str(f.relative_to(ROOT)) for f in folders if not (f / "__init__.py").is_file()) == []
 
 

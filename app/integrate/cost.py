@@ -9,7 +9,8 @@ one chunk of work). Then :func:`require` (outside a request there is no budget: 
   budget (BRDF_MAX_REQUEST_BYTES): the input asks too much whatever the load — ``TooLarge``
   (413) naming the parameter and the setting, before any work;
 * within the budget but beyond what is left of it before the request's first work (it
-  waited for a worker thread): the machine is busy — ``Busy`` (503 + Retry-After). Later
+  waited for a worker thread): the machine is busy — ``Busy`` (503 + Retry-After), unless
+  it is negligible (NEGLIGIBLE_SECONDS). Later
   parts of a request are not refused (that would throw away what was computed): adaptive
   loops cut themselves short, fixed work in chunks stops at the deadline.
 """
@@ -37,6 +38,11 @@ _memory_limit = {"bytes": 1 << 30}
 #: within BRDF_MAX_SECONDS itself (budget.py); this is the rest of the promise that no
 #: request holds a worker longer than BRDF_MAX_SECONDS + 1 s.
 GRACE_SECONDS = 1.0
+#: Work predicted to take at most this long is never refused as busy: the refusal would
+#: free the worker no sooner than the work itself, and cost the client a Retry-After of
+#: at least 1 s. (On a loaded machine a request's one-time set-up — loading compiled code,
+#: the cost probe — can spend its whole budget before this tiny work begins.)
+NEGLIGIBLE_SECONDS = 0.05
 _lock = threading.Lock()
 
 
@@ -97,7 +103,7 @@ def require(seconds: float, nbytes: int, param: str, what: str) -> None:
     b.worked = True
     # Busy only before the request's first work: afterwards a refusal would throw away
     # what was computed, and the adaptive loops cut themselves short instead.
-    if predicted > left and not worked:
+    if predicted > max(left, NEGLIGIBLE_SECONDS) and not worked:
         raise Busy(f"{what} needs ~{predicted:.1f} s and this request has {max(left, 0):.1f} s "
                    f"of BRDF_MAX_SECONDS={b.seconds:g} left (the server is busy): retry",
                    retry_after=int(np.ceil(predicted)), what="time budget")

@@ -43,7 +43,9 @@ from ..physics.vectors import HALF_VECTOR_MIN_NORM
 UNSWITCH_THRESHOLD = 3000
 
 #: Where the generated modules (and numba's cache of them) live: BRDF_KERNEL_DIR, else
-#: ``_generated`` beside this file, else (a read-only install) the temporary directory.
+#: ``kernels`` in the user's cache ($XDG_CACHE_HOME/brdf-explorer, whatever BRDF_CACHE_DIR
+#: says: they are code, not tables), else the temporary directory. Never inside the
+#: package: an install may be read-only, and a checkout's tree stays what git holds.
 KERNEL_DIR_ENV = "BRDF_KERNEL_DIR"
 
 
@@ -353,7 +355,8 @@ def _fingerprint(text: str) -> str:
 
 
 def kernel_dir() -> Path:
-    for candidate in (environment().kernel_dir or None, Path(__file__).parent / "_generated",
+    settings = environment()
+    for candidate in (settings.kernel_dir or None, settings.user_cache() / "kernels",
                       Path(tempfile.gettempdir()) / f"brdf-kernels-{os.getuid()}"):
         if candidate is None:
             continue

@@ -12,6 +12,10 @@ from pydantic import Field
 
 from ..errors import ParameterError
 from ..physics.params import Param
+from ..physics.registry import generation
+
+#: id(family) → (family, registries' generation, its own query names): own_names' memory
+_OWN_NAMES: dict[int, tuple] = {}
 
 
 def every_view_but(refused: Mapping[str, str]) -> Callable[[str], Optional[str]]:
@@ -81,4 +85,13 @@ class Family:
     names: tuple[str, ...] = field(default=())
 
     def own_names(self) -> tuple[str, ...]:
-        return self.names or tuple(n for n in self.query_fields() if n != "model")
+        """The query names this family takes (``model`` aside). Derived from its query
+        fields, whose pydantic Fields cost ~1 ms to build — two thirds of every make_spec
+        — so kept until a registry changes."""
+        if self.names:
+            return self.names
+        kept = _OWN_NAMES.get(id(self))
+        if kept is None or kept[0] is not self or kept[1] != generation():
+            kept = (self, generation(), tuple(n for n in self.query_fields() if n != "model"))
+            _OWN_NAMES[id(self)] = kept
+        return kept[2]

@@ -14,6 +14,15 @@ from typing import Generic, TypeVar
 
 T = TypeVar("T")
 
+#: bumped by every change of any registry: what is derived from all of them (a model
+#: family's query names) is recomputed after a change, and read from memory otherwise
+_generation = [0]
+
+
+def generation() -> int:
+    """How many times any registry has changed in this process."""
+    return _generation[0]
+
 
 class Registry(dict, Generic[T]):
     def __init__(self, kind: str):
@@ -24,6 +33,7 @@ class Registry(dict, Generic[T]):
         if entry.name in self:
             raise ValueError(f"{self.kind} {entry.name!r} registered twice")
         self[entry.name] = entry
+        _generation[0] += 1
         if any(hasattr(e, "menu_order") for e in self.values()):
             ordered = sorted(self.items(), key=lambda kv: (getattr(kv[1], "menu_order", 100), kv[0]))
             self.clear()
@@ -33,6 +43,7 @@ class Registry(dict, Generic[T]):
     def unregister(self, name: str) -> None:
         """Remove an entry (tests that register a throwaway model clean up with it)."""
         del self[name]
+        _generation[0] += 1
 
 
 def import_modules(package_name: str, package_path, skip: tuple[str, ...] = ()) -> None:

@@ -116,6 +116,20 @@ def test_work_beyond_the_whole_budget_is_413_and_beyond_what_is_left_503(monkeyp
     assert busy.value.retry_after >= 1
 
 
+def test_negligible_work_is_done_even_when_set_up_spent_the_budget(monkeypatch):
+    """A request whose one-time set-up (loading compiled code on a loaded machine) spent
+    its budget still does work predicted at a few milliseconds: refusing it would free the
+    worker no sooner and cost the client a retry."""
+    monkeypatch.setattr(cost, "seconds_per_evaluation", lambda brdf: 1e-7)   # 1000 → 0.1 ms
+    with budget.limit(0.3) as b:
+        b.start -= 5.0                                    # far past budget and grace
+        cost.require_evaluations(None, 1000, 0, "n", "the curve")              # no Busy
+    with budget.limit(0.3) as b:
+        b.start -= 5.0
+        with pytest.raises(Busy):
+            cost.require_evaluations(None, 2_000_000, 0, "n", "the grid")      # 0.2 s: refused
+
+
 class SlowRenderer(image.ImageRenderer):
     def _render(self, figure, opts):
         time.sleep(1.0)

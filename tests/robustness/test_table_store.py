@@ -160,23 +160,15 @@ def test_without_a_started_store_a_slow_table_is_busy_and_nothing_builds(monkeyp
     assert "no background builder" in busy.value.message and table_store.building() == []
 
 
-def test_the_code_digest_ignores_kernels_generated_at_run_time(monkeypatch):
-    """Kernels write app/kernels/_generated/*.py as models compile: a worker that compiled
-    one more model must still find the tables another worker saved."""
-    generated = Path(table_store.__file__).resolve().parents[2] / "kernels" / "_generated"
-    monkeypatch.setattr(table_store, "_version", [])
-    before = table_store.code_version()
-    made = not generated.exists()          # absent where BRDF_KERNEL_DIR points elsewhere
-    generated.mkdir(exist_ok=True)
-    extra = generated / "brdf_kernel_test_digest.py"
-    extra.write_text("# written by a test\n")
-    try:
-        monkeypatch.setattr(table_store, "_version", [])
-        assert table_store.code_version() == before
-    finally:
-        extra.unlink()
-        if made:
-            generated.rmdir()
+def test_compiled_kernels_are_written_in_the_users_cache_not_the_package(monkeypatch, tmp_path):
+    """Kernels are written as models compile: in the user's cache (whatever BRDF_CACHE_DIR
+    says, as they are code), never inside the package, whose files the tables' code
+    digest reads (a worker that compiled one more model must find the tables another saved)."""
+    from app.kernels import compose
+    monkeypatch.delenv("BRDF_KERNEL_DIR", raising=False)
+    monkeypatch.setenv("XDG_CACHE_HOME", str(tmp_path / "xdg"))
+    monkeypatch.setenv("BRDF_CACHE_DIR", str(tmp_path / "tables"))
+    assert compose.kernel_dir() == tmp_path / "xdg" / "brdf-explorer" / "kernels"
 
 
 def test_a_table_the_store_lets_go_is_freed_after_its_E_avg():

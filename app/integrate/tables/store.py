@@ -90,9 +90,7 @@ def code_version() -> str:
         root = Path(__file__).resolve().parent.parent
         h = hashlib.sha256(f"numpy {np.__version__} scipy {scipy.__version__}".encode())
         for sub in ("physics", "integrate", "kernels"):
-            # not the kernels' _generated/ files: written at run time as models are
-            # compiled, they made two workers (or a restart) digest different code
-            for path in sorted(p for p in (root / sub).rglob("*.py") if "_generated" not in p.parts):
+            for path in sorted((root / sub).rglob("*.py")):
                 h.update(path.relative_to(root).as_posix().encode())
                 h.update(path.read_bytes())
         _version.append(h.hexdigest()[:16])
