@@ -30,6 +30,17 @@ void main() {
 
 #: (vertex, fragment, width, height, l as flat RGBA, v as flat RGBA, n[, textures]) → {f: flat
 #: RGBA} or {error}; textures: /code's JSON "textures" (a Kulla-Conty shader's data), bound from unit 3
+#: binds one of /code's JSON "textures" (R32F, unfiltered) to a sampler: shared by both runners
+DATA_TEXTURE_JS = """const dataTexture = (prog, name, v, unit) => {
+    const t = gl.createTexture();
+    gl.activeTexture(gl.TEXTURE0 + unit); gl.bindTexture(gl.TEXTURE_2D, t);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
+    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
+    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, v.width, v.height, 0, gl.RED, gl.FLOAT, new Float32Array(v.data));
+    gl.uniform1i(gl.getUniformLocation(prog, name), unit);
+    gl.activeTexture(gl.TEXTURE0);
+  };"""
+
 RUN_JS = """async ([vs, fs, w, h, L, V, n, textures]) => {
   const canvas = document.createElement('canvas');
   canvas.width = w; canvas.height = h;
@@ -58,15 +69,7 @@ RUN_JS = """async ([vs, fs, w, h, L, V, n, textures]) => {
     gl.texImage2D(gl.TEXTURE_2D, 0, gl.RGBA32F, w, h, 0, gl.RGBA, gl.FLOAT, new Float32Array(data));
     return t;
   };
-  const dataTexture = (prog, name, v, unit) => {   // /code's JSON "textures": R32F, unfiltered
-    const t = gl.createTexture();
-    gl.activeTexture(gl.TEXTURE0 + unit); gl.bindTexture(gl.TEXTURE_2D, t);
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, v.width, v.height, 0, gl.RED, gl.FLOAT, new Float32Array(v.data));
-    gl.uniform1i(gl.getUniformLocation(prog, name), unit);
-    gl.activeTexture(gl.TEXTURE0);
-  };
+  ${DATA_TEXTURE}
   gl.useProgram(prog);
   texture(0, L); texture(1, V);
   Object.entries(textures || {}).forEach(([name, v], k) => dataTexture(prog, name, v, 3 + k));
@@ -85,7 +88,7 @@ RUN_JS = """async ([vs, fs, w, h, L, V, n, textures]) => {
   const out = new Float32Array(w * h * 4);
   gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, out);
   return {f: Array.from(out), ms: performance.now() - t0};
-}"""
+}""".replace("${DATA_TEXTURE}", DATA_TEXTURE_JS)
 
 #: Many programs in one page load, each compiled once and drawn once per uniform set (a
 #: set may hold a data texture by name, /code's JSON "textures"):
@@ -118,15 +121,7 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
     if (!gl.getShaderParameter(s, gl.COMPILE_STATUS)) throw new Error(gl.getShaderInfoLog(s));
     return s;
   };
-  const dataTexture = (prog, name, v, unit) => {   // /code's JSON "textures": R32F, unfiltered
-    const t = gl.createTexture();
-    gl.activeTexture(gl.TEXTURE0 + unit); gl.bindTexture(gl.TEXTURE_2D, t);
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MIN_FILTER, gl.NEAREST);
-    gl.texParameteri(gl.TEXTURE_2D, gl.TEXTURE_MAG_FILTER, gl.NEAREST);
-    gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, v.width, v.height, 0, gl.RED, gl.FLOAT, new Float32Array(v.data));
-    gl.uniform1i(gl.getUniformLocation(prog, name), unit);
-    gl.activeTexture(gl.TEXTURE0);
-  };
+  ${DATA_TEXTURE}
   const vsh = compile(gl.VERTEX_SHADER, vs);
   const results = [];
   for (const p of programs) {
@@ -160,7 +155,7 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
     gl.deleteProgram(prog);
   }
   return {results, ms: performance.now() - t0};
-}"""
+}""".replace("${DATA_TEXTURE}", DATA_TEXTURE_JS)
 
 
 def batch_entry(body: dict, sets=({},)) -> dict:
