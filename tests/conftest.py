@@ -1,16 +1,22 @@
 """The whole suite runs with its own empty cache directory (XDG_CACHE_HOME, inherited by
-the servers it starts): the E(μ, α) tables a server persists there must not come from an
-earlier run on the same machine, or a test of the first build, the background builder or
-the honest fallback would see a table it did not build."""
+the servers it starts; Hypothesis' directory goes there too): the E(μ, α) tables a server
+persists there must not come from an earlier run on the same machine, or a test of the
+first build, the background builder or the honest fallback would see a table it did not
+build."""
 from __future__ import annotations
 
 import os
 import shutil
 import tempfile
 
+from hypothesis.configuration import set_hypothesis_home_dir
+
 _CACHE = tempfile.mkdtemp(prefix="brdf-tests-cache-")
 os.environ["XDG_CACHE_HOME"] = _CACHE
 os.environ.pop("BRDF_CACHE_DIR", None)
+# Hypothesis (under schemathesis) keeps its example database and caches in ./.hypothesis by
+# default: the checkout. Tests write nothing there, so it goes with the run's cache.
+set_hypothesis_home_dir(os.path.join(_CACHE, "hypothesis"))
 
 
 def pytest_unconfigure(config):
