@@ -10,9 +10,9 @@ one chunk of work). Then :func:`require` (outside a request there is no budget: 
   (413) naming the parameter and the setting, before any work;
 * within the budget but beyond what is left of it before the request's first work (it
   waited for a worker thread): the machine is busy — ``Busy`` (503 + Retry-After), unless
-  it is negligible (NEGLIGIBLE_SECONDS). Later
-  parts of a request are not refused (that would throw away what was computed): adaptive
-  loops cut themselves short, fixed work in chunks stops at the deadline.
+  the work is negligible (NEGLIGIBLE_SECONDS). Later parts of a request are not refused
+  (that would throw away what was computed): adaptive loops cut themselves short, fixed
+  work in chunks stops at the deadline.
 """
 from __future__ import annotations
 
