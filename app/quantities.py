@@ -72,8 +72,9 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
 
 def _f_fused(brdf: BRDF, shape: tuple, count: int, angles: tuple) -> np.ndarray | None:
     """f by the model's compiled loop with degrees in (the directions built inside it),
-    in chunks of FUSED_CHUNK pairs with the deadline checked between them; None when
-    the model has no ready loop (the caller takes the directions path)."""
+    in chunks of FUSED_CHUNK pairs written straight into the result, the deadline
+    checked between them; None when the model has no ready loop (the caller takes the
+    directions path)."""
     if count <= FUSED_CHUNK:
         return kernels.f_deg(brdf, *angles)
     flat = [np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1) for a in angles]
@@ -82,10 +83,8 @@ def _f_fused(brdf: BRDF, shape: tuple, count: int, angles: tuple) -> np.ndarray 
         if start:
             cost.check_deadline(f"{count} BRDF evaluations")
         part = slice(start, start + FUSED_CHUNK)
-        f = kernels.f_deg(brdf, *(a[part] for a in flat))
-        if f is None:
+        if kernels.f_deg(brdf, *(a[part] for a in flat), out=out[part]) is None:
             return None if not start else _finish_numpy(brdf, flat, out, start).reshape(shape)
-        out[part] = f
     return out.reshape(shape)
 
 

@@ -153,21 +153,22 @@ def f(brdf: BRDF, l, v) -> np.ndarray:
     return out
 
 
-def f_deg(brdf: BRDF, theta_l, phi_l, theta_v, phi_v) -> np.ndarray | None:
+def f_deg(brdf: BRDF, theta_l, phi_l, theta_v, phi_v, out=None) -> np.ndarray | None:
     """f at angles in degrees (l at θ_l, φ_l; v at θ_v, φ_v; broadcast together) by the
-    model's compiled loop, the directions built inside it; None when the model has no
-    ready loops or is compensated (the caller builds directions and calls :func:`f`)."""
+    model's compiled loop, the directions built inside it, into ``out`` if given (a
+    contiguous float64 array of the broadcast size); None when the model has no ready
+    loops or is compensated (the caller builds directions and calls :func:`f`)."""
     if isinstance(brdf, CompensatedBRDF):
         return None           # its multiple-scattering term takes directions
     kernel = lookup(brdf)
     if kernel is None:
         return None
     first = replace(brdf, lobe2=None, lobe_mix=0.0)
-    out = kernel.f_deg(first, theta_l, phi_l, theta_v, phi_v)
+    f = kernel.f_deg(first, theta_l, phi_l, theta_v, phi_v, out)
     if brdf.lobe2 is not None and brdf.lobe_mix > 0:
         second = kernel.f_deg(replace(first, ndf=brdf.lobe2), theta_l, phi_l, theta_v, phi_v)
-        out = blend_lobes(brdf.lobe_mix, out, second)
-    return out
+        f[...] = blend_lobes(brdf.lobe_mix, f, second)
+    return f
 
 
 def _enqueue(cs: list[Components], front: bool = False) -> None:

@@ -196,18 +196,20 @@ def sincos_deg(a):
 
 
 @numba.njit(cache=True, nogil=True, error_model="numpy", fastmath={{"contract"}})
-def directions_deg(theta_l, phi_l, theta_v, phi_v, w, n):
-    # l and v of the pairs of one block (slices) into w[0:3, :n], w[3:6, :n]: arithmetic
-    # only, which the compiler vectorises; "contract" lets it fuse the polynomials'
-    # multiply-adds (one rounding instead of two; nothing else here has an add after a multiply)
+def directions_deg(theta_l, phi_l, theta_v, phi_v, w, b0, n):
+    # l and v of pairs b0 ... b0 + n - 1 into w[0:3, :n], w[3:6, :n]: arithmetic only,
+    # which the compiler vectorises; "contract" lets it fuse the polynomials' multiply-adds
+    # (one rounding instead of two; nothing else here has an add after a multiply). b0 and
+    # n are unsigned (see f_deg_loop): an index b0 + k cannot be negative, so no wrap-around.
     for k in range(n):
-        st, ct = sincos_deg(theta_l[k])
-        sp, cp = sincos_deg(phi_l[k])
+        i = b0 + k
+        st, ct = sincos_deg(theta_l[i])
+        sp, cp = sincos_deg(phi_l[i])
         w[0, k] = st * cp
         w[1, k] = st * sp
         w[2, k] = ct
-        st, ct = sincos_deg(theta_v[k])
-        sp, cp = sincos_deg(phi_v[k])
+        st, ct = sincos_deg(theta_v[i])
+        sp, cp = sincos_deg(phi_v[i])
         w[3, k] = st * cp
         w[4, k] = st * sp
         w[5, k] = ct
@@ -217,19 +219,22 @@ def directions_deg(theta_l, phi_l, theta_v, phi_v, w, n):
 def f_deg_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, ax, ay, rho,
                p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
     # f at angles in degrees, ω = (sinθ cosφ, sinθ sinφ, cosθ): per block of pairs the
-    # directions first, then f_pair as in f_loop, both loops over zero-based slices (so
-    # vectorised); the same values as directions built by direction_deg and f_loop.
+    # directions first, then f_pair as in f_loop (the same values as directions built by
+    # direction_deg and f_loop). Indices are unsigned offsets into the whole arrays, not
+    # slices per block: a slice takes and drops a reference (atomic) on its array's
+    # record, and the two threads' records lie side by side in memory, so per-block
+    # slices cost 1.5x in wall time on two threads (each core invalidating the other's
+    # cache line); unsigned, the indices need no wrap-around and both loops vectorise.
     inv_ax2, inv_ay2, inv_axay = 1.0 / (ax * ax), 1.0 / (ay * ay), 1.0 / (ax * ay)
     p_g2, p_fresnel, p_diffuse = {params}
     w = np.empty((6, BLOCK))
-    for b0 in range(start, stop, BLOCK):
-        n = min(BLOCK, stop - b0)
-        e = b0 + n
-        directions_deg(theta_l[b0:e], phi_l[b0:e], theta_v[b0:e], phi_v[b0:e], w, n)
-        o = out[b0:e]
+    for b in range(start, stop, BLOCK):
+        b0, n = np.uint64(b), np.uint64(min(BLOCK, stop - b))
+        directions_deg(theta_l, phi_l, theta_v, phi_v, w, b0, n)
         for k in range(n):
-            o[k] = f_pair(w[0, k], w[1, k], w[2, k], w[3, k], w[4, k], w[5, k], ax, ay,
-                          inv_ax2, inv_ay2, inv_axay, rho, p_ndf, p_mask, p_g2, p_fresnel, p_diffuse)
+            out[b0 + k] = f_pair(w[0, k], w[1, k], w[2, k], w[3, k], w[4, k], w[5, k], ax, ay,
+                                 inv_ax2, inv_ay2, inv_axay, rho, p_ndf, p_mask, p_g2, p_fresnel,
+                                 p_diffuse)
 
 
 @numba.njit(**JIT)

@@ -94,19 +94,20 @@ class Kernel:
                 self.diffuse_params(lobe)))
         return out.reshape(shape)
 
-    def f_deg(self, lobe, theta_l, phi_l, theta_v, phi_v) -> np.ndarray:
+    def f_deg(self, lobe, theta_l, phi_l, theta_v, phi_v, out=None) -> np.ndarray:
         """f of a single-lobe BRDF at angles in degrees (l at θ_l, φ_l; v at θ_v, φ_v),
         broadcast together: the directions are built inside the loop, as
-        physics/vectors.direction_deg builds them."""
+        physics/vectors.direction_deg builds them. ``out``: a contiguous float64 array of
+        the broadcast size to write into (no array allocated, none copied)."""
         shape = np.broadcast_shapes(*(np.shape(a) for a in (theta_l, phi_l, theta_v, phi_v)))
         angles = inputs(*(np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1)
                           for a in (theta_l, phi_l, theta_v, phi_v)))
-        out = np.empty(angles[0].size)
+        flat = np.empty(angles[0].size) if out is None else out.reshape(-1)
         ndf = lobe.ndf
-        _split(self._f_deg_loop, out.size, out.size, (*angles, out),
+        _split(self._f_deg_loop, flat.size, flat.size, (*angles, flat),
                (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd), *self.params(lobe),
                 self.diffuse_params(lobe)))
-        return out.reshape(shape)
+        return flat.reshape(shape) if out is None else out
 
     def albedo_rows(self, lobe, v, cp, sp, U, V0, head, tail, w_u, h, dh, use_log) -> np.ndarray:
         """Σ_u g du along each ψ of each view (n, P): the albedo integrand at the nodes of
