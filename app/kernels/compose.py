@@ -221,10 +221,10 @@ def f_deg_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, ax, ay, rho,
     # f at angles in degrees, ω = (sinθ cosφ, sinθ sinφ, cosθ): per block of pairs the
     # directions first, then f_pair as in f_loop (the same values as directions built by
     # direction_deg and f_loop). Indices are unsigned offsets into the whole arrays, not
-    # slices per block: a slice takes and drops a reference (atomic) on its array's
-    # record, and the two threads' records lie side by side in memory, so per-block
-    # slices cost 1.5x in wall time on two threads (each core invalidating the other's
-    # cache line); unsigned, the indices need no wrap-around and both loops vectorise.
+    # slices per block: a slice takes and drops a reference (an atomic operation) on its
+    # array's record, per block and per thread; measured on two threads, the sliced loop
+    # ran at 80-117 M/s from run to run against 100-120 without (no reference operation
+    # is left in the loop). Unsigned, the indices need no wrap-around: both loops vectorise.
     inv_ax2, inv_ay2, inv_axay = 1.0 / (ax * ax), 1.0 / (ay * ay), 1.0 / (ax * ay)
     p_g2, p_fresnel, p_diffuse = {params}
     w = np.empty((6, BLOCK))
