@@ -2,8 +2,9 @@
 while heavy jobs run, an overrun is cut and its worker replaced, a full queue is a 503
 with Retry-After, what can never fit a 413, and closing ends within a second whatever runs.
 
-The jobs are module-level functions (a spawned worker imports this module to find them);
-the pools import nothing else as they start (warm=None), so a worker starts in ~1 s.
+The jobs are module-level functions in pool_jobs.py, which imports only the standard
+library (a spawned worker imports a job's module before running it); the pools import
+nothing else as they start (warm=None), so a worker starts in ~1 s.
 """
 from __future__ import annotations
 
@@ -18,23 +19,7 @@ from pydantic import BaseModel, Field
 
 from app.errors import Busy, ParameterError, TooLarge
 from app.work.pool import WORKER_NICENESS, HeavyPool, WorkerError
-
-
-def spin(seconds: float) -> float:
-    """Pure-Python CPU work (holds the GIL of whichever process runs it)."""
-    end, x = time.perf_counter() + seconds, 0.0
-    while time.perf_counter() < end:
-        x += 1.0
-    return seconds
-
-
-def cheap() -> None:
-    """A slider request's share of Python work: ~2 ms."""
-    sum(i * i for i in range(20_000))
-
-
-def square(x: int) -> int:
-    return x * x
+from tests.robustness.pool_jobs import cheap, spin, square
 
 
 class Alpha(BaseModel):
@@ -226,7 +211,9 @@ def test_a_job_that_cannot_end_in_time_behind_a_starting_worker_is_busy_at_once(
     importing: a job predicted to take nearly the whole budget cannot end within it after
     that start, and is a 503 saying so at once, not a cut at the budget's end; the worker
     is kept, and once started runs the job."""
-    pool = HeavyPool(workers=1, queue=1, max_seconds=2.0, warm=None)
+    # the worker imports the jobs' module as it starts: imported at the first job instead,
+    # by a niced worker under the whole suite's load, it took past the 2 s budget
+    pool = HeavyPool(workers=1, queue=1, max_seconds=2.0, warm="tests.robustness.pool_jobs")
     try:
         async def main():
             t0 = time.perf_counter()
