@@ -1,8 +1,8 @@
 """The compiled loop with angles in degrees (app.quantities.evaluate's path) against the
 numpy reference: BRDF.evaluate on directions that numpy builds from the same angles
 (ω = (sinθ cosφ, sinθ sinφ, cosθ), written out here), to 1e-12 relative, for several
-NDFs, every Fresnel model, a direction-correlated G2, a numeric masking, diffuse models and
-anisotropic α; angles random plus θ = 0, θ = 90° (grazing, both grazing), φ beyond ±360°
+NDFs, every Fresnel model, a direction-correlated G2, a numeric masking, diffuse models,
+anisotropic and isotropic α; angles random plus θ = 0, θ = 90° (grazing, both grazing), φ beyond ±360°
 and broadcast shapes."""
 from __future__ import annotations
 
@@ -45,9 +45,16 @@ def reference(brdf, th_l, ph_l, th_v, ph_v):
     return brdf.evaluate(l, v, ("f",))["f"]
 
 
+#: (α_x, α_y): anisotropic, and isotropic (the loop then turns both directions so that v is at
+#: φ = 0, three sin/cos pairs instead of four) at a moderate and a sharp α, where f changes
+#: fastest with the azimuths (the turn keeps φ_l − φ_v exact)
+ALPHAS = [(0.25, 0.4), (0.25, 0.25), (0.02, 0.02)]
+
+
+@pytest.mark.parametrize("alpha", ALPHAS, ids=lambda a: f"alpha={a[0]},{a[1]}")
 @pytest.mark.parametrize("case", MODELS, ids=_id)
-def test_degrees_in_matches_numpy(case):
-    brdf = _brdf(case, alpha=0.25, alpha_y=0.4)
+def test_degrees_in_matches_numpy(case, alpha):
+    brdf = _brdf(case, alpha=alpha[0], alpha_y=alpha[1])
     assert kernels.compile_now(brdf) is not None
     a = angles()
     got = kernels.f_deg(brdf, *a)
