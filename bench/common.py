@@ -39,21 +39,16 @@ def median(values) -> float:
     return statistics.median(values)
 
 
-def interleaved(functions: dict, repeat: int, warmup: int = 1, cpu: dict | None = None,
-                settle=None) -> dict[str, list[float]]:
+def interleaved(functions: dict, repeat: int, warmup: int = 1,
+                cpu: dict | None = None) -> dict[str, list[float]]:
     """Seconds per call of each function, run round-robin ``repeat`` times after
     ``warmup`` untimed rounds, so that a change of load hits all of them alike.
 
     If ``cpu`` is a dict, it receives the CPU seconds of this process per call (all its
-    threads): what the work cost, whatever else the machine was doing meanwhile.
-    ``settle``, if given, is called untimed after each function: it returns when work a
-    function left running elsewhere (a helper process's spinning threads) has stopped,
-    so that the next function is not timed against it."""
+    threads): what the work cost, whatever else the machine was doing meanwhile."""
     for _ in range(warmup):
         for fn in functions.values():
             fn()
-            if settle is not None:
-                settle()
     times = {name: [] for name in functions}
     if cpu is not None:
         cpu.update({name: [] for name in functions})
@@ -65,38 +60,7 @@ def interleaved(functions: dict, repeat: int, warmup: int = 1, cpu: dict | None 
             times[name].append(time.perf_counter() - t0)
             if cpu is not None:
                 cpu[name].append(time.process_time() - c0)
-            if settle is not None:
-                settle()
     return times
-
-
-def process_cpu_seconds(pid: int) -> float | None:
-    """CPU seconds used so far by all threads of process ``pid`` (Linux schedstat, ns
-    resolution: the tick-based /proc/pid/stat counts in 10 ms steps); None elsewhere."""
-    total = 0
-    try:
-        for task in Path(f"/proc/{pid}/task").iterdir():
-            total += int((task / "schedstat").read_text().split()[0])
-    except (OSError, ValueError, IndexError):
-        return None
-    return total / 1e9
-
-
-def wait_idle(pid: int, quiet: float = 0.02, busy_share: float = 0.05, timeout: float = 2.0) -> float:
-    """Return once process ``pid`` has used less than ``busy_share`` of a core over a
-    window of ``quiet`` seconds (its worker threads asleep, not spinning), or after
-    ``timeout``; the seconds waited."""
-    t_start = time.perf_counter()
-    before = process_cpu_seconds(pid)
-    if before is None:
-        return 0.0
-    while time.perf_counter() - t_start < timeout:
-        time.sleep(quiet)
-        now = process_cpu_seconds(pid)
-        if now is None or now - before < busy_share * quiet:
-            break
-        before = now
-    return time.perf_counter() - t_start
 
 
 def loadavg() -> float | None:

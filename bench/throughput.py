@@ -11,8 +11,8 @@ directions → BRDF.evaluate, as GET/POST /eval do). Side by side in one run:
 * ``quantities``  app.quantities.evaluate, degrees in: the compiled loop that builds the
                   directions itself (f_deg_loop, app/kernels/compose.py), one block per core
 * ``mitsuba``     Mitsuba 3's LLVM backend (optional, float32) on the same pairs, timed in a
-                  process of its own (bench/mitsuba_eval.py) interleaved with our rounds:
-                  drjit's worker threads in this process halved our 2-thread numbers.
+                  process of its own (bench/mitsuba_eval.py; drjit's worker threads in this
+                  process halved our 2-thread numbers), in rounds of its own before ours.
                   ``roughconductor``, GGX, α as ours, its default material ("none": F = 1;
                   the report checks the values against ours to float32 precision), its separable
                   Smith G2 = G1(l) G1(v); it returns f·cos θ_l. Timed against our compiled
@@ -88,17 +88,16 @@ def run(quick: bool = False) -> dict:
     common.log(f"  {n:,} pairs, {repeat} interleaved rounds ...")
     cpu: dict = {}
     load0 = common.loadavg()
-    helper_cpu: list[float] = []      # the Mitsuba process's CPU seconds during each of our calls
+    # Mitsuba's calls in rounds of their own, before ours, and its process ended: interleaved,
+    # each call of ours followed a wait for drjit's threads to go quiet (≥ 20 ms of idle), and
+    # after such a pause this VM often ran our two threads on one core for the whole call
+    # (1.0 core busy, 91-99 M/s against 180-200 back to back: /proc/stat showed the other
+    # core idle, Mitsuba's process 0 ms of CPU), so the ratio measured the scheduler
+    times = {}
     with mitsuba_process(l, v, same.ndf.alpha_x) as (mitsuba, why):
-        settle = None
         if mitsuba is not None:
-            functions = {name: watched(fn, mitsuba.pid, helper_cpu) for name, fn in functions.items()}
-            functions["mitsuba"] = mitsuba
-            # drjit's pool threads keep running for a while after each call: without this,
-            # the next function (ours) was timed on the one core they left it (2 threads at
-            # the speed of 1: 37-41 M/s against 69 without Mitsuba in the same run)
-            settle = lambda: common.wait_idle(mitsuba.pid)   # noqa: E731
-        times = common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu, settle=settle)
+            times.update(common.interleaved({"mitsuba": mitsuba}, repeat=repeat, warmup=1))
+    times.update(common.interleaved(functions, repeat=repeat, warmup=1, cpu=cpu))
     # the numpy reference in rounds of its own: interleaved with the others, the memory its
     # temporaries freed (~5 800 page faults a call) left whichever function came next to fault
     # its output in afresh (quantities: ~900 page faults a call, 14 ms of CPU against 12 ms)
@@ -121,8 +120,6 @@ def run(quick: bool = False) -> dict:
     if "mitsuba" in times:
         out["ours_over_mitsuba"] = out["evals_per_s_fast_mitsuba_model"] / out["evals_per_s_mitsuba"]
         out["mitsuba_max_rel_diff"] = mitsuba_check(same, l, v)
-        # that no timing of ours shared the machine with Mitsuba's threads
-        out["mitsuba_cpu_ms_during_ours_max"] = 1e3 * max(helper_cpu) if helper_cpu else None
     else:
         out["mitsuba_not_measured"] = why
     out.update(albedo_latency(brdf, repeat=repeat))
@@ -161,17 +158,6 @@ def mitsuba_process(l, v, alpha: float):
             if proc.poll() is None:
                 proc.stdin.close()
                 proc.wait(timeout=60)
-
-
-def watched(fn, pid: int, used: list):
-    """``fn``, also appending to ``used`` the CPU seconds process ``pid`` spent during it."""
-    def call():
-        c0 = common.process_cpu_seconds(pid)
-        fn()
-        c1 = common.process_cpu_seconds(pid)
-        if c0 is not None and c1 is not None:
-            used.append(c1 - c0)
-    return call
 
 
 def mitsuba_check(brdf, l, v, n: int = 2000) -> float | None:
@@ -227,8 +213,7 @@ def report(r: dict) -> list[str]:
         f"  quantities / kernels.f             : {r['quantities_over_fast']:8.2f}",
         (f"  GGX separable F=1: ours {r['evals_per_s_fast_mitsuba_model'] / 1e6:.1f} M/s (float64), Mitsuba 3 LLVM "
          f"{r['evals_per_s_mitsuba'] / 1e6:.1f} M/s (float32, own process): ratio {r['ours_over_mitsuba']:.2f}; "
-         f"max rel. difference {r['mitsuba_max_rel_diff'] if r['mitsuba_max_rel_diff'] is not None else float('nan'):.1e}; "
-         f"Mitsuba's CPU during our timings ≤ {r['mitsuba_cpu_ms_during_ours_max'] or 0.0:.1f} ms"
+         f"max rel. difference {r['mitsuba_max_rel_diff'] if r['mitsuba_max_rel_diff'] is not None else float('nan'):.1e}"
          if "ours_over_mitsuba" in r else f"  Mitsuba 3: not measured ({r['mitsuba_not_measured']})"),
         f"  speed-up {r['throughput_speedup']:.1f}x; max relative difference to numpy "
         f"{r['throughput_max_rel_diff']:.1e}",
