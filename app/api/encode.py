@@ -4,12 +4,10 @@ Encoded by orjson: 25× json.dumps on large answers (200 000 samples, 18.6 MB: 0
 against 1.25 s), the same values on parsing (BENCHMARKS.md §4)."""
 from __future__ import annotations
 
-import orjson
 from fastapi import Response
 
-from ..export.jsonable import OPTIONS, jsonable
+from ..export.jsonable import json_bytes
 
 
 def json_response(payload, status_code: int = 200) -> Response:
-    return Response(orjson.dumps(jsonable(payload), option=OPTIONS), status_code=status_code,
-                    media_type="application/json")
+    return Response(json_bytes(payload), status_code=status_code, media_type="application/json")

@@ -31,8 +31,8 @@ def _format_option(parser: argparse.ArgumentParser) -> None:
 
 
 def datasets(argv: list[str]) -> int:
-    from ..api.encode import json_response
     from ..datasets import summary
+    from ..export.jsonable import json_bytes
     from ..errors import ParameterError
     parser = argparse.ArgumentParser(prog="brdf-explorer datasets", description=DATASETS + ".")
     parser.add_argument("file", type=Path)
@@ -46,14 +46,14 @@ def datasets(argv: list[str]) -> int:
         answer = {"id": data_id, "format": data.format, "summary": summary.summarize(data)}
     except ParameterError as e:
         raise UsageError(f"{args.file}: {e.message}") from None
-    write(json_response(answer).body, args.output)
+    write(json_bytes(answer), args.output)
     return 0
 
 
 def fit(argv: list[str]) -> int:
-    from ..api.encode import json_response
-    from ..api.routes.fit import FitBody
     from ..errors import ParameterError
+    from ..export.jsonable import json_bytes
+    from ..fit.body import FitBody
     from ..fit import run as fitting
     from ..views.schemas import ModelQuery, model_values
     parser = argparse.ArgumentParser(
@@ -77,5 +77,5 @@ def fit(argv: list[str]) -> int:
         result = run(data, body.model, body.free, body.measure, body.channel, body.seconds, body.max_points)
     except ParameterError as e:
         raise UsageError(f"--{e.param.replace('_', '-')}: {e.message}") from None
-    write(json_response({"data": data_id, **result}).body, args.output)
+    write(json_bytes({"data": data_id, **result}), args.output)
     return 0

@@ -128,5 +128,5 @@ def _body(answer) -> bytes:
     body = getattr(answer, "body", None)
     if isinstance(body, (bytes, bytearray)):
         return bytes(body)
-    from ..api.encode import json_response
-    return bytes(json_response(answer).body)
+    from ..export.jsonable import json_bytes
+    return json_bytes(answer)

@@ -27,3 +27,8 @@ def jsonable(value):
     if isinstance(value, (list, tuple)):
         return [jsonable(v) for v in value]
     return value
+
+
+def json_bytes(payload) -> bytes:
+    """The JSON text every answer sends (the API's responses, the CLI's output)."""
+    return orjson.dumps(jsonable(payload), option=OPTIONS)

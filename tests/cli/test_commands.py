@@ -166,6 +166,23 @@ def test_fit_recovers_the_alpha_of_closed_form_data(tmp_path, capsys):
     assert "--free" in capsys.readouterr().err
 
 
+def test_datasets_and_fit_load_no_web_layer(tmp_path):
+    """The file commands answer what the API would without importing it (FastAPI, the
+    routes, the heavy pool): a command line is not a server."""
+    path = tmp_path / "beckmann.csv"
+    path.write_text(_beckmann_samples(0.3))
+    script = ("import sys; from app.cli import main; "
+              f"assert main(['datasets', {str(path)!r}]) == 0; "
+              f"assert main(['fit', {str(path)!r}, '--ndf', 'beckmann', '--fresnel', 'none', "
+              "'--free', 'alpha', '--seconds', '2']) == 0; "
+              "print(sorted(m for m in sys.modules if m == 'fastapi' or m.startswith(('app.api', 'app.work'))), "
+              "file=sys.stderr)")
+    run = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True, text=True,
+                         timeout=300)
+    assert run.returncode == 0, run.stderr[-2000:]
+    assert run.stderr.strip().splitlines()[-1] == "[]"
+
+
 def test_model_csv_round_trips_through_datasets(tmp_path, capsys):
     out = tmp_path / "model.csv"
     assert main(["export-model-csv", "--n-theta", "3", "--n-phi", "2", "-o", str(out)]) == 0
