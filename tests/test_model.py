@@ -40,3 +40,41 @@ def test_the_brdf_is_built_once_per_spec():
     spec = make_spec(alpha=0.2)
     assert spec.brdf() is spec.brdf()
     assert spec.key() == make_spec(alpha=0.2).key() != make_spec(alpha=0.3).key()
+
+
+def test_query_names_follow_the_registries():
+    """A family's query names are kept between requests (Family.own_names) until a
+    registry changes: a Fresnel registered after they were read brings its parameter,
+    which make_spec then takes; unregistered, the parameter is refused again."""
+    import numpy as np
+
+    from app.model.registry import family_of
+    from app.physics.fresnel.base import FRESNELS, Fresnel
+    from app.physics.params import Param
+
+    family = family_of({})
+    assert "f_memo_test" not in family.own_names()            # read: now kept
+
+    class Flat(Fresnel):
+        name = "flat_memo_test"
+        label = "Flat (test)"
+        description = "F = F_c at every angle, for a test."
+        params = (Param("f_memo_test", "F_c", 0.0, 1.0, 0.5, "The constant reflectance."),)
+        menu_order = 99
+
+        def F(self, cos_theta_d):
+            return np.full(np.shape(cos_theta_d), self.f_memo_test)
+
+        def F_avg(self):
+            return self.f_memo_test
+
+    FRESNELS.register(Flat)
+    try:
+        assert "f_memo_test" in family.own_names()
+        spec = make_spec(fresnel="flat_memo_test", f_memo_test=0.25)
+        assert spec.values["f_memo_test"] == 0.25
+    finally:
+        FRESNELS.unregister("flat_memo_test")
+    assert "f_memo_test" not in family.own_names()
+    with pytest.raises(ParameterError):
+        make_spec(f_memo_test=0.25)
