@@ -114,10 +114,10 @@ def positive(x):
 
 @device
 def mu_Lambda(wx, wy, wz, ax, ay, p_ndf, p_mask):
+    # s² = (α_x ω_x)² + (α_y ω_y)², as the formulas read it (GGX's μΛ needs no s)
     sx, sy = ax * wx, ay * wy
-    s = math.sqrt(sx * sx + sy * sy)
     sin_t = math.sqrt(wx * wx + wy * wy)
-    return MASK_ML(positive(wz), s, sin_t, p_mask, p_ndf, NDF_ML, NDF_CCDF, NDF_CCDF_INV)
+    return MASK_ML(positive(wz), sx * sx + sy * sy, sin_t, p_mask, p_ndf, NDF_ML, NDF_CCDF, NDF_CCDF_INV)
 
 
 @device

@@ -52,7 +52,7 @@ class Masking:
     simplifies_to: tuple[tuple[dict, str], ...] = ()
     scalar_mu_Lambda: Callable | None = None
     kernel_params: Callable = field(default=_no_params)   # (ndf) -> floats
-    #: μΛ(mu, s, sin_t) written once (the source of scalar_mu_Lambda and of the shaders'
+    #: μΛ(mu, s2, sin_t) (s2 = s²) written once (the source of scalar_mu_Lambda and of the shaders'
     #: μΛ); None for the exact maskings, whose μΛ is the NDF's own or the Smith integral.
     formula: Formula | None = None
 
@@ -96,15 +96,16 @@ def walter_mu_Lambda(ndf, w):
     return where_valid(s > 0, [mu, s], formula, 0.0)
 
 
-#: The kernels' scalar masking signature after (μ, s, sinθ): the masking's own p, the
+#: The kernels' scalar masking signature after (μ, s², sinθ): the masking's own p, the
 #: NDF's p and its scalar hooks (used by the maskings that defer to the NDF).
 _NDF_HOOKS = ("p", "ndf_p", "ndf_mu_Lambda", "ndf_ccdf", "ndf_ccdf_inv")
-_ML_ARGS = ("mu", "s", "sin_t")
+_ML_ARGS = ("mu", "s2", "sin_t")
+_S = ("s", "sqrt(s2)")
 
 WALTER = Formula(
     "muLambda_walter", _ML_ARGS,
     "sel(and_(s > 0.0, a < WALTER_A_MAX), s * max(1.0 - 1.259 * a + 0.396 * a * a, 0.0) / (3.535 + 2.181 * a), 0.0)",
-    body=(("a", "mu / max(s, S_FLOOR)"),),
+    body=(_S, ("a", "mu / max(s, S_FLOOR)")),
     consts=(("WALTER_A_MAX", WALTER_A_MAX, "Λ = 0 from here on (exact Λ < 3.4e-3 there)"),
             ("S_FLOOR", 1e-30, "keeps a finite on the side not selected (s = 0); float32 has it")),
     doc="Walter 2007's rational fit of Beckmann's Λ (eq. 27), times μ: s (1 − 1.259a + 0.396a²)/(3.535 + 2.181a)\n"
@@ -123,11 +124,11 @@ def schlick_mu_Lambda(k_of_alpha):
 
 _ALPHA_PHI = ("alpha_phi", "sel(sin_t > 0.0, s / sin_t, 0.0)")   # at the pole: × (1 − μ) = 0
 HALF_ALPHA = Formula(
-    "muLambda_half_alpha", _ML_ARGS, "0.5 * alpha_phi * (1.0 - mu)", body=(_ALPHA_PHI,),
+    "muLambda_half_alpha", _ML_ARGS, "0.5 * alpha_phi * (1.0 - mu)", body=(_S, _ALPHA_PHI),
     doc="Schlick-GGX G1 = μ/(μ(1 − k) + k) is μΛ = k(1 − μ), k = α(φ)/2 = s/(2 sinθ) (Karis 2013; image-based light).")
 SCHLICK_DIRECT = Formula(
     "muLambda_schlick_direct", _ML_ARGS, "(r + 1.0) * (r + 1.0) / 8.0 * (1.0 - mu)",
-    body=(_ALPHA_PHI, ("r", "sqrt(alpha_phi)")),
+    body=(_S, _ALPHA_PHI, ("r", "sqrt(alpha_phi)")),
     doc="Schlick-GGX G1 = μ/(μ(1 − k) + k) is μΛ = k(1 − μ), k = (√α(φ) + 1)²/8 (Karis 2013; direct light).")
 half_alpha_mu_Lambda_scalar = scalar_function(HALF_ALPHA, __name__, "half_alpha_mu_Lambda_scalar", _NDF_HOOKS)
 schlick_direct_mu_Lambda_scalar = scalar_function(SCHLICK_DIRECT, __name__, "schlick_direct_mu_Lambda_scalar",
@@ -135,14 +136,14 @@ schlick_direct_mu_Lambda_scalar = scalar_function(SCHLICK_DIRECT, __name__, "sch
 
 
 @scalar
-def smith_mu_Lambda_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
-    return ndf_mu_Lambda(mu, s, ndf_p)
+def smith_mu_Lambda_scalar(mu, s2, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
+    return ndf_mu_Lambda(mu, s2, ndf_p)
 
 
 @scalar
-def tabulated_mu_Lambda_masking_scalar(mu, s, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
+def tabulated_mu_Lambda_masking_scalar(mu, s2, sin_t, p, ndf_p, ndf_mu_Lambda, ndf_ccdf, ndf_ccdf_inv):
     """The general Smith integral through its table (lambda_table.py), p = the table."""
-    return tabulated_mu_Lambda_scalar(mu, s, p, 0)
+    return tabulated_mu_Lambda_scalar(mu, math.sqrt(s2), p, 0)
 
 
 #: Every masking by name (``MASKINGS.register(Masking(...))``).

@@ -90,7 +90,7 @@ def lambda_fit(k: int, ndf, parts: dict):
                     offset=base)]
     doc = (f"μΛ = s h(a), a = μ/s, h of the general Smith integral (Heitz 2014, eq. 43) by {PIECES} Chebyshev\n"
            f"pieces of degree {DEGREE} in ln a: |ΔG1| ≤ {total:.1e} against the integral (fit {error:.1e}).")
-    body = [("float", "a", "mu / max(s, 1e-30)"),
+    body = [("float", "s", "sqrt(s2)"), ("float", "a", "mu / max(s, 1e-30)"),
             ("float", "h", f"smith_fit_h(a, {base}, LAM_X0, LAM_W, LAM_A_MIN, LAM_A_MAX, LAM_H0_{j})")]
     return consts, tables, doc, body, "sel(s > 0.0, s * h, 0.0)", total, clenshaw()
 

@@ -116,10 +116,10 @@ def assemble(spec, form: str):
                  ("float", "ay", call(P.ALPHA_Y_FORMULA, ["ROUGHNESS", "ANISOTROPIC"])),
                  ("float", "q2", "X(h) * X(h) / (ax * ax) + Y(h) * Y(h) / (ay * ay)"),
                  ("float", "Ds", f"sel(Z(h) >= 0.0, {call(ggx.D_formula, ['Z(h)', 'q2'])} / (ax * ay), 0.0)"),
-                 ("float", "s_l", "sqrt(ax * ax * X(l) * X(l) + ay * ay * Y(l) * Y(l))"),
-                 ("float", "s_v", "sqrt(ax * ax * X(v) * X(v) + ay * ay * Y(v) * Y(v))"),
-                 ("float", "Vs", call(g2, ["ml", "mv", call(ggx.mu_Lambda_formula, ["ml", "s_l"]),
-                                           call(ggx.mu_Lambda_formula, ["mv", "s_v"]), "0.0"]))]
+                 ("float", "s2_l", "ax * ax * X(l) * X(l) + ay * ay * Y(l) * Y(l)"),
+                 ("float", "s2_v", "ax * ax * X(v) * X(v) + ay * ay * Y(v) * Y(v)"),
+                 ("float", "Vs", call(g2, ["ml", "mv", call(ggx.mu_Lambda_formula, ["ml", "s2_l"]),
+                                           call(ggx.mu_Lambda_formula, ["mv", "s2_v"]), "0.0"]))]
         notes.update(Ds="GGX's D at h (Walter et al. 2007)", Vs=f"G2/(4 μ_l μ_v): g2={values['principled_g2']}, Smith GGX μΛ")
         body += _per_channel("sp", f"spec(Ds, {call(schlick, ['cos_d'], {'f0': 'c0_{c}', 'f90': '1.0', 'fresnel_p': '5.0'})}, Vs, h_ok)")
         total.append(_vec("sp"))
@@ -147,8 +147,8 @@ def assemble(spec, form: str):
         body += [("float", "ac", call(P.CLEARCOAT_ALPHA_FORMULA, ["CLEARCOAT_GLOSS"])),
                  ("float", "Dc", f"sel(Z(h) >= 0.0, {call(d_gtr, ['Z(h)', '(X(h) * X(h) + Y(h) * Y(h)) / (ac * ac)'], {'gamma': '1.0', 'log_d0': call(gtr.log_d0_formula, ['ac', '1.0'])})} / (ac * ac), 0.0)"),
                  ("float", "Vc", call(sep, ["ml", "mv",
-                                            call(ggx.mu_Lambda_formula, ["ml", "CLEARCOAT_MASKING_ALPHA * sqrt(X(l) * X(l) + Y(l) * Y(l))"]),
-                                            call(ggx.mu_Lambda_formula, ["mv", "CLEARCOAT_MASKING_ALPHA * sqrt(X(v) * X(v) + Y(v) * Y(v))"]),
+                                            call(ggx.mu_Lambda_formula, ["ml", "CLEARCOAT_MASKING_ALPHA * CLEARCOAT_MASKING_ALPHA * (X(l) * X(l) + Y(l) * Y(l))"]),
+                                            call(ggx.mu_Lambda_formula, ["mv", "CLEARCOAT_MASKING_ALPHA * CLEARCOAT_MASKING_ALPHA * (X(v) * X(v) + Y(v) * Y(v))"]),
                                             "0.0"])),
                  ("float", "cc", f"0.25 * CLEARCOAT * spec(Dc, CLEARCOAT_F0 + (1.0 - CLEARCOAT_F0) * w, Vc, h_ok)")]
         notes.update(Dc="GTR1 (GTR at γ = 1) of α = mix(0.1, 0.001, gloss)", Vc="separable Smith of a GGX, α = 0.25",

@@ -102,23 +102,23 @@ def ndf_D(k: int, ndf) -> Terms:
 
 
 def mu_Lambda(k: int, ndf, masking, fits: dict) -> Terms:
-    """muLambda_k(w) = μΛ(ω), finite everywhere (Heitz 2014, eq. 43); s = α(φ) sinθ.
+    """muLambda_k(w) = μΛ(ω), finite everywhere (Heitz 2014, eq. 43); s2 = s², s = α(φ) sinθ.
 
     The masking's own formula if it has one (an approximation); else the exact Smith μΛ:
     the NDF's formula where that is the exact one, else a compact fit of the Smith
     integral (lambda_fit.py), shared with an earlier lobe of the same shape (``fits``)."""
     body = [("float", "mu", "max(Z(w), 0.0)"),
-            ("float", "s", f"sqrt(ALPHA_X{k} * ALPHA_X{k} * X(w) * X(w) + ALPHA_Y{k} * ALPHA_Y{k} * Y(w) * Y(w))")]
+            ("float", "s2", f"ALPHA_X{k} * ALPHA_X{k} * X(w) * X(w) + ALPHA_Y{k} * ALPHA_Y{k} * Y(w) * Y(w)")]
     ndf_formula = type(ndf).mu_Lambda_formula
     exact = masking.exact(ndf) is masking
     t = alphas(k, ndf)
     if masking.formula is not None:
         body.append(("float", "sin_t", "sqrt(X(w) * X(w) + Y(w) * Y(w))"))
         t.add(with_params(masking.formula, f"MASK{k}", masking.kernel_params(ndf), f"the masking of lobe {k}"))
-        result, doc = call(masking.formula, ["mu", "s", "sin_t"], f"MASK{k}"), f"μΛ of lobe {k}: masking={masking.name}."
+        result, doc = call(masking.formula, ["mu", "s2", "sin_t"], f"MASK{k}"), f"μΛ of lobe {k}: masking={masking.name}."
     elif ndf_formula is not None and (masking.uses_ndf_Lambda or (exact and type(ndf).smith_exact)):
         t.add(with_params(ndf_formula, f"NDF{k}", ndf.kernel_params(), f"the NDF of lobe {k}"))
-        result, doc = call(ndf_formula, ["mu", "s"], f"NDF{k}"), f"μΛ of lobe {k}: the NDF's Smith Λ times μ."
+        result, doc = call(ndf_formula, ["mu", "s2"], f"NDF{k}"), f"μΛ of lobe {k}: the NDF's Smith Λ times μ."
     elif masking.uses_ndf_Lambda or exact:
         consts, tables, doc, fit_body, result, error, helper = lambda_fit(k, ndf, fits)
         t.consts += consts

@@ -91,8 +91,8 @@ class T3(ShapeInvariantNDF):
     D_formula = Formula("D_t3", ("mz", "q2"), "mz * mz / (PI * t * t * t)", body=(("t", "mz * mz + 0.5 * q2"),),
                         consts=(("PI", math.pi, "pi"),))
     mu_Lambda_formula = Formula(
-        "muLambda_t3", ("mu", "s"), "sel(s > 0.0, s * (C * pow(1.0 + 0.5 * a * a, -1.5) - a * t2), 0.0)",
-        body=(("a", "mu / max(s, 1e-30)"), ("x", "2.0 / (2.0 + a * a)"),
+        "muLambda_t3", ("mu", "s2"), "sel(s > 0.0, s * (C * pow(1.0 + 0.5 * a * a, -1.5) - a * t2), 0.0)",
+        body=(("s", "sqrt(s2)"), ("a", "mu / max(s, 1e-30)"), ("x", "2.0 / (2.0 + a * a)"),
               ("t2", "0.5 * (1.0 - sqrt(1.0 - x) * (1.0 + 0.5 * x))")),
         consts=(("C", C, "Gamma(5/2)/(Gamma(2) sqrt(2 pi)) 2/3"),))
 

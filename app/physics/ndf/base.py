@@ -155,8 +155,9 @@ class SlopeSpaceNDF(NDF):
         return self.radial_ccdf_inv(1.0 - np.asarray(u, dtype=float))
 
     # ---- the same formulas for one point (physics/scalar.py), p = kernel_params() ----
-    # D_scalar(mz, q2, p): α_x α_y D (as _D); mu_Lambda_scalar(mu, s, p): μΛ for μ ≥ 0,
-    # s ≥ 0 (0 at s = 0); radial_ccdf_scalar(r2, p), radial_cdf_inv_scalar(u, p),
+    # D_scalar(mz, q2, p): α_x α_y D (as _D); mu_Lambda_scalar(mu, s2, p): μΛ for μ ≥ 0
+    # at s² = s2 ≥ 0 (0 at s = 0; s² given, as GGX's μΛ reads it, so that no square root
+    # is taken only to be squared: 20 % of GGX's f a pair); radial_ccdf_scalar(r2, p), radial_cdf_inv_scalar(u, p),
     # radial_ccdf_inv_scalar(v, p). An NDF without them is served by numpy alone.
     D_scalar = mu_Lambda_scalar = None
     radial_ccdf_scalar = radial_cdf_inv_scalar = radial_ccdf_inv_scalar = None
@@ -165,7 +166,7 @@ class SlopeSpaceNDF(NDF):
     #: α_x α_y D(mz, q2) for mz ≥ 0, its limit at mz = 0 included; p names bind
     #: kernel_params(). Given, it is the source of ``D_scalar`` and of the shaders' D.
     D_formula: ClassVar[Formula | None] = None
-    #: μΛ(mu, s); given, the source of ``mu_Lambda_scalar`` and of the shaders' μΛ. None
+    #: μΛ(mu, s2), s2 = s²; given, the source of ``mu_Lambda_scalar`` and of the shaders' μΛ. None
     #: where μΛ needs what no shading language has (an incomplete beta or gamma function,
     #: a table of the Smith integral): the shaders then embed that table.
     mu_Lambda_formula: ClassVar[Formula | None] = None

@@ -83,10 +83,10 @@ def _series_horner(terms: int) -> str:
 #: too, while mz⁴ in the denominator underflows in float32 (0/0) below mz ≈ 1e-10.
 BECKMANN_MZ_MIN = 1e-3
 BECKMANN_MU_LAMBDA = Formula(
-    "muLambda_beckmann", ("mu", "s"),
+    "muLambda_beckmann", ("mu", "s2"),
     "sel(s > 0.0, 0.5 * s * exp(-a * a) * sel(a < A_SERIES, max(INV_SQRT_PI - a * erfcx(a), 0.0), "
     "INV_SQRT_PI * series), 0.0)",
-    body=(("a", "mu / max(s, TINY)"), ("x", "1.0 / (2.0 * a * a)"), ("series", _series_horner(SERIES_TERMS))),
+    body=(("s", "sqrt(s2)"), ("a", "mu / max(s, TINY)"), ("x", "1.0 / (2.0 * a * a)"), ("series", _series_horner(SERIES_TERMS))),
     consts=(("INV_SQRT_PI", 1.0 / math.sqrt(math.pi), "1/√π"),
             ("A_SERIES", A_SERIES, "from here on the asymptotic series (A&S 7.1.23)"),
             ("TINY", 1e-30, "s is > 0 where a is used; the floor only keeps the unused side finite")),

@@ -112,8 +112,8 @@ class ExpPower(SlopeSpaceNDF):
 
     @staticmethod
     @scalar
-    def mu_Lambda_scalar(mu, s, p):
-        return tabulated_mu_Lambda_scalar(mu, s, p, TABLE_AT)
+    def mu_Lambda_scalar(mu, s2, p):
+        return tabulated_mu_Lambda_scalar(mu, math.sqrt(s2), p, TABLE_AT)
 
     @staticmethod
     @scalar

@@ -57,8 +57,9 @@ class GGX(ShapeInvariantNDF):
         consts=(("PI", math.pi, "π"),),
         doc="GGX: α_x α_y D = 1/(π (mz² + q²)²) (Walter et al. 2007, eq. 33; Heitz 2014, eq. 85).")
     mu_Lambda_formula = Formula(
-        "muLambda_ggx", ("mu", "s"), "s * s / (2.0 * (sqrt(mu * mu + s * s) + mu))",
-        doc="GGX's Smith μΛ = (√(μ² + s²) − μ)/2, without the cancellation (Heitz 2014, eq. 86).")
+        "muLambda_ggx", ("mu", "s2"), "s2 / (2.0 * (sqrt(mu * mu + s2) + mu))",
+        doc="GGX's Smith μΛ = (√(μ² + s²) − μ)/2, without the cancellation (Heitz 2014, eq. 86);\n"
+            "it reads s² alone (no square root of it taken and squared again).")
 
     @staticmethod
     @scalar

@@ -114,9 +114,10 @@ class StudentT(SlopeSpaceNDF):
 
     @staticmethod
     @scalar
-    def mu_Lambda_scalar(mu, s, p):
-        if not s > 0.0:
+    def mu_Lambda_scalar(mu, s2, p):
+        if not s2 > 0.0:
             return 0.0
+        s = math.sqrt(s2)
         g = p[0]
         a = mu / s
         t1 = math.exp(p[1] + (1.5 - g) * math.log1p(a * a / (g - 1.0))) * (g - 1.0) / (2.0 * g - 3.0)
