@@ -171,8 +171,8 @@ def f_deg_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, ax, ay, rho,
     # f at angles in degrees, ω = (sinθ cosφ, sinθ sinφ, cosθ): per block of pairs the
     # directions first (angles.py: 5.5 ns a pair, 4.0 for an isotropic NDF, turned so that v
     # is at φ = 0: three sin/cos pairs instead of four), then f_pair as in f_loop (the values
-    # of f_loop on direction_deg's directions, to rounding): 12.8-13.3 ns a pair on one core
-    # against f_loop's 9.6-9.9 (GGX, h-c G2, Schlick; /tmp script, 15 rounds). Indices are unsigned offsets into the whole arrays, not
+    # of f_loop on direction_deg's directions, to rounding): 10.7-11.0 ns a pair on one core
+    # against f_loop's 8.8-8.9 (GGX, h-c G2, Schlick; /tmp script, 15 rounds). Indices are unsigned offsets into the whole arrays, not
     # slices per block: a slice takes and drops a reference (an atomic operation) on its
     # array's record, per block and per thread; measured on two threads, the sliced loop
     # ran at 80-117 M/s from run to run against 100-120 without (no reference operation
