@@ -4,6 +4,7 @@ keeps one per event kaleido subscribes to, and never drops it: the server's memo
 from __future__ import annotations
 
 import asyncio
+from concurrent.futures import ThreadPoolExecutor
 from types import SimpleNamespace
 
 import pytest
@@ -36,7 +37,10 @@ def test_finished_tasks_are_dropped_and_running_ones_kept():
         await running
         return dropped, left, running
 
-    dropped, left, running = asyncio.run(scenario())
+    # in a thread of its own: a session's Playwright (the browser tests, sync API) keeps an
+    # event loop running in this one, where asyncio.run refuses to start
+    with ThreadPoolExecutor(1) as pool:
+        dropped, left, running = pool.submit(asyncio.run, scenario()).result()
     assert dropped == 5
     assert left == {running}
 
