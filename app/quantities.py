@@ -97,7 +97,7 @@ def _finish_numpy(brdf: BRDF, flat: list, out: np.ndarray, start: int) -> np.nda
     return out
 
 
-#: Pairs per call of the fused loop: ~8 ms of work on two cores (125 M/s), so the deadline
+#: Pairs per call of the fused loop: 6-8 ms of work on two cores (141-170 M/s), so the deadline
 #: is checked often. Each call hands its halves to the pool's threads, which cost ~0.3 ms
 #: of wall time a call on this VM (waking a thread on an idle virtual CPU): at 2^18 pairs
 #: the four calls of 10^6 pairs ran 10-20 % slower than one (/tmp script, 15 rounds).

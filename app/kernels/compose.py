@@ -169,7 +169,7 @@ def f_loop(l, v, out, start, stop, ax, ay, rho, p_ndf, p_mask, p_g2, p_fresnel, 
 def f_deg_loop(theta_l, phi_l, theta_v, phi_v, out, start, stop, ax, ay, rho,
                p_ndf, p_mask, p_g2, p_fresnel, p_diffuse):
     # f at angles in degrees, ω = (sinθ cosφ, sinθ sinφ, cosθ): per block of pairs the
-    # directions first (angles.py: 5.5 ns a pair, 4.0 for an isotropic NDF, turned so that v
+    # directions first (angles.py: 5.5 ns a pair, 4.2 for an isotropic NDF, turned so that v
     # is at φ = 0: three sin/cos pairs instead of four), then f_pair as in f_loop (the values
     # of f_loop on direction_deg's directions, to rounding): 10.7-11.0 ns a pair on one core
     # against f_loop's 8.8-8.9 (GGX, h-c G2, Schlick; /tmp script, 15 rounds). Indices are unsigned offsets into the whole arrays, not
