@@ -9,6 +9,7 @@ What each route's work costs is in costs.py, the work itself in jobs.py.
 from __future__ import annotations
 
 from ..config import environment
+from ..integrate import budget
 from .pool import HeavyPool
 
 # costs and jobs (the models, the views, the data readers) are imported where used: a
@@ -30,7 +31,15 @@ def pool() -> HeavyPool:
 
 async def run_heavy(fn, *args, cost: float = 0.0, fits: str = ""):
     """``fn(*args)`` in the pool; ``cost`` its predicted seconds on one worker, ``fits``
-    what would fit when it cannot (said in the 413)."""
+    what would fit when it cannot (said in the 413).
+
+    Outside a request (no budget open: a command line, a script calling a route's
+    function) there is no server to protect and no budget to keep: ``fn`` runs here, as
+    integrate.cost.require admits all work there. (The CLI's export-model-csv once
+    spawned a pool whose worker, importing the application under load, spent the whole
+    BRDF_MAX_SECONDS before an 18-row table began: "busy" from a command line.)"""
+    if budget.current() is None:
+        return fn(*args)
     return await pool().run(fn, *args, cost=cost, fits=fits)
 
 

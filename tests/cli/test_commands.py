@@ -7,6 +7,7 @@ import csv
 import io
 import json
 import math
+import os
 import subprocess
 import sys
 from pathlib import Path
@@ -190,6 +191,23 @@ def test_model_csv_round_trips_through_datasets(tmp_path, capsys):
     assert rows[0][:4] == ["theta_i_deg", "phi_i_deg", "theta_o_deg", "phi_o_deg"]
     assert main(["datasets", str(out)]) == 0
     assert json.loads(capsys.readouterr().out)["format"] == "samples_csv"
+
+
+def test_a_command_keeps_no_server_time_budget(tmp_path):
+    """BRDF_MAX_SECONDS protects a server's workers; a command line has none to protect:
+    with a budget far shorter than starting a worker process, export-model-csv answers
+    (it ran out of it under CI's load, an 18-row table refused as "busy")."""
+    out = tmp_path / "model.csv"
+    script = ("from app.cli import main; "
+              f"raise SystemExit(main(['export-model-csv', '--n-theta', '3', '--n-phi', '2', "
+              f"'-o', {str(out)!r}]))")
+    run = subprocess.run([sys.executable, "-c", script], cwd=ROOT, capture_output=True, text=True,
+                         timeout=300, env={**os.environ, "BRDF_MAX_SECONDS": "0.001"})
+    assert run.returncode == 0, run.stderr[-2000:]
+    lines = out.read_text().splitlines()
+    # a header and 3 × 3 × 2 pairs but one: θ_i = θ_o = 90° in the mirror direction, where
+    # f diverges (CSV has no inf)
+    assert lines[0].startswith("theta_i_deg,") and len(lines) == 1 + 3 * 3 * 2 - 1
 
 
 def test_commands_run_where_an_event_loop_already_runs(tmp_path):
