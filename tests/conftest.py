@@ -14,6 +14,14 @@ from hypothesis.configuration import set_hypothesis_home_dir
 _CACHE = tempfile.mkdtemp(prefix="brdf-tests-cache-")
 os.environ["XDG_CACHE_HOME"] = _CACHE
 os.environ.pop("BRDF_CACHE_DIR", None)
+#: The compiled loops, unlike the tables, are code named by the fingerprint of their source:
+#: one directory for the whole run, made by the first process (xdist's controller, whose
+#: environment its workers inherit), so that a model compiled by one worker is loaded by
+#: the other. With a directory each, the two workers compiled the same models twice (15 of
+#: the first 60, ~5-10 s of CPU each). Tests of the compile itself set their own.
+_KERNELS_OWNER = "BRDF_KERNEL_DIR" not in os.environ
+if _KERNELS_OWNER:
+    os.environ["BRDF_KERNEL_DIR"] = tempfile.mkdtemp(prefix="brdf-tests-kernels-")
 # Hypothesis (under schemathesis) keeps its example database and caches in ./.hypothesis by
 # default: the checkout. Tests write nothing there, so it goes with the run's cache.
 set_hypothesis_home_dir(os.path.join(_CACHE, "hypothesis"))
@@ -21,6 +29,8 @@ set_hypothesis_home_dir(os.path.join(_CACHE, "hypothesis"))
 
 def pytest_unconfigure(config):
     shutil.rmtree(_CACHE, ignore_errors=True)
+    if _KERNELS_OWNER:
+        shutil.rmtree(os.environ["BRDF_KERNEL_DIR"], ignore_errors=True)
 
 
 #: xdist workers per core for ``-n auto``. One a core was right while the suite was
