@@ -2,9 +2,9 @@
 
 np.savetxt's writer holds the file it writes to in a reference cycle; with the text
 left in an open StringIO, each model.csv export kept its 16 MB text in the heavy pool's
-worker until a full collection, which came rarely there (+15.6 MB RSS a request). The
-collector is off while the calls run, as it in effect was in that worker: what the
-calls leave is then what reference counting alone does not free. Only allocations made
+worker until the collector's next run, every ~22 jobs there (+15.6 MB RSS a request).
+The collector is off while the calls run, as it in effect was between those runs: what
+the calls leave is then what reference counting alone does not free. Only allocations made
 under tabulate count (other threads of the test process allocate meanwhile: the
 compiled loops' loader imported llvmlite during a first version of this test).
 """
