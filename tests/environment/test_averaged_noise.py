@@ -33,7 +33,7 @@ def test_the_view_answers_each_pixels_standard_error():
 
 def test_the_noise_stated_for_k_averaged_renders_falls_as_the_scatter_between_such_averages():
     """One render's σ is the sample variance of its samples, which ignores their
-    stratification: it overstates the scatter between seeds by a factor c (here ~1.6;
+    stratification: it overstates the scatter between seeds by a factor c (here ~1.5;
     docs/principled.md §3.1). Averaging must carry that factor over and add no error of
     its own: stated(k)/stated(1) = seen(k)/seen(1), and the stated noise stays above
     the seen one (never an understatement)."""
