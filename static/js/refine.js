@@ -2,9 +2,11 @@
  * for the current state and no slider is held, it asks the data route for independent
  * renders of that same state (other seeds), averages them pixel by pixel (average.js) and
  * draws the average through the panel's one draw path (Panel.draw: the server's figure
- * with its image replaced, the heading's noise and samples restated), until the stated noise is at most
- * TARGET_NOISE. A change of state, a held slider or the panel leaving the page stops it;
- * the next rest starts over from one render.
+ * with its image replaced, the heading's noise and samples restated), until the stated
+ * noise is at most TARGET_NOISE. The first figure's own render (the view's 16 samples) is
+ * not among them: renders of equal samples average with equal weights. A change of
+ * state, a held slider or the panel leaving the page stops it; the next rest starts over
+ * from one render.
  */
 import { API, query } from "./dom.js";
 import { ctx } from "./ctx.js";
@@ -160,7 +162,8 @@ export class Refiner {
     }
   }
 
-  /** The average drawn as the panel's figure: its image and the caption's noise. */
+  /** The average drawn as the panel's figure: its image, and its noise and samples
+   * before the heading. */
   async show(average, exposure, noise, perRender, run) {
     const p = this.panel;
     while (p.drawing) await p.drawing.catch(() => {});
