@@ -15,12 +15,13 @@ import { RenderAverage } from "./average.js";
 
 /** The stated relative noise at which the refinement stops: a slide's sphere. */
 export const TARGET_NOISE = 0.05;
-/** Samples per pixel of each refining render. Per sample, at n = 256 under the studio
- * (the default model; 2 shared cores at load ~5): 16 → 116 ms, 64 → 90, 128 → 72, 256 →
- * 75 ms but 19 s a render, past the request budget (BRDF_MAX_SECONDS = 10). 128: the
- * cheapest per sample that fits, ~12 renders from 47 % to 5 %; one render at a time, so
- * that the one heavy worker (app/work) is at most a render away from the next change's
- * figure. A refusal on the budget (413) halves it. */
+/** Samples per pixel of each refining render. At n = 256 under the studio (the default
+ * model; 2 shared cores at load ~12) renders of 128 reach 5 % in 82 s (11 renders), of 64
+ * in 92 s (22; bench/sphere_refine.py); 256 are refused at n = 256 (n²·samples above
+ * BRDF_MAX_GRID_POINTS × 64) and took 19 s a render, past the request budget
+ * (BRDF_MAX_SECONDS = 10). One render at a time, so that the one heavy worker
+ * (app/work) is at most a render away from the next change's figure. A refusal on the
+ * budget (413) halves it. */
 export const REST_SAMPLES = 128;
 /** The fewest a refusal on the budget halves the samples to (the view's own floor is 4). */
 const MIN_SAMPLES = 16;
