@@ -52,7 +52,7 @@ export function serverNote(caption) {
 export class Refiner {
   constructor(panel) {
     this.panel = panel;
-    this.run = null;         // the refinement under way: {key, ctrl}
+    this.run = null;         // the refinement under way: {key}
     this.timer = 0;
     this.own = false;        // the panel is drawing one of ours
     this.finished = null;    // the key whose refinement reached TARGET_NOISE
@@ -91,9 +91,11 @@ export class Refiner {
     }, REST_DELAY_MS);
   }
 
+  /** No more renders for this refinement. One in flight lands and is dropped, not cut
+   * off: the server renders it either way, and a request whose client is gone can cost
+   * the heavy worker a restart (app/work/pool.py). */
   stop() {
     clearTimeout(this.timer);
-    this.run?.ctrl.abort();
     this.run = null;
   }
 
@@ -106,7 +108,7 @@ export class Refiner {
   }
 
   async refine(key) {
-    const run = (this.run = { key, ctrl: new AbortController() });
+    const run = (this.run = { key });
     const params = this.panel.params(ctx.state);
     const first = Number(params.seed ?? 0);
     const exposure = Number(params.exposure ?? 0);
@@ -117,10 +119,10 @@ export class Refiner {
       const seed = (first + j) % MAX_SEED;
       let res, body;
       try {
-        res = await fetch(this.url(samples, seed), { signal: run.ctrl.signal, headers: { Accept: "application/json" } });
+        res = await fetch(this.url(samples, seed), { headers: { Accept: "application/json" } });
         body = await res.json();
       } catch {
-        if (this.run === run) this.run = null;     // aborted, or the server gone: the next rest tries again
+        if (this.run === run) this.run = null;     // the server gone: the next rest tries again
         return;
       }
       if (this.run !== run) return;
