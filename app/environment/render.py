@@ -9,7 +9,9 @@ the rest of N as the lobes' energies (:func:`_shares`). Each strategy's samples 
 jittered grid drawn per pixel (:func:`_jittered`), so pixels' errors are independent; f is evaluated once per sample for the three channels (evaluate.py), where
 l is upper, in blocks of pixels (CHUNK_PIXELS). ``noise`` states the per-pixel standard
 error of the one-sample estimator (mean, max; ``relative``: their RMS over the mean
-radiance, the image's relative RMS error) and that of the image mean. (derivation: docs/principled.md §3.1)
+radiance, the image's relative RMS error) and that of the image mean; ``std_error`` per
+pixel, from which independent renders are averaged (:func:`averaged`). (derivation:
+docs/principled.md §3.1)
 """
 from __future__ import annotations
 
@@ -135,7 +137,8 @@ def _split(brdf, env, samples: int) -> tuple[int, int, int]:
 
 def estimate(brdf, env, key, colour, frame, samples: int, seed: int):
     """L_o (P, 3) at the pixels of ``frame`` (P, 3, 3) under the environment ``env``
-    placed by ``key``, scaled by ``colour``; the sampling report and the noise."""
+    placed by ``key``, scaled by ``colour``; the sampling report, the noise and each
+    pixel's standard error of its luminance (P,)."""
     colour = np.asarray(colour, dtype=float)
     rng = np.random.default_rng(seed)
     P = len(frame)
@@ -155,18 +158,34 @@ def estimate(brdf, env, key, colour, frame, samples: int, seed: int):
                                  [x[block] for x in u], sums[block])
     L_o, s1, s2 = sums[:, :3], sums[:, 3], sums[:, 4]
     std_error = np.sqrt(np.maximum(s2 - s1 * s1 / samples, 0.0) / (samples - 1) / samples)
-    mean = float(np.mean(L_o @ LUMINANCE))
     report = {"per_pixel": samples, "environment": split[0], "cosine": split[1],
               "visible_normals": split[2], "pixels": P, "evaluations": evaluations}
-    noise = {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
-             # RMS over the pixels, relative to the mean: the image's relative RMS
-             # error (the mean σ understated it 2.5x where a few highlight pixels
-             # carry most of the error: a metal, a sun)
-             "relative": float(np.sqrt(np.mean(std_error ** 2)) / mean) if mean > 0 else 0.0,
-             "mean_radiance": mean,
-             # every pixel's samples independent of the others': √Σσ²/P
-             "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / P)}
-    return L_o, report, noise
+    return L_o, report, stated_noise(L_o, std_error), std_error
+
+
+def averaged(renders) -> tuple[np.ndarray, np.ndarray]:
+    """k independent renders (L_o, σ) of one image, each pixel's σ its standard error,
+    averaged pixel by pixel: (Σ L_o / k, √(Σ σ²) / k) — the variance of a mean of
+    independent estimates is the sum of their variances over k² (Bienaymé). The page's
+    refinement at rest (static/js/refine.js) does the same with the data route's
+    ``std_error``."""
+    radiance = np.mean([r for r, _ in renders], axis=0)
+    return radiance, np.sqrt(np.sum([s * s for _, s in renders], axis=0)) / len(renders)
+
+
+def stated_noise(L_o: np.ndarray, std_error: np.ndarray) -> dict:
+    """The noise of an image L_o (P, 3) whose pixels' luminances have standard errors
+    ``std_error`` (P,), each pixel estimated independently of the others."""
+    mean = float(np.mean(L_o @ LUMINANCE))
+    P = len(std_error)
+    return {"std_error_mean": float(std_error.mean()), "std_error_max": float(std_error.max()),
+            # RMS over the pixels, relative to the mean: the image's relative RMS
+            # error (the mean σ understated it 2.5x where a few highlight pixels
+            # carry most of the error: a metal, a sun)
+            "relative": float(np.sqrt(np.mean(std_error ** 2)) / mean) if mean > 0 else 0.0,
+            "mean_radiance": mean,
+            # every pixel's samples independent of the others': √Σσ²/P
+            "mean_radiance_error": float(np.sqrt(np.sum(std_error ** 2)) / P)}
 
 
 def _estimate(brdf, env, key, colour, env_pdf, frame, split, u, sums) -> int:

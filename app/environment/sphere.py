@@ -83,15 +83,18 @@ def lit_sphere(brdf, lighting: Lighting, n: int, *, rgb: bool = True, samples: i
     """The sphere's radiance (n, n, 3) — or (n, n) with ``rgb=False``: f of the model's
     own channel, deltas of grey irradiance only — NaN off the sphere. In colour also
     ``background``: the environment behind the sphere at every pixel (n, n, 3; the
-    sphere is drawn over it), black (3,) without one. With an environment ``samples``
-    and ``noise`` (render.py), else None. Per delta ``supersampled``; with one delta, no
+    sphere is drawn over it), black (3,) without one. With an environment ``samples``,
+    ``noise`` and ``std_error``, each pixel's standard error of its luminance (n, n; NaN
+    off the sphere: what independent renders are averaged with, render.averaged), else
+    None. Per delta ``supersampled``; with one delta, no
     environment and ``rgb=False``, ``peak`` (the brightest pixel against the located
     maximum of L_o: a point value, which at small α no pixel mean reaches)."""
     on, frame, centres = sphere_frames(n)
     shape = (n, n, 3) if rgb else (n, n)
     radiance = np.full(shape, np.nan)
     radiance[on] = 0.0
-    out = {"y": centres[::-1], "x": centres, "radiance": radiance, "samples": None, "noise": None}
+    out = {"y": centres[::-1], "x": centres, "radiance": radiance, "samples": None, "noise": None,
+           "std_error": None}
     if rgb:
         out["background"] = np.zeros(3)
     y, x = np.meshgrid(centres[::-1], centres, indexing="ij")
@@ -101,9 +104,11 @@ def lit_sphere(brdf, lighting: Lighting, n: int, *, rgb: bool = True, samples: i
     if lighting.environment is not None:
         if not rgb:
             raise ValueError("an environment lights the sphere in colour (rgb=True)")
-        L_o, out["samples"], out["noise"] = estimate(brdf, lighting.environment, lighting.key,
-                                                     lighting.colour, frame, samples, seed)
+        L_o, out["samples"], out["noise"], std_error = estimate(
+            brdf, lighting.environment, lighting.key, lighting.colour, frame, samples, seed)
         radiance[on] += L_o
+        out["std_error"] = np.full((n, n), np.nan)
+        out["std_error"][on] = std_error
         out["background"] = _backdrop(lighting, x, y)
     elif len(lighting.deltas) == 1 and not rgb:
         out["peak"] = _peak(brdf, radiance, *lighting.deltas[0])

@@ -29,6 +29,7 @@ PER_SR = "_per_sr"
 UNIT_SUFFIX = {
     "D": PER_SR, "D_cos": PER_SR, "f": PER_SR, "f_cos": PER_SR, "pdf": PER_SR,
     "radiance": PER_SR,
+    "std_error": PER_SR,      # the lit sphere's per-pixel standard error of its luminance
 }
 
 

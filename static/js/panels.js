@@ -19,6 +19,7 @@ import { Readouts } from "./readouts.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
 import { fam, viewTakes, whyNot, otherFamily, familyAnisotropic } from "./families.js";
+import { Refiner, serverNote } from "./refine.js";
 
 const LOADING_DELAY_MS = 300;
 // After paths written directly, Plotly's own state is brought up to date (Panel.sync)
@@ -48,6 +49,7 @@ export class Panel {
     this.view = view;
     this.name = view.name;
     this.hint = hintOf(view.name);
+    this.refiner = this.hint.refine ? new Refiner(this) : null;    // refined at rest (refine.js)
     Object.assign(this, { inflight: null, dirty: false, drawing: null, drawnKey: null, inView: false,
                           noOverlay: false, noPin: false, drawn: false, error: null, loadingTimer: 0,
                           relayout: {},      // axis ranges to relay out in the next write (refit)
@@ -184,11 +186,15 @@ export class Panel {
     if (!body || !Array.isArray(body.data)) throw new Error("The server sent no figure.");
     const compare = req.init.method === "POST";
     if (compare) compactLegend(body.data);
-    const title = titleText(body.layout).split(/<br\s*\/?>/i)[0];
-    const sub = compare ? `${JSON.parse(req.init.body).models.length} models`
+    const [title, note = ""] = titleText(body.layout).split(/<br\s*\/?>/i);
+    const heading = compare ? `${JSON.parse(req.init.body).models.length} models`
       : this.overlaid(s) ? `comparing ${s.vary} = ${String(s.values).split(",").join(", ")}`
       : title.includes(" — ") ? title.slice(title.indexOf(" — ") + 3) : title;
-    return { data: body.data, layout: fitLayout(body.layout || {}), uirevision: this.uirevision(s), sub };
+    // a sampled image states its noise and samples in the title's second line: shown
+    // before the heading's parameters (the refinement at rest states its own: refine.js)
+    const sampled = this.refiner && note ? serverNote(note) : "";
+    return { data: body.data, layout: fitLayout(body.layout || {}), uirevision: this.uirevision(s),
+             sub: sampled ? `${sampled} · ${heading}` : heading, heading };
   }
 
   /** A data-only redraw (see fastdraw.js) when only the data moved; null otherwise.
@@ -335,6 +341,7 @@ export class Panel {
   /** A slider grabbed (or the page idle after a draw): a plot in view has its canvas for
    * a drag ready, at its size (heldcanvas.js). */
   grab() {
+    this.refiner?.check();
     if (this.inView && this.drawn && !this.error) readyHeld(this.div);
   }
 
@@ -355,7 +362,9 @@ export class Panel {
     }, ctx.held);
   }
 
-  draw({ data, layout, uirevision, sub }) {
+  draw(drawable) {
+    const { data, layout, uirevision, sub } = drawable;
+    this.refiner?.drawn(drawable);
     this.setSub(sub);
     this.styles = data.map(traceStyle);
     this.stale = this.decades = this.labels = null;

@@ -65,6 +65,7 @@ export class Scheduler {
   }
 
   touch(panel) {
+    panel.refiner?.check();           // a refinement at rest stops when its state is gone
     const flights = (panel.flights ||= []);
     if (!panel.wanted()) {
       this.unwait(panel);

@@ -6,7 +6,8 @@
  *   anisotropic; keys: URL names of its toggles that predate generic panels; wide /
  *   short: layout; pin: made of curves, so POST /figures/{name} can overlay pinned
  *   models; tails: "compare tails"; heavy: an image fetched coarser while a slider is held;
- *   lightDrag: a sphere whose light is dragged on it (spheredrag.js).
+ *   lightDrag: a sphere whose light is dragged on it (spheredrag.js); refine: a sampled image
+ *   refined at rest by averaging independent renders (refine.js).
  */
 export const HINTS = {
   lobe: { shown: true, pin: true, keys: { log: "log", cosine: "cosine" },
@@ -25,7 +26,7 @@ export const HINTS = {
              caption: "F(θ_d): the share reflected by one microfacet against the angle to its normal." },
   sphere: { heavy: true, lightDrag: true,
             caption: "A sphere of this material under one directional light at (θ_i, φ_i); drag on it to move the light." },
-  sphere_env: { heavy: true, lightDrag: true,
+  sphere_env: { heavy: true, lightDrag: true, refine: true,
                 caption: "A sphere of this material in an environment or under a point light; drag on it to move the light." },
   slice: { heavy: true,
            caption: "f over half-vector and difference angles, the image slice of Disney's BRDF explorer." },
