@@ -2,7 +2,7 @@
 the servers it starts; Hypothesis' directory goes there too): the E(μ, α) tables a server
 persists there must not come from an earlier run on the same machine, or a test of the
 first build, the background builder or the honest fallback would see a table it did not
-build."""
+build (those tests give their servers a directory of their own)."""
 from __future__ import annotations
 
 import os
@@ -11,26 +11,25 @@ import tempfile
 
 from hypothesis.configuration import set_hypothesis_home_dir
 
-_CACHE = tempfile.mkdtemp(prefix="brdf-tests-cache-")
+#: One directory for the whole run, made by the first process (xdist's controller, whose
+#: environment its workers inherit): a table or a compiled model one worker made is found
+#: by the other, as by a server's workers (the store locks and replaces whole files). With
+#: a directory each, the two workers built the same tables and compiled the same models
+#: twice (27 of 121 compiles in a run, ~5-10 s of CPU each, on a CPU-bound suite).
+_OWNER = "BRDF_TESTS_CACHE" not in os.environ
+if _OWNER:
+    os.environ["BRDF_TESTS_CACHE"] = tempfile.mkdtemp(prefix="brdf-tests-cache-")
+_CACHE = os.environ["BRDF_TESTS_CACHE"]
 os.environ["XDG_CACHE_HOME"] = _CACHE
 os.environ.pop("BRDF_CACHE_DIR", None)
-#: The compiled loops, unlike the tables, are code named by the fingerprint of their source:
-#: one directory for the whole run, made by the first process (xdist's controller, whose
-#: environment its workers inherit), so that a model compiled by one worker is loaded by
-#: the other. With a directory each, the two workers compiled the same models twice (15 of
-#: the first 60, ~5-10 s of CPU each). Tests of the compile itself set their own.
-_KERNELS_OWNER = "BRDF_KERNEL_DIR" not in os.environ
-if _KERNELS_OWNER:
-    os.environ["BRDF_KERNEL_DIR"] = tempfile.mkdtemp(prefix="brdf-tests-kernels-")
 # Hypothesis (under schemathesis) keeps its example database and caches in ./.hypothesis by
 # default: the checkout. Tests write nothing there, so it goes with the run's cache.
 set_hypothesis_home_dir(os.path.join(_CACHE, "hypothesis"))
 
 
 def pytest_unconfigure(config):
-    shutil.rmtree(_CACHE, ignore_errors=True)
-    if _KERNELS_OWNER:
-        shutil.rmtree(os.environ["BRDF_KERNEL_DIR"], ignore_errors=True)
+    if _OWNER:
+        shutil.rmtree(_CACHE, ignore_errors=True)
 
 
 #: xdist workers per core for ``-n auto``. One a core was right while the suite was
