@@ -2,10 +2,13 @@
 
 ``lookup(brdf)`` gives the compiled :class:`~.kernel.Kernel` of a model, or None — when
 numba is absent or switched off (BRDF_FAST=0), when a component has no scalar formula,
-or while its loops are still being compiled: a model asked for is queued and compiled
-by one background thread (with a compiler process, so that compiling does not hold this
-process's GIL), and until then the caller takes the numpy path (BRDF.evaluate knows
-nothing of this package). :func:`start` queues the models the server expects,
+or while its loops are still being compiled: a model asked for a second time is queued
+and compiled by one background thread (with a compiler process, so that compiling does
+not hold this process's GIL), and until then the caller takes the numpy path
+(BRDF.evaluate knows nothing of this package). Not at the first ask: a compile costs
+~5 s of CPU, and a one-off request (a script's sweep over models, a fuzzer) would never
+run the loops; the page asks for a model from several panels at once, so its models
+compile as soon as before. :func:`start` queues the models the server expects,
 :func:`compile_now` compiles in the calling thread (tests, benchmarks, the CLI).
 The log says which path answered: one line when a model's loops are ready (compiled, or
 loaded from numba's cache, and how long it took), one when a model was first answered
@@ -70,7 +73,8 @@ def components(brdf: BRDF) -> Components | None:
 
 
 def lookup(brdf: BRDF) -> Kernel | None:
-    """The ready kernel of ``brdf``'s model, else None (and the model is queued)."""
+    """The ready kernel of ``brdf``'s model, else None (and the model is queued if this
+    is not its first ask)."""
     if not ENABLED:
         return None
     c = components(brdf)
@@ -78,10 +82,12 @@ def lookup(brdf: BRDF) -> Kernel | None:
         return None
     kernel = _ready.get(c)
     if kernel is None and c not in _failed:
-        _enqueue([c])
-        if c not in _told_numpy:
+        if c in _told_numpy:                 # asked again: worth its compile
+            _enqueue([c])
+        else:
             _told_numpy.add(c)
-            log.info("numpy path for %s: its compiled loops are not ready yet", c.label)
+            log.info("numpy path for %s: its compiled loops are not ready yet "
+                     "(compiled when it is asked for again)", c.label)
     return kernel
 
 

@@ -173,32 +173,39 @@ def test_two_lobes_and_compensation_through_kernels_f():
         _assert_close(kernels.f(brdf, l, v), brdf.evaluate(l, v, ("f",))["f"])
 
 
-#: The check of :func:`test_lookup_never_compiles_in_the_caller`, in a process of its own:
-#: in a test worker the background thread first works through every model the worker's
-#: earlier tests queued (160 s of the suite's time, waiting).
+#: The check of :func:`test_lookup_never_compiles_in_the_caller`, in a process of its own
+#: with an empty kernel directory: in a test worker the background thread first works
+#: through every model the worker's earlier tests queued (160 s of the suite's time,
+#: waiting). A compile writes the model's generated module there first (compose.py).
 _LOOKUP_CHECK = """
 import sys, time
 from app import kernels
+from app.kernels import compose
 from app.model import make_spec
 brdf = make_spec(ndf="beckmann", masking="walter", g2="separable", fresnel="conductor").brdf()
 t0 = time.monotonic()
 first = kernels.lookup(brdf)
 answered = time.monotonic() - t0
+time.sleep(2.0)
+written_after_one_ask = len(list(compose.kernel_dir().glob("brdf_kernel_*.py")))
 deadline = time.monotonic() + 600
 while kernels.lookup(brdf) is None and time.monotonic() < deadline:
     time.sleep(0.05)
-print(first is None, answered, kernels.lookup(brdf) is not None)
+print(first is None, answered, written_after_one_ask, kernels.lookup(brdf) is not None)
 """
 
 
-def test_lookup_never_compiles_in_the_caller():
+def test_lookup_never_compiles_in_the_caller(tmp_path):
     """A model asked for before its loops exist is answered by numpy (None here, at
-    once) and queued; the background thread makes it ready."""
+    once); asked once, nothing is compiled (a one-off request would never run the loops);
+    asked again, it is queued and the background thread makes it ready."""
     import subprocess
     import sys
     out = subprocess.run([sys.executable, "-c", _LOOKUP_CHECK], capture_output=True, text=True,
-                         timeout=660, env={**os.environ, "BRDF_FAST": "1"})
+                         timeout=660, env={**os.environ, "BRDF_FAST": "1",
+                                           "BRDF_KERNEL_DIR": str(tmp_path / "kernels")})
     assert out.returncode == 0, out.stderr
-    first_none, answered, ready = out.stdout.split()
+    first_none, answered, written, ready = out.stdout.split()
     assert first_none == "True" and float(answered) < 1.0      # no compiling in the caller
+    assert written == "0"                                       # one ask: no compile started
     assert ready == "True"
