@@ -197,6 +197,8 @@ def _kind_line(n: int, kinds: dict) -> str:
         slope = "n/a" if v["mb_per_min"] is None else f"{v['mb_per_min']:+.1f}"
         part = f"{kind} {slope} ({v['end_mb']:.0f} MB, age {v['age_s']} s"
         if v["renewals"]:
+            part += f", lived {v['span_s']} s into the window"
+        if v["renewals"]:
             part += (f"; {v['renewals']} renewed, the newest at {v['newest_end_mb']:.0f} MB "
                      f"vs {v['before_max_mb']:.0f} MB before")
         parts.append(part + ")")
@@ -247,6 +249,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--minutes", type=float, default=10.0)
     parser.add_argument("--json", action="store_true")
+    parser.add_argument("--save", metavar="PATH", help="also write the JSON result (the RSS "
+                        "samples included) to PATH")
     args = parser.parse_args()
     total = args.minutes * 60
     warmup, baseline = total * 0.1, total * 0.1
@@ -323,12 +327,16 @@ def main() -> None:
                    "by_kind_second_half": _kind_slopes(by_kind, total),
                    "warmup_s": round(warmup, 1),
                    "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]],
-                   "per_worker": per_worker[::5]},
+                   "per_worker": per_worker[::5],
+                   "per_worker_by_kind": [(round(t), [[round(s[w][k][0] / 2**20) for k in soak_rss.KINDS]
+                                                      for w in sorted(s)]) for t, s in by_kind[::5]]},
         "errors": rec.errors,
     }
     c = result["cheap"]
     result["cheap_p99_ratio"] = (c["mixed"]["p99_ms"] / c["baseline"]["p99_ms"]
                                  if c["baseline"]["n"] and c["mixed"]["n"] else None)
+    if args.save:
+        Path(args.save).write_text(json.dumps(result, indent=1))
     if args.json:
         print(json.dumps(result, indent=1))
         return

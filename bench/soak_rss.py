@@ -93,8 +93,8 @@ def slope_mb_per_min(points: list[tuple[float, float]]) -> float | None:
 
 def lives(samples: list[tuple[float, int, frozenset]], since: float) -> dict:
     """A kind's memory over the window from ``since`` (s) of samples (t s, bytes, the
-    kind's pids) of the whole run: the slope of the life alive at ``since`` (MB/min) and
-    its age then (s), the slope across lives, the renewals in the window, and for the
+    kind's pids) of the whole run: the slope of the life alive at ``since`` (MB/min), its
+    age then and how long it lived on in the window (s: a short span's slope is noise), the slope across lives, the renewals in the window, and for the
     newest life born in it its last MB against the largest MB of the lives before it
     (over the whole run: what the process it replaced had grown to)."""
     born: dict[frozenset, float] = {}
@@ -102,7 +102,7 @@ def lives(samples: list[tuple[float, int, frozenset]], since: float) -> dict:
         born.setdefault(pids, t)
     window = [(t, b / 2**20, pids) for t, b, pids in samples if t >= since]
     if not window:
-        return {"mb_per_min": None, "age_s": None, "across_mb_per_min": None, "renewals": 0,
+        return {"mb_per_min": None, "age_s": None, "span_s": 0, "across_mb_per_min": None, "renewals": 0,
                 "end_mb": 0.0, "newest_end_mb": None, "before_max_mb": None}
     first = window[0][2]
     renewals = sum(a[2] != b[2] for a, b in zip(window, window[1:]))
@@ -110,6 +110,7 @@ def lives(samples: list[tuple[float, int, frozenset]], since: float) -> dict:
     return {
         "mb_per_min": slope_mb_per_min([(t, b) for t, b, pids in window if pids == first]),
         "age_s": round(window[0][0] - born[first]),
+        "span_s": round(max(t for t, _, pids in window if pids == first) - window[0][0]),
         "across_mb_per_min": slope_mb_per_min([(t, b) for t, b, _ in window]),
         "renewals": renewals,
         "end_mb": window[-1][1],
