@@ -19,7 +19,10 @@ apart), cheap-request p50/p99 in the baseline and in the mixed phase and their r
 worst cases' times, and the workers' resident memory (from /proc) sampled every few
 seconds: after warm-up, at the end, the largest, and the slope over the mixed phase's
 second half (a leak keeps a slope; a cache filling to its bound flattens), in all and per
-worker (each uvicorn worker with its heavy pool's processes). Not a test: it measures.
+worker (each uvicorn worker with its heavy pool's processes), and per worker by process
+kind (its own, its pool's, its Chromium's with the browser's whole tree, other:
+bench/soak_rss.py; a pool process renewed in the window is reported apart, its warm-up
+not read as a leak). Not a test: it measures.
 """
 from __future__ import annotations
 
@@ -39,6 +42,7 @@ import httpx
 from tests.live import running_server
 
 from app.server import WORKER_HEALTHCHECK_S
+import soak_rss
 
 SLIDER = [
     "/api/v1/figures/lobe?theta_i_deg={t}&alpha={a}",
@@ -172,6 +176,35 @@ def _per_worker_slopes(per_worker: list[tuple[float, list[int]]], total: float) 
     return [_slope_mb_per_min([(t, mbs[k] * 2**20) for t, mbs in late]) for k in range(width)]
 
 
+def _kind_slopes(by_kind: list[tuple[float, dict]], total: float) -> dict:
+    """Each uvicorn worker's memory per process kind over the run's last 45 % (the mixed
+    phase's second half): soak_rss.lives, a pool process's renewal reported apart."""
+    workers = sorted({w for _, s in by_kind for w in s})
+    return {n: {kind: soak_rss.lives([(t, s[w][kind][0], s[w][kind][1]) for t, s in by_kind
+                                      if w in s], total * 0.55)
+                for kind in soak_rss.KINDS}
+            for n, w in enumerate(workers)}
+
+
+def _kind_line(n: int, kinds: dict) -> str:
+    """One worker's kinds on one line: the slope of the life alive at the window's start
+    (its age then), and any renewal with its newest process's size against the largest
+    of those before it."""
+    parts = []
+    for kind, v in kinds.items():
+        if not v["end_mb"]:
+            continue
+        slope = "n/a" if v["mb_per_min"] is None else f"{v['mb_per_min']:+.1f}"
+        part = f"{kind} {slope} ({v['end_mb']:.0f} MB, age {v['age_s']} s"
+        if v["renewals"]:
+            part += f", lived {v['span_s']} s into the window"
+        if v["renewals"]:
+            part += (f"; {v['renewals']} renewed, the newest at {v['newest_end_mb']:.0f} MB "
+                     f"vs {v['before_max_mb']:.0f} MB before")
+        parts.append(part + ")")
+    return f"  worker {n}, second half, MB/min per kind: " + "; ".join(parts)
+
+
 def _export(url: str, rec: Recorder, k: int, phase: str = "mixed") -> None:
     """One PNG export by a client that honours Retry-After (at most 5 tries)."""
     path = f"/api/v1/figures/lobe.png?alpha={0.05 + 0.01 * (k % 90):.2f}&width=800&height=500"
@@ -191,8 +224,10 @@ def _export(url: str, rec: Recorder, k: int, phase: str = "mixed") -> None:
 
 
 def _workers_rss(master: int) -> dict[int, int]:
-    """Resident bytes of each of the master's child processes (the uvicorn workers): its
-    own, and its children's (its heavy pool's processes, app/work), from /proc."""
+    """Resident bytes of each of the master's child processes (the uvicorn workers, and
+    multiprocessing's resource tracker): its own, and its direct children's, from /proc:
+    its heavy pool's processes (app/work) and Chromium's launcher (choreographer's 15 MB
+    wrapper, not the browser below it); soak_rss.sample has the whole tree by kind."""
     parent, rss = {}, {}
     for d in Path("/proc").iterdir():
         if not d.name.isdigit():
@@ -214,6 +249,8 @@ def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--minutes", type=float, default=10.0)
     parser.add_argument("--json", action="store_true")
+    parser.add_argument("--save", metavar="PATH", help="also write the JSON result (the RSS "
+                        "samples included) to PATH")
     args = parser.parse_args()
     total = args.minutes * 60
     warmup, baseline = total * 0.1, total * 0.1
@@ -224,6 +261,7 @@ def main() -> None:
     rss: list[tuple[float, str, int]] = []
     per_worker: list[tuple[float, list[int]]] = []     # (t, each worker's MB), every sample
     with_pool: list[tuple[float, list[int]]] = []      # the same, each with its pool's processes
+    by_kind: list[tuple[float, dict]] = []             # (t, soak_rss.sample), every sample
     # stopped by the helper on the way out (SIGTERM, SIGKILL after 10 s)
     with running_server(("--workers", "2", "--timeout-worker-healthcheck", str(WORKER_HEALTHCHECK_S)),
                         env={"BRDF_CACHE_DIR": cache}, log_path=log_path, seconds=300) as (url, proc):
@@ -237,6 +275,7 @@ def main() -> None:
         warming.start()
         while warming.is_alive() or time.monotonic() - t_start < warmup:
             rss.append((round(time.monotonic() - t_start, 1), "warmup", sum(map(sum, _workers_rss(proc.pid).values()))))
+            by_kind.append((time.monotonic() - t_start, soak_rss.sample(proc.pid)))
             time.sleep(2.0)
         warmup = time.monotonic() - t_start          # the run is extended by a long warm-up
         total = warmup + 0.9 * args.minutes * 60
@@ -246,6 +285,7 @@ def main() -> None:
         while (now := time.monotonic() - t_start) < total:
             phase[0] = "baseline" if now < warmup + baseline else "mixed"
             workers = _workers_rss(proc.pid)
+            by_kind.append((now, soak_rss.sample(proc.pid)))
             rss.append((round(now, 1), phase[0], sum(map(sum, workers.values()))))
             per_worker.append((round(now, 1), [round(v[0] / 2**20) for _, v in sorted(workers.items())]))
             with_pool.append((round(now, 1), [round(sum(v) / 2**20) for _, v in sorted(workers.items())]))
@@ -284,14 +324,19 @@ def main() -> None:
                    "mixed_second_half_mb_per_min": _slope_mb_per_min(mixed[len(mixed) // 2:]),
                    "per_worker_second_half_mb_per_min": _per_worker_slopes(per_worker, total),
                    "with_pool_second_half_mb_per_min": _per_worker_slopes(with_pool, total),
+                   "by_kind_second_half": _kind_slopes(by_kind, total),
                    "warmup_s": round(warmup, 1),
                    "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]],
-                   "per_worker": per_worker[::5]},
+                   "per_worker": per_worker[::5],
+                   "per_worker_by_kind": [(round(t), [[round(s[w][k][0] / 2**20) for k in soak_rss.KINDS]
+                                                      for w in sorted(s)]) for t, s in by_kind[::5]]},
         "errors": rec.errors,
     }
     c = result["cheap"]
     result["cheap_p99_ratio"] = (c["mixed"]["p99_ms"] / c["baseline"]["p99_ms"]
                                  if c["baseline"]["n"] and c["mixed"]["n"] else None)
+    if args.save:
+        Path(args.save).write_text(json.dumps(result, indent=1))
     if args.json:
         print(json.dumps(result, indent=1))
         return
@@ -310,6 +355,8 @@ def main() -> None:
           f"{', '.join(f'{v:+.1f}' for v in r['per_worker_second_half_mb_per_min'] if v is not None)} MB/min, "
           f"with its pool's processes "
           f"{', '.join(f'{v:+.1f}' for v in r['with_pool_second_half_mb_per_min'] if v is not None)} MB/min")
+    for n, kinds in r["by_kind_second_half"].items():
+        print(_kind_line(n, kinds))
     for e in rec.errors:
         print("error:", e)
 

@@ -26,6 +26,7 @@ from contextlib import contextmanager
 from ..config import environment
 from ..errors import Busy
 from ..integrate import budget
+from .renderer_memory import Collector
 
 # Tabs rendering in parallel in the one browser. One: every tab is a renderer process,
 # and the service runs on small machines; requests queue for the tab.
@@ -82,6 +83,8 @@ class ImageRenderer:
         self.places = TABS + WAITING
         self._places = threading.BoundedSemaphore(self.places)
         self._held = threading.local()
+        #: a full JavaScript collection every few images (renderer_memory.py)
+        self.memory = Collector()
 
     @contextmanager
     def slot(self):
@@ -193,7 +196,7 @@ class ImageRenderer:
                 raise _past_budget()
             future = asyncio.run_coroutine_threadsafe(_calc_fig(k, figure, opts), loop)
             try:
-                return future.result(wait)
+                image = future.result(wait)
             except TimeoutError:
                 if cut:   # left to finish: a drawing cancelled mid-way can leave its tab
                     raise _past_budget() from None    # stuck for every later one
@@ -204,6 +207,9 @@ class ImageRenderer:
                 if attempt == 2:
                     raise
                 self.close()
+                continue
+            self.memory.rendered(k, loop)
+            return image
         raise AssertionError("unreachable")
 
     def close(self) -> None:

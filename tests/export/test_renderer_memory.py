@@ -1,0 +1,71 @@
+"""Chromium's renderer does not keep the garbage of the images it drew (renderer_memory.py):
+kaleido reloads its tab after each image, and V8 left each reload's heap for a collection
+of its own, ~4-5 MB an image, up to 1.5 GB (the soak's +tens of MB/min of one worker)."""
+from __future__ import annotations
+
+import os
+import time
+
+import pytest
+
+from app.export import renderer_memory
+from app.export.image import ImageRenderer
+
+#: MB the renderer may grow over 2 × COLLECT_EVERY images after its first COLLECT_EVERY
+#: (its working set is built by then); without collections it grew ~4-5 MB an image
+GROWTH_BOUND_MB = 40
+
+
+def _renderers() -> dict[int, int]:
+    """pid → resident MB of the Chromium renderer processes below this test's process."""
+    parent, rss, cmd = {}, {}, {}
+    for d in os.listdir("/proc"):
+        if not d.isdigit():
+            continue
+        try:
+            parent[int(d)] = int(open(f"/proc/{d}/stat").read().rsplit(")", 1)[1].split()[1])
+            cmd[int(d)] = open(f"/proc/{d}/cmdline", "rb").read()
+            rss[int(d)] = next(int(line.split()[1]) // 1024 for line in open(f"/proc/{d}/status")
+                               if line.startswith("VmRSS:"))
+        except (OSError, ValueError, IndexError, StopIteration):
+            continue
+
+    def mine(pid: int) -> bool:
+        while pid > 1:
+            if pid == os.getpid():
+                return True
+            pid = parent.get(pid, 0)
+        return False
+    return {p: rss[p] for p in cmd if b"--type=renderer" in cmd[p] and mine(p)}
+
+
+def _settled(r: ImageRenderer) -> int:
+    """The renderers' MB once the last collection asked for (if any) is done."""
+    last = getattr(getattr(r, "memory", None), "last", None)
+    if last is not None:
+        last.result(30)
+    time.sleep(0.5)
+    return sum(_renderers().values())
+
+
+def test_the_renderer_does_not_keep_each_images_garbage(client):
+    """The soak's images (lobe panels, each α its own figure): after its first
+    COLLECT_EVERY images, 2 × COLLECT_EVERY more leave the renderer where it was."""
+    every = renderer_memory.COLLECT_EVERY
+    figures = [client.get(f"/api/v1/figures/lobe?alpha={0.05 + 0.01 * k:.2f}").json()
+               for k in range(3 * every)]
+    r = ImageRenderer(os.environ.get("BRDF_CHROMIUM") or None)
+    try:
+        try:
+            r.render(figures[0], "png", 800, 500, 1)
+        except Exception as exc:  # noqa: BLE001 - no browser here: nothing to measure
+            pytest.skip(f"no Chromium to render with: {exc}")
+        for k in range(1, every):
+            r.render(figures[k], "png", 800, 500, 1)
+        before = _settled(r)
+        for k in range(every, 3 * every):
+            r.render(figures[k], "png", 800, 500, 1)
+        after = _settled(r)
+    finally:
+        r.close()
+    assert after - before < GROWTH_BOUND_MB, (before, after)
