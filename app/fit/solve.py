@@ -39,7 +39,19 @@ def _coordinates(problem: Problem):
     log = np.array([p.scale == "log" and p.lo > 0 for p in problem.free])
     lo = np.array([np.log(p.lo) if g else p.lo for p, g in zip(problem.free, log)])
     hi = np.array([np.log(p.hi) if g else p.hi for p, g in zip(problem.free, log)])
-    return (lambda y: np.where(log, np.exp(y), y)), (lambda x: np.where(log, np.log(x), x)), lo, hi
+    def to_user(y):
+        x = np.array(y, dtype=float)
+        x[log] = np.exp(x[log])
+        return x
+
+    def to_internal(x):
+        # only the log-scaled parameters through log: the others may be 0 or negative
+        # (k_d = 0), whose log np.where would have computed and thrown away (-inf, a warning)
+        y = np.array(x, dtype=float)
+        y[log] = np.log(y[log])
+        return y
+
+    return to_user, to_internal, lo, hi
 
 
 def solve(problem: Problem, seconds: float) -> dict:
