@@ -32,8 +32,9 @@ class Example:
 
 EXAMPLES: dict[str, Example] = {e.name: e for e in (
     Example("ggx-samples", "example_ggx_samples.csv", "samples_csv",
-            {"ndf": "ggx", "alpha": 0.3, "f0": 0.04, "kd": 0.1}, {"n_theta": 10, "n_phi": 12},
-            "synthetic BRDF samples written from GGX (α = 0.3, F₀ = 0.04, k_d = 0.1) by "
+            {"ndf": "ggx", "alpha": 0.3, "f0": 0.9, "kd": 0}, {"n_theta": 10, "n_phi": 12},
+            "synthetic BRDF samples of a metal-like surface written from GGX (α = 0.3, F₀ = 0.9, "
+            "no diffuse term) by "
             "GET /api/v1/export/model.csv: θ_i, θ_o every 10°, φ_o every 30°"),
 )}
 

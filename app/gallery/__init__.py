@@ -142,20 +142,21 @@ ENTRIES: tuple[Entry, ...] = (
           "Kulla & Conty 2017; Karis 2013 (split sum); docs/tables.md"),
     # the capabilities beyond the views: data, fits, code, tables, conventions (cards.py)
     Entry("data-overlay", "Data on the model: GGX samples against Beckmann",
-          "Synthetic samples the server ships, written from GGX (α = 0.3) by its own "
-          "model.csv export, drawn as points over a Beckmann lobe of the same α at θ_i = 40°. "
-          "Loading measured or exported data this way shows where a model misses, here the "
-          "tails that GGX has and Beckmann lacks.",
+          "Synthetic samples the server ships, written from a metal-like GGX surface (α = 0.3, "
+          "F₀ = 0.9) by its own model.csv export, drawn as points over a Beckmann lobe of the "
+          "same α and F₀ at θ_i = 40°. Loading measured or exported data this way shows where "
+          "a model misses: here GGX's long tails lie far above Beckmann's away from the peak.",
           "dataset", ({"data": "ggx-samples", "view": "lobe", "ndf": "beckmann", "alpha": 0.3,
-                       "f0": 0.04, "kd": 0.1, "theta_i_deg": 40, "log": True},),
+                       "f0": 0.9, "kd": 0, "theta_i_deg": 40, "log": True},),
           "docs/datasets.md; Walter et al. 2007, fig. 6"),
     Entry("fit-beckmann", "A least-squares fit, and what it cannot fix",
-          "Beckmann's α, F₀ and k_d fitted to the same GGX samples (log measure), then drawn "
-          "over them with the fit's parameters and standard errors. The fit converges, yet its "
-          "relative error stays above 5 %, so the answer warns that the model family, not the "
-          "parameters, is wrong.",
+          "Beckmann's α, F₀ and k_d fitted to the same GGX samples (log measure), drawn over "
+          "them with the fitted values and their standard errors. To reach GGX's tails the fit "
+          "invents a diffuse term the surface does not have and still misses by more than 5 %, "
+          "so the answer warns that the model family, not its parameters, is wrong.",
           "fit", ({"data": "ggx-samples", "view": "lobe", "free": "alpha,f0,kd", "measure": "log",
-                   "ndf": "beckmann", "alpha": 0.3, "theta_i_deg": 40, "log": True},),
+                   "ndf": "beckmann", "alpha": 0.3, "f0": 0.5, "kd": 0, "theta_i_deg": 40,
+                   "log": True},),
           "docs/datasets.md (fits); Ngan et al. 2005"),
     Entry("shader-code", "The model as shader code",
           "The GGX model at α = 0.3 as self-contained GLSL, generated from the same formulas the "

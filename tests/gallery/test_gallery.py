@@ -112,7 +112,9 @@ def test_a_card_for_every_capability_and_every_link_answers(client):
             assert r.status_code == 200, r.text[:300]
             fitted = r.json()
             _get(client, item["fit"]["figure"] + "&" + cards.query(fitted["model"]), "application/json")
-            # the caption says the fit warns that Beckmann does not describe GGX's samples
+            # the caption: a diffuse term the GGX samples (k_d = 0) do not have, and a warning
+            # that Beckmann does not describe them
+            assert item["fit"]["body"]["model"]["kd"] == 0 and fitted["params"]["kd"] > 0.1
             assert fitted["misfit"]["relative_rms"] > fitted["misfit"]["threshold"]
 
 
