@@ -127,3 +127,14 @@ def test_data_cards_use_the_example_and_say_it_is_synthetic(client):
         assert example_id in item["open"]["href"] and example_id in str(item)
     data = next(i for i in items if i["kind"] == "dataset")
     assert data["caption"].startswith("Synthetic samples")
+
+
+def test_export_gallery_writes_the_views_figures_only(tmp_path, monkeypatch):
+    """brdf-explorer export-gallery exports each view card's figure; the capability cards
+    are no view's export (their files are their API links) and are left out."""
+    from app.cli import exports
+    jobs = []
+    monkeypatch.setattr(exports, "run_exports", lambda given, **_: jobs.extend(given) or 0)
+    assert exports.gallery([str(tmp_path), "--formats", "csv"]) == 0
+    kinds = {job[0] for job in jobs}
+    assert kinds and kinds <= set(VIEWS) and not kinds & CAPABILITIES
