@@ -10,6 +10,7 @@ import { fitLayout, PLOT_CONFIG } from "./layout.js";
 const PARALLEL = 2;               // figures fetched at once (the server has few cores)
 const EXCERPT_LINES = 26;         // of generated code: the model's f(l, v) and its comment
 const SYMBOLS = { alpha: "α", f0: "F₀", kd: "k_d" };
+const AXIS_WORDS = { mu: "μ = cos θ_v", sqrt_mu: "√μ", alpha: "α" };   // a LUT's axes, as its caption names them
 const CONFIG = { ...PLOT_CONFIG, modeBarButtonsToRemove: [...PLOT_CONFIG.modeBarButtonsToRemove, "toImage"] };
 const grid = document.getElementById("gallery-grid");
 const status = document.getElementById("gallery-status");
@@ -80,10 +81,10 @@ const DRAW = {
     await img.decode().catch(() => { throw new Error("the table's PNG could not be read"); });
     const s = await (await get(item.entry.image.summary, "application/json")).json();
     const max = (part) => s.error[part].max_overall.toExponential(1);
-    const span = (axis) => `${axis.name} ${axis.values[0].toFixed(2)} to ${axis.values.at(-1).toFixed(2)}`;
-    item.result.textContent = `Rows, top to bottom: ${span(s.axes[0])}; columns, left to right: ${span(s.axes[1])}. `
+    const span = (axis) => `${AXIS_WORDS[axis.name] || axis.name} ${axis.values[0].toFixed(2)} to ${axis.values.at(-1).toFixed(2)}`;
+    item.result.replaceChildren(richText(`Rows, top to bottom: ${span(s.axes[0])}; columns, left to right: ${span(s.axes[1])}. `
       + `Largest error over the ${s.size} × ${s.size} texels: ${max("table")} in the values, `
-      + `${max("quantised")} stored as ${s.quantisation}, ${max("lookup")} read with bilinear filtering.`;
+      + `${max("quantised")} stored as ${s.quantisation}, ${max("lookup")} read with bilinear filtering.`));
   },
 };
 
