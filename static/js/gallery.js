@@ -188,5 +188,6 @@ async function boot() {
   }
 }
 
-window.__gallery = { pending: () => total === 0 || done + failed < total, done: () => done, failed: () => failed };
+window.__gallery = { pending: () => total === 0 || done + failed < total, done: () => done, failed: () => failed,
+                     inFlight: () => running + queue.length };     // cards being drawn now, or queued to be
 boot();

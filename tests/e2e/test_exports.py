@@ -329,6 +329,9 @@ def test_gallery_capability_cards_draw_and_open_their_place(page, page_log):
     assert found["lut"]["image"] == 32 and "bilinear" in found["lut"]["result"]
     for c in found.values():
         assert c["api"] and c["open"], c
+    # the view cards near these began to draw as they came near: let them finish before
+    # leaving (a request cut by the navigation would count as failed)
+    page.wait_for_function("() => window.__gallery.inFlight() === 0", timeout=30_000)
     # the data set's card opens the explorer with the example data on the lobe, the id
     # handed over and taken out of the URL (the page's URL is the model's state)
     page.goto(found["dataset"]["open"])
