@@ -23,6 +23,7 @@ from starlette.responses import Response
 
 from ..config import Settings
 from ..datasets.disk_store import DiskDatasetStore
+from ..datasets.examples import WithExamples
 from ..datasets.store import DatasetStore
 from ..export.image import ImageRenderer, get_renderer
 from .http.query_route import QueryModelRoute, read_query
@@ -39,20 +40,22 @@ def get_settings(request: Request) -> Settings:
     return request.app.state.settings
 
 
-def get_datasets(request: Request) -> DatasetStore | DiskDatasetStore:
+def get_datasets(request: Request) -> WithExamples:
     """The application's data-set store, made on first use: files under the cache
     directory's ``datasets/``, shared by every worker and kept across restarts (a quarter
     of BRDF_MAX_DATASETS_BYTES per client); in memory where that directory cannot be
-    written (each worker then has its own)."""
+    written (each worker then has its own). The server's example data sets
+    (app/datasets/examples.py) answer their ids without an upload."""
     state = request.app.state
     with _STORE_LOCK:
         if not hasattr(state, "datasets"):
             s = state.settings
             try:
-                state.datasets = DiskDatasetStore(s.cache_directory() / "datasets", s.max_datasets_bytes,
-                                                  client_bytes=s.max_datasets_bytes // CLIENT_SHARE)
+                store = DiskDatasetStore(s.cache_directory() / "datasets", s.max_datasets_bytes,
+                                         client_bytes=s.max_datasets_bytes // CLIENT_SHARE)
             except OSError:
-                state.datasets = DatasetStore(s.max_datasets_bytes)
+                store = DatasetStore(s.max_datasets_bytes)
+            state.datasets = WithExamples(store)
         return state.datasets
 
 
@@ -70,7 +73,7 @@ def get_static_dir(request: Request) -> Path:
 
 
 SettingsDep = Annotated[Settings, Depends(get_settings)]
-DatasetsDep = Annotated[DatasetStore | DiskDatasetStore, Depends(get_datasets)]
+DatasetsDep = Annotated[WithExamples, Depends(get_datasets)]
 OperationsDep = Annotated[Operations, Depends(get_operations)]
 StaticDirDep = Annotated[Path, Depends(get_static_dir)]
 RendererDep = Annotated[ImageRenderer, Depends(get_renderer)]

@@ -116,8 +116,11 @@ def gallery(argv: list[str]) -> int:
     args = parser.parse_args(argv)
     check_directory(args.directory / "x", args.mkdir)
     from ..gallery import available
+    from ..views import VIEWS
     jobs = []
-    for entry in available():
+    # the views' figures; the other cards (data set, fit, code, LUT, conventions) are not
+    # a view's export, and their files are their API links
+    for entry in (e for e in available() if e["kind"] in VIEWS):
         for fmt in args.formats.split(","):
             argv_job = [entry["kind"]]
             for k, v in entry["state"].items():

@@ -6,7 +6,8 @@
  * panel draws the model, the same query goes to /api/v1/datasets/{id}/figures/{view},
  * which answers the model's figure with the data added (or the relative error); that
  * figure replaces the panel's until its next draw. The data set's id is kept in
- * sessionStorage (not the URL, whose parameters are the model's).
+ * sessionStorage (not the URL, whose parameters are the model's); a link may hand one
+ * over as ?data=<id> (the gallery's data cards do), read once and taken out of the URL.
  */
 const API = "/api/v1";
 //: views the API overlays, and what they need of the data set
@@ -127,6 +128,17 @@ function forget() {
   status.textContent = "Data closed.";
   refused.clear();
   location.reload();        // the page draws its own figures again, from its URL
+}
+
+/** A link's ?data=<id>: into sessionStorage, and out of the URL before the page reads
+ * the URL as the model's state (this module runs before main.js's boot reaches that). */
+function handOver() {
+  const q = new URLSearchParams(location.search);
+  const id = q.get("data");
+  if (id === null) return;
+  if (/^[0-9a-f]{32}$/.test(id)) sessionStorage.setItem(STORE_KEY, JSON.stringify({ id, channel: "luminance", difference: false }));
+  q.delete("data");
+  history.replaceState(null, "", location.pathname + (q.size ? `?${q}` : "") + location.hash);
 }
 
 async function restore() {
@@ -327,5 +339,6 @@ async function fit() {
 }
 
 window.__brdfData = { get id() { return data.id; }, refused: () => Object.fromEntries(refused) };
+handOver();
 place();
 restore();

@@ -32,6 +32,8 @@ async function boot() {
   main.append(codeSection(modelFor), materials.section, conventions.section, await lutSection(modelFor, spec));
   await Promise.all([conventions.draw(), materials.show()]);
   main.dataset.ready = "1";
+  // a link to one section (/tools#lut, the gallery's): the sections did not exist at load
+  if (location.hash) document.getElementById(location.hash.slice(1))?.scrollIntoView();
 }
 
 boot();

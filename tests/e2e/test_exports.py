@@ -224,16 +224,25 @@ def test_every_control_is_labelled_and_keyboard_operable(page, page_log):
 # Each gallery card's plot as a reader sees it (issue 34: crammed log labels, a right axis
 # labelled 0.00309, 0.00179, −0.00081 and a legend that squashed the albedo to a strip):
 # per axis, tick labels that overlap one another and linear ticks whose spacing is not a
-# round number (1, 2, 2.5 or 5 × 10^k, or 15° and 30° steps of an angle); and the plot area's share of the figure's height.
-CARD_LOOKS_JS = r"""() => [...document.querySelectorAll('.gallery-card')].map((card) => {
+# round number (1, 2, 2.5 or 5 × 10^k, or 15° and 30° steps of an angle); and the plot area's share of the figure's height
+# (of stacked subplots, their extent).
+CARD_LOOKS_JS = r"""() => [...document.querySelectorAll('.gallery-card')].filter((card) => card.querySelector('.gallery-plot')).map((card) => {
   const div = card.querySelector('.gallery-plot'), out = { id: card.id, overlaps: [], unround: [] };
   for (const cls of ['xtick', 'ytick', 'y2tick']) {
-    const texts = [...div.querySelectorAll(`.cartesianlayer g.${cls} text, .polarlayer g.${cls} text`)];
-    const boxes = texts.map((t) => t.getBoundingClientRect()).filter((b) => b.width > 0);
+    const texts = [...div.querySelectorAll(`.cartesianlayer g.${cls} text, .polarlayer g.${cls} text`)]
+      .filter((t) => t.getBoundingClientRect().width > 0);
+    const boxes = texts.map((t) => t.getBoundingClientRect());
     for (let i = 0; i < boxes.length; i++) for (let j = i + 1; j < boxes.length; j++) {
       const a = boxes[i], b = boxes[j];
-      if (a.left < b.right - 1 && b.left < a.right - 1 && a.top < b.bottom - 1 && b.top < a.bottom - 1)
-        out.overlaps.push([cls, texts[i].textContent, texts[j].textContent]);
+      // an x axis's labels rotated alike (long category names): their upright boxes overlap
+      // while the text does not; two parallel lines clear each other when their anchors are
+      // a line's height apart across the text's direction
+      const turn = cls === 'xtick' && texts[i].closest('.cartesianlayer')
+        && /rotate\((-?[\d.]+)/.exec(texts[i].getAttribute('transform') || '');
+      const clash = turn && Number(turn[1]) !== 0
+        ? Math.abs(a.right - b.right) * Math.abs(Math.sin(Number(turn[1]) * Math.PI / 180)) < parseFloat(getComputedStyle(texts[i]).fontSize)
+        : a.left < b.right - 1 && b.left < a.right - 1 && a.top < b.bottom - 1 && b.top < a.bottom - 1;
+      if (clash) out.overlaps.push([cls, texts[i].textContent, texts[j].textContent]);
     }
     const values = texts.map((t) => t.textContent.replace('\u2212', '-'));
     if (values.length >= 3 && values.every((v) => /^-?\d*\.?\d+$/.test(v))) {
@@ -242,9 +251,10 @@ CARD_LOOKS_JS = r"""() => [...document.querySelectorAll('.gallery-card')].map((c
       if (![1, 1.5, 2, 2.5, 3, 5, 10].some((r) => Math.abs(m - r) < 1e-6 * r)) out.unround.push([cls, values.slice(0, 4)]);
     }
   }
-  const area = div.querySelector('.nsewdrag, .polarlayer .bg, .polarlayer path.bg');
+  // the plot areas' vertical extent (stacked subplots: from the top one's top to the bottom one's bottom)
+  const areas = [...div.querySelectorAll('.nsewdrag, .polarlayer .bg, .polarlayer path.bg')].map((a) => a.getBoundingClientRect());
   const plot = div.getBoundingClientRect();
-  out.areaShare = area ? area.getBoundingClientRect().height / plot.height : null;
+  out.areaShare = areas.length ? (Math.max(...areas.map((b) => b.bottom)) - Math.min(...areas.map((b) => b.top))) / plot.height : null;
   return out; })"""
 
 
@@ -264,9 +274,12 @@ def test_gallery_renders_and_every_link_opens_its_state(page, page_log, shots):
     for card in page.evaluate(CARD_LOOKS_JS):
         assert card["overlaps"] == [] and card["unround"] == [], card
         assert card["areaShare"] is None or card["areaShare"] >= 0.5, card
+    # the views' cards open their state (the capability cards' places: the next test)
     links = page.eval_on_selector_all(".gallery-card a.open", "(as) => as.map((a) => a.href)")
     assert len(links) == count
-    for link in links:
+    views = [link for link in links if urlparse(link).path == "/" and "data=" not in link]
+    assert len(views) >= 8
+    for link in views:
         q = {k: v[0] for k, v in parse_qs(urlparse(link).query).items()}
         page.goto(link)
         wait_quiet(page, ids=(f"plot-{q['show']}",))
@@ -279,6 +292,57 @@ def test_gallery_renders_and_every_link_opens_its_state(page, page_log, shots):
             names = page.evaluate(f"() => document.getElementById('plot-{q['show']}').data.map((t) => t.name)")
             for value in q["values"].split(","):
                 assert any(f"{q['vary']}={value}" in (n or "") for n in names), (link, names)
+    assert page_log.problems() == []
+
+
+#: the gallery's cards for the capabilities beyond the views (app/gallery/cards.py)
+CAPABILITY_CARDS = "[data-kind=dataset], [data-kind=fit], [data-kind=code], [data-kind=lut], [data-kind=conventions]"
+CARDS_SETTLED_JS = """(sel) => [...document.querySelectorAll(sel)].every((c) => c.matches('.drawn, .failed'))"""
+CARD_CONTENT_JS = """(sel) => [...document.querySelectorAll(sel)].map((c) => ({
+  kind: c.dataset.kind, failed: c.matches('.failed'), result: c.querySelector('.gallery-result').textContent,
+  code: c.querySelector('pre.gallery-code')?.textContent || null,
+  image: c.querySelector('img.gallery-image')?.naturalWidth ?? null,
+  traces: document.getElementById(`plot-${c.id}`)?.data?.length ?? null,
+  open: c.querySelector('a.open').href, api: [...c.querySelectorAll('.gallery-api a')].map((a) => a.href) }))"""
+DATA_DRAWN_JS = """() => (document.getElementById('plot-lobe').layout.annotations || []).some((a) => a.name === 'brdf-data-label')"""
+
+
+def test_gallery_capability_cards_draw_and_open_their_place(page, page_log):
+    """Issue 34: the cards for a data set, a fit, shader code, a LUT and the conventions
+    each draw what they say (a data set's points, a fitted model, the real generated
+    code, the table's image with its error), and the data set's explorer link opens the
+    explorer with the data on the lobe."""
+    strict_csp(page)
+    page.goto("/gallery")
+    page.wait_for_function("() => document.querySelectorAll('.gallery-card').length >= 8")
+    cards = page.locator(CAPABILITY_CARDS)
+    assert cards.count() >= 5
+    for i in range(cards.count()):              # drawn as they scroll into view
+        cards.nth(i).scroll_into_view_if_needed()
+    page.wait_for_function(CARDS_SETTLED_JS, arg=CAPABILITY_CARDS, timeout=30_000)
+    found = {c["kind"]: c for c in page.evaluate(CARD_CONTENT_JS, CAPABILITY_CARDS)}
+    assert set(found) == {"dataset", "fit", "code", "lut", "conventions"}
+    assert not [c for c in found.values() if c["failed"]], found
+    assert found["dataset"]["traces"] >= 2 and found["conventions"]["traces"] >= 2    # model and data; several ecosystems
+    assert found["fit"]["traces"] >= 2 and found["fit"]["result"].startswith("Fitted") and "α = " in found["fit"]["result"]
+    assert "brdf_local(" in found["code"]["code"] and "Lines" in found["code"]["result"]
+    assert found["lut"]["image"] == 32 and "bilinear" in found["lut"]["result"]
+    for c in found.values():
+        assert c["api"] and c["open"], c
+    # the view cards near these began to draw as they came near: let them finish before
+    # leaving (a request cut by the navigation would count as failed)
+    page.wait_for_function("() => window.__gallery.inFlight() === 0", timeout=30_000)
+    # the data set's card opens the explorer with the example data on the lobe, the id
+    # handed over and taken out of the URL (the page's URL is the model's state)
+    page.goto(found["dataset"]["open"])
+    wait_quiet(page, ids=("plot-lobe",))
+    page.wait_for_function(DATA_DRAWN_JS, timeout=20_000)
+    assert "data=" not in page.url and page.evaluate("() => window.__brdfData.id") in found["dataset"]["open"]
+    # the tools' cards open their section of the tools page, scrolled to it
+    page.goto(found["lut"]["open"])
+    page.wait_for_selector("#tools[data-ready]")
+    top = page.evaluate("() => document.getElementById('lut').getBoundingClientRect().top")
+    assert page.evaluate("() => scrollY") > 0 and 0 <= top < page.viewport_size["height"] - 200, top
     assert page_log.problems() == []
 
 

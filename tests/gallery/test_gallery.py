@@ -1,9 +1,15 @@
-"""The gallery: at least eight figures, every link answering 200."""
+"""The gallery: at least eight figures, a card for every capability, every link
+answering 200."""
 from __future__ import annotations
 
 from urllib.parse import parse_qsl, urlparse
 
-from app.gallery import ENTRIES
+from app.datasets import examples
+from app.gallery import ENTRIES, cards
+from app.views import VIEWS
+
+#: the capabilities beyond the views, each with at least one card (issue 34)
+CAPABILITIES = {"dataset", "fit", "code", "lut", "conventions"}
 
 
 def test_gallery_lists_at_least_eight_supported_figures(client):
@@ -20,6 +26,8 @@ def test_gallery_lists_at_least_eight_supported_figures(client):
 
 def test_every_gallery_link_works(client):
     for item in client.get("/api/v1/gallery").json():
+        if item["kind"] not in VIEWS:
+            continue                                   # the capability cards: the test below
         for key in ("figure", "csv", "embed"):
             r = client.get(item[key])
             assert r.status_code == 200, (item["id"], key, r.text[:300])
@@ -70,3 +78,63 @@ def test_a_card_for_each_newer_capability(client):
     copper = next(i for i in items if i["state"].get("material") == "copper")
     F = client.get("/api/v1/fresnel", params=copper["state"]).json()["F"]
     assert F[0] > 0.5 and abs(F[-1] - 1.0) < 1e-9       # a conductor: high at 0°, 1 at grazing
+
+
+def _get(client, url: str, media: str):
+    r = client.get(url)
+    assert r.status_code == 200, (url, r.text[:300])
+    assert r.headers["content-type"].split(";")[0] == media, (url, r.headers["content-type"])
+    return r
+
+
+def test_a_card_for_every_capability_and_every_link_answers(client):
+    """Issue 34: a card for each capability (data set, fit, shader code, LUT, conventions,
+    and the views), each with an open link into the product and raw API links, every URL
+    it carries answering 200 with the media type it states."""
+    items = client.get("/api/v1/gallery").json()
+    kinds = {i["kind"] for i in items}
+    assert CAPABILITIES <= kinds
+    assert len(kinds & set(VIEWS)) >= 8                 # the views' cards are still there
+    for item in (i for i in items if i["kind"] in CAPABILITIES):
+        assert item["links"] and item["open"]["label"].endswith("→")
+        _get(client, item["open"]["href"].split("#")[0], "text/html")
+        for link in item["links"]:
+            _get(client, link["href"].split("#")[0], link["type"])
+        if "figure" in item:
+            assert set(_get(client, item["figure"], "application/json").json()) >= {"data", "layout"}
+        if "image" in item:
+            assert _get(client, item["image"]["src"], "image/png").content.startswith(b"\x89PNG")
+            assert "error" in _get(client, item["image"]["summary"], "application/json").json()
+        if "excerpt" in item:
+            assert "brdf_local(" in _get(client, item["excerpt"]["href"], "text/plain").text
+        if "fit" in item:
+            r = client.post(item["fit"]["url"], json=item["fit"]["body"])
+            assert r.status_code == 200, r.text[:300]
+            fitted = r.json()
+            _get(client, item["fit"]["figure"] + "&" + cards.query(fitted["model"]), "application/json")
+            # the caption: a diffuse term the GGX samples (k_d = 0) do not have, and a warning
+            # that Beckmann does not describe them
+            assert item["fit"]["body"]["model"]["kd"] == 0 and fitted["params"]["kd"] > 0.1
+            assert fitted["misfit"]["relative_rms"] > fitted["misfit"]["threshold"]
+
+
+def test_data_cards_use_the_example_and_say_it_is_synthetic(client):
+    """The data-set and fit cards open the server's example in the explorer, and the
+    data-set card says the data are synthetic (the project ships no measured data)."""
+    items = client.get("/api/v1/gallery").json()
+    example_id = examples.example_id("ggx-samples")
+    for item in (i for i in items if i["kind"] in ("dataset", "fit")):
+        assert example_id in item["open"]["href"] and example_id in str(item)
+    data = next(i for i in items if i["kind"] == "dataset")
+    assert data["caption"].startswith("Synthetic samples")
+
+
+def test_export_gallery_writes_the_views_figures_only(tmp_path, monkeypatch):
+    """brdf-explorer export-gallery exports each view card's figure; the capability cards
+    are no view's export (their files are their API links) and are left out."""
+    from app.cli import exports
+    jobs = []
+    monkeypatch.setattr(exports, "run_exports", lambda given, **_: jobs.extend(given) or 0)
+    assert exports.gallery([str(tmp_path), "--formats", "csv"]) == 0
+    kinds = {job[0] for job in jobs}
+    assert kinds and kinds <= set(VIEWS) and not kinds & CAPABILITIES

@@ -64,7 +64,8 @@ def test_wheel_holds_the_page_and_the_gallery(wheel):
     names = set(zipfile.ZipFile(wheel).namelist())
     shipped = {p.relative_to(ROOT).as_posix() for p in (ROOT / "static").rglob("*") if p.is_file()}
     assert shipped and {"app/" + name for name in shipped} <= names
-    assert {"app/static/index.html", "app/static/gallery.html", "app/gallery.py", "app/main.py"} <= names
+    assert {"app/static/index.html", "app/static/gallery.html", "app/gallery/__init__.py", "app/gallery/cards.py",
+            "app/data/example_ggx_samples.csv", "app/main.py"} <= names
 
 
 def test_installed_wheel_serves_the_page_from_another_directory(wheel, tmp_path):

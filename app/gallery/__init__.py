@@ -1,4 +1,7 @@
-"""The gallery: canonical figures of the microfacet literature, each a state of one view.
+"""The gallery: canonical figures of the microfacet literature, each a state of one view,
+and a card for each capability that is not one view's figure (an example data set on a
+view, a fit, shader code, a LUT, the roughness conventions: ``kind`` names it, and
+gallery/cards.py builds its links).
 
 Each entry lists candidate states, best first; the gallery shows the first that the API
 accepts today (so "GGX vs Beckmann vs Blinn-Phong" becomes "GGX vs Beckmann" where no
@@ -12,9 +15,10 @@ from urllib.parse import urlencode
 
 from pydantic import ValidationError
 
-from .errors import ParameterError
-from .views import VIEWS, lookup, vary
-from .views.schemas import spec_of
+from ..errors import ParameterError
+from . import cards
+from ..views import VIEWS, lookup, vary
+from ..views.schemas import spec_of
 
 
 @dataclass(frozen=True)
@@ -136,6 +140,43 @@ ENTRIES: tuple[Entry, ...] = (
           "albedo", ({"alpha": 0.5, "fresnel": "none", "vary": "method",
                       "values": "quadrature,table"},),
           "Kulla & Conty 2017; Karis 2013 (split sum); docs/tables.md"),
+    # the capabilities beyond the views: data, fits, code, tables, conventions (cards.py)
+    Entry("data-overlay", "Data on the model: GGX samples against Beckmann",
+          "Synthetic samples the server ships, written from a metal-like GGX surface (α = 0.3, "
+          "F₀ = 0.9) by its own model.csv export, drawn as points over a Beckmann lobe of the "
+          "same α and F₀ at θ_i = 40°. Loading measured or exported data this way shows where "
+          "a model misses: here GGX's long tails lie far above Beckmann's away from the peak.",
+          "dataset", ({"data": "ggx-samples", "view": "lobe", "ndf": "beckmann", "alpha": 0.3,
+                       "f0": 0.9, "kd": 0, "theta_i_deg": 40, "log": True},),
+          "docs/datasets.md; Walter et al. 2007, fig. 6"),
+    Entry("fit-beckmann", "A least-squares fit, and what it cannot fix",
+          "Beckmann's α, F₀ and k_d fitted to the same GGX samples (log measure), drawn over "
+          "them with the fitted values and their standard errors. To reach GGX's tails the fit "
+          "invents a diffuse term the surface does not have and still misses by more than 5 %, "
+          "so the answer warns that the model family, not its parameters, is wrong.",
+          "fit", ({"data": "ggx-samples", "view": "lobe", "free": "alpha,f0,kd", "measure": "log",
+                   "ndf": "beckmann", "alpha": 0.3, "f0": 0.5, "kd": 0, "theta_i_deg": 40,
+                   "log": True},),
+          "docs/datasets.md (fits); Ngan et al. 2005"),
+    Entry("shader-code", "The model as shader code",
+          "The GGX model at α = 0.3 as self-contained GLSL, generated from the same formulas the "
+          "server's kernels evaluate, with HLSL and numpy versions beside it. What the explorer "
+          "draws is what a renderer runs, term for term.",
+          "code", ({"lang": "glsl", "ndf": "ggx", "alpha": 0.3, "f0": 0.04},),
+          "docs/shaders.md; Walter et al. 2007, eq. 20"),
+    Entry("lut-split-sum", "The split-sum lookup table and its error",
+          "Karis's split-sum table of GGX, scale (red) and bias (green) of F₀ over roughness and "
+          "μ = cos θ_v, as the 32 × 32 16-bit PNG a shader samples. Each table states its "
+          "error against the converged integral: of its values, after quantisation and "
+          "after bilinear lookup.",
+          "lut", ({"kind": "split_sum", "size": 32},),
+          "Karis 2013, Real Shading in Unreal Engine 4; docs/luts.md"),
+    Entry("roughness-conventions", "One roughness, many α",
+          "The α that Disney, glTF, Filament, UE4, pbrt, Blender and OpenPBR compute from the "
+          "same roughness 0.5, and the lobes they give. Mixing two conventions, say D at α = r² "
+          "and G at α = r, changes the albedo, which the check link quantifies.",
+          "conventions", ({"roughness": 0.5},),
+          "Burley 2012, sec. 5.4; docs/conventions.md"),
 )
 
 
@@ -165,14 +206,28 @@ def _text(value) -> str:
     return ("true" if value else "false") if isinstance(value, bool) else str(value)
 
 
+def _valid(e: Entry, state: dict) -> bool:
+    """A view's state as the view checks it; a data set's or fit's view part likewise."""
+    if e.kind in VIEWS:
+        return _validate(e.kind, state)
+    if "view" in state:
+        drop = ("data", "view", "free", "measure")
+        return _validate(state["view"], {k: v for k, v in state.items() if k not in drop})
+    return True
+
+
 def available() -> list[dict]:
     """The entries the API supports now, each with its first valid state and links."""
     out = []
     for e in ENTRIES:
-        if e.kind not in VIEWS:
+        if e.kind not in VIEWS and e.kind not in cards.BUILDERS:
             continue
-        state = next((s for s in e.states if _validate(e.kind, s)), None)
+        state = next((s for s in e.states if _valid(e, s)), None)
         if state is None:
+            continue
+        if e.kind in cards.BUILDERS:
+            out.append({"id": e.id, "title": e.title, "caption": e.caption, "kind": e.kind,
+                        "state": state, "source": e.source, **cards.BUILDERS[e.kind](state)})
             continue
         out.append({"id": e.id, "title": e.title, "caption": e.caption, "kind": e.kind,
                     "state": state, "source": e.source,
