@@ -56,10 +56,10 @@ def prepare(brdf) -> None:
     tests); the server queues them in the background and answers by numpy until then."""
     if getattr(brdf, "material", None) is not None:
         from ..physics.fresnel import FRESNELS
-        kernels.compile_now(brdf.material.specular_brdf(FRESNELS["none"]()))
+        kernels.compile_now(brdf.material.specular_brdf(FRESNELS["none"]()), "f")
         return
     single = brdf.single() if isinstance(brdf, CompensatedBRDF) else brdf
-    kernels.compile_now(replace(single, kd=0.0, diffuse=None))
+    kernels.compile_now(replace(single, kd=0.0, diffuse=None), "f")
 
 
 def multiscatter(ms, mu_l, mu_v, pixel) -> np.ndarray:

@@ -111,7 +111,7 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
     # instead (_log_rule); the half-plane rows (R = ∞, at v_z = 0) keep the u-rule.
     use_log = ndf.tail_beta >= LOG_RULE_BETA
     h, dh = _log_rule(order)
-    kernel = kernels.lookup(brdf)
+    kernel = kernels.lookup(brdf, "albedo")
     if kernel is not None:   # the same integrand at the same nodes, compiled
         rows = kernel.albedo_rows(brdf, v, cp[..., 0], sp[..., 0], U[..., 0], V0[..., 0],
                                   head, tail, weight, h, dh, use_log)

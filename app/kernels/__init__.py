@@ -1,15 +1,17 @@
 """Compiled loops generated from the physics' own scalar formulas.
 
-``lookup(brdf)`` gives the compiled :class:`~.kernel.Kernel` of a model, or None — when
+``lookup(brdf, part)`` gives the compiled :class:`~.kernel.Kernel` of a model for one use
+(``part``: "f" to evaluate it, "albedo" to integrate it; kernel.PARTS), or None — when
 numba is absent or switched off (BRDF_FAST=0), when a component has no scalar formula,
-or while its loops are still being compiled: a model asked for a second time is queued
+or while those loops are still being compiled: a model part asked for a second time is queued
 and compiled by one background thread (with a compiler process, so that compiling does
 not hold this process's GIL), and until then the caller takes the numpy path
 (BRDF.evaluate knows nothing of this package). Not at the first ask: a compile costs
 ~5 s of CPU, and a one-off request (a script's sweep over models, a fuzzer) would never
 run the loops; the page asks for a model from several panels at once, so its models
-compile as soon as before. :func:`start` queues the models the server expects,
-:func:`compile_now` compiles in the calling thread (tests, benchmarks, the CLI).
+compile as soon as before. Only the part asked for compiles: a table build (albedo rows)
+never waits for the loops that evaluate f. :func:`start` queues the models the server
+expects, :func:`compile_now` compiles in the calling thread (tests, benchmarks, the CLI).
 The log says which path answered: one line when a model's loops are ready (compiled, or
 loaded from numba's cache, and how long it took), one when a model was first answered
 by numpy because its loops were not ready.
@@ -35,7 +37,7 @@ from ..physics.ndf import SlopeSpaceNDF
 from . import compose
 from .compiler import Client
 from .compose import Components
-from .kernel import Kernel
+from .kernel import PARTS, Kernel, loops_of
 
 #: numba installed (a regular dependency; without it everything runs on numpy) and not
 #: switched off with BRDF_FAST=0. Read once; numba itself is imported only by the
@@ -45,13 +47,14 @@ ENABLED = (importlib.util.find_spec("numba") is not None
 
 log = logging.getLogger("uvicorn.error")   # uvicorn shows its own loggers' lines
 
-_ready: dict[Components, Kernel] = {}
-_failed: dict[Components, str] = {}
-_queue: list[Components] = []
+#: keyed by (components, part): a part is ready, failed or queued on its own
+_ready: dict[tuple[Components, str], Kernel] = {}
+_failed: dict[tuple[Components, str], str] = {}
+_queue: list[tuple[Components, str]] = []
 _cv = threading.Condition()
 _worker: threading.Thread | None = None
-_told_numpy: set[Components] = set()
-_compile_locks: dict[Components, threading.Lock] = {}
+_told_numpy: set[tuple[Components, str]] = set()
+_compile_locks: dict[tuple[Components, str], threading.Lock] = {}
 _compiler = Client()
 
 
@@ -72,63 +75,71 @@ def components(brdf: BRDF) -> Components | None:
     return c if c.complete() else None
 
 
-def lookup(brdf: BRDF) -> Kernel | None:
-    """The ready kernel of ``brdf``'s model, else None (and the model is queued if this
-    is not its first ask)."""
+def lookup(brdf: BRDF, part: str) -> Kernel | None:
+    """The kernel of ``brdf``'s model if its loops for ``part`` are ready, else None (and
+    they are queued if this is not their first ask)."""
     if not ENABLED:
         return None
     c = components(brdf)
     if c is None:
         return None
-    kernel = _ready.get(c)
-    if kernel is None and c not in _failed:
-        if c in _told_numpy:                 # asked again: worth its compile
-            _enqueue([c])
+    key = (c, part)
+    kernel = _ready.get(key)
+    if kernel is None and key not in _failed:
+        if key in _told_numpy:               # asked again: worth its compile
+            _enqueue([key])
         else:
-            _told_numpy.add(c)
-            log.info("numpy path for %s: its compiled loops are not ready yet "
-                     "(compiled when it is asked for again)", c.label)
+            _told_numpy.add(key)
+            log.info("numpy path for %s (%s): its compiled loops are not ready yet "
+                     "(compiled when it is asked for again)", c.label, part)
     return kernel
 
 
-def compile_now(brdf: BRDF) -> Kernel | None:
-    """The kernel of ``brdf``'s model, compiled (or loaded) in this thread if needed. From
-    a thread other than the main one (the server's background table builder) a model not
-    in numba's cache is compiled by the compiler process first, then loaded here: numba
-    compiling in that thread held the server's GIL for seconds against its first requests."""
+def compile_now(brdf: BRDF, part: str | None = None) -> Kernel | None:
+    """The kernel of ``brdf``'s model with the loops of ``part`` (every part: None)
+    compiled (or loaded) in this thread if needed. From a thread other than the main one
+    (the server's background table builder) loops not in numba's cache are compiled by the
+    compiler process first, then loaded here: numba compiling in that thread held the
+    server's GIL for seconds against its first requests."""
     if not ENABLED:
         return None
     c = components(brdf)
     if c is None:
         return None
-    if threading.current_thread() is not threading.main_thread() and c not in _ready:
-        _compile_elsewhere(c)
-    return _build(c)
+    kernel = None
+    for key in ((c, p) for p in ((part,) if part is not None else PARTS)):
+        if threading.current_thread() is not threading.main_thread() and key not in _ready:
+            _compile_elsewhere(key)
+        if (kernel := _build(key)) is None:
+            return None
+    return kernel
 
 
-def wait(brdf: BRDF, timeout: float) -> Kernel | None:
-    """The kernel of ``brdf``'s model, waiting at most ``timeout`` seconds for the
-    background thread (the model goes to the front of its queue); None if not ready by
-    then. For work that is much cheaper compiled, such as a table build."""
-    if not ENABLED or (c := components(brdf)) is None or c in _failed:
+def wait(brdf: BRDF, timeout: float, part: str) -> Kernel | None:
+    """The kernel of ``brdf``'s model with its loops for ``part``, waiting at most
+    ``timeout`` seconds for the background thread (they go to the front of its queue);
+    None if not ready by then. For work that is much cheaper compiled, such as a table
+    build."""
+    if not ENABLED or (c := components(brdf)) is None or (key := (c, part)) in _failed:
         return None
-    if c not in _ready:
-        _enqueue([c], front=True)
+    if key not in _ready:
+        _enqueue([key], front=True)
         deadline = time.monotonic() + timeout
         with _cv:
-            while c not in _ready and c not in _failed and time.monotonic() < deadline:
+            while key not in _ready and key not in _failed and time.monotonic() < deadline:
                 _cv.wait(max(deadline - time.monotonic(), 0.0))
-    return _ready.get(c)
+    return _ready.get(key)
 
 
-def start(brdfs) -> None:
-    """Queue the loops of these models, in order, for the background thread."""
+def start(brdfs, parts: tuple[str, ...] = tuple(PARTS)) -> None:
+    """Queue these parts of these models' loops, model by model, for the background
+    thread."""
     if ENABLED:
-        _enqueue([c for c in map(components, brdfs) if c is not None])
+        _enqueue([(c, p) for c in map(components, brdfs) if c is not None for p in parts])
 
 
 def ready() -> list[str]:
-    return [c.label for c in _ready]
+    return [f"{c.label} ({part})" for c, part in _ready]
 
 
 @contextlib.contextmanager
@@ -146,7 +157,7 @@ def disabled():
 def f(brdf: BRDF, l, v) -> np.ndarray:
     """f(l, v): the compiled loop when the model's is ready, else BRDF.evaluate; the
     second lobe and the Kulla-Conty term as BRDF.evaluate adds them."""
-    kernel = lookup(brdf)
+    kernel = lookup(brdf, "f")
     if kernel is None:
         return brdf.evaluate(l, v, ("f",))["f"]
     single = brdf.single() if isinstance(brdf, CompensatedBRDF) else brdf
@@ -166,7 +177,7 @@ def f_deg(brdf: BRDF, theta_l, phi_l, theta_v, phi_v, out=None) -> np.ndarray | 
     loops or is compensated (the caller builds directions and calls :func:`f`)."""
     if isinstance(brdf, CompensatedBRDF):
         return None           # its multiple-scattering term takes directions
-    kernel = lookup(brdf)
+    kernel = lookup(brdf, "f")
     if kernel is None:
         return None
     first = replace(brdf, lobe2=None, lobe_mix=0.0)
@@ -177,18 +188,18 @@ def f_deg(brdf: BRDF, theta_l, phi_l, theta_v, phi_v, out=None) -> np.ndarray | 
     return f
 
 
-def _enqueue(cs: list[Components], front: bool = False) -> None:
+def _enqueue(keys: list[tuple[Components, str]], front: bool = False) -> None:
     global _worker
     with _cv:
-        for c in cs:
-            if c in _ready or c in _failed:
+        for key in keys:
+            if key in _ready or key in _failed:
                 continue
-            if front and c in _queue[1:]:
-                _queue.remove(c)           # the head may be compiling: leave it there
-            if c not in _queue and front:
-                _queue.insert(1 if _queue else 0, c)   # behind the one being compiled
-            elif c not in _queue:
-                _queue.append(c)
+            if front and key in _queue[1:]:
+                _queue.remove(key)         # the head may be compiling: leave it there
+            if key not in _queue and front:
+                _queue.insert(1 if _queue else 0, key)   # behind the one being compiled
+            elif key not in _queue:
+                _queue.append(key)
         if _worker is None or not _worker.is_alive():
             _worker = threading.Thread(target=_work, name="kernel-compiler", daemon=True)
             _worker.start()
@@ -196,32 +207,34 @@ def _enqueue(cs: list[Components], front: bool = False) -> None:
 
 
 def _work() -> None:
-    """Make queued models ready one by one: a model not in numba's disk cache is
+    """Make queued model parts ready one by one: loops not in numba's disk cache are
     compiled by the compiler process first (compiler.py: not under this process's GIL,
     at a lower priority), then loaded from the cache here."""
     while True:
         with _cv:
             while not _queue:
                 _cv.wait()
-            c = _queue[0]
-        _build(c, _compile_elsewhere(c))
+            key = _queue[0]
+        _build(key, _compile_elsewhere(key))
         with _cv:
-            if c in _queue:
-                _queue.remove(c)
+            if key in _queue:
+                _queue.remove(key)
             _cv.notify_all()
 
 
-def _compile_elsewhere(c: Components) -> str:
-    """Have the compiler process put ``c``'s loops into numba's disk cache unless they are
-    there already; the note for the log line that says they are ready."""
-    if c in _failed:
+def _compile_elsewhere(key: tuple[Components, str]) -> str:
+    """Have the compiler process put the loops of ``key`` (components, part) into numba's
+    disk cache unless they are there already; the note for the log line that says they
+    are ready."""
+    if key in _failed:
         return ""
+    c, part = key
     t0 = time.perf_counter()
     try:
         module = compose.load(c)
-        if compose.cached(module):
+        if compose.cached(module, loops_of(part)):
             return ""
-        reason = _compiler.compile(module.__file__)
+        reason = _compiler.compile(module.__file__, part)
     except OSError as exc:
         reason = f"{type(exc).__name__}: {exc}"
     if reason is not None:
@@ -230,33 +243,35 @@ def _compile_elsewhere(c: Components) -> str:
     return f"compiled by the compiler process in {time.perf_counter() - t0:.1f} s, then "
 
 
-def _build(c: Components, note: str = "") -> Kernel | None:
-    if c in _ready:
-        return _ready[c]
+def _build(key: tuple[Components, str], note: str = "") -> Kernel | None:
+    if key in _ready:
+        return _ready[key]
     with _cv:
-        lock = _compile_locks.setdefault(c, threading.Lock())
+        lock = _compile_locks.setdefault(key, threading.Lock())
     with lock:
-        if c in _ready or c in _failed:
-            return _ready.get(c)
+        if key in _ready or key in _failed:
+            return _ready.get(key)
+        c, part = key
         t0 = time.perf_counter()
         try:
             module = compose.load(c)
             kernel = Kernel(c, module)
             with compose.compiling(module):
-                kernel.warm()
+                kernel.warm(part)
         except Exception as exc:   # a formula numba cannot compile: numpy serves it
             with _cv:
-                _failed[c] = f"{type(exc).__name__}: {exc}"
+                _failed[key] = f"{type(exc).__name__}: {exc}"
                 _cv.notify_all()
-            log.warning("no compiled loops for %s (numpy serves it): %s", c.label, _failed[c])
+            log.warning("no compiled loops for %s (%s; numpy serves it): %s", c.label, part,
+                        _failed[key])
             return None
-        loops = (module.f_loop, module.f_deg_loop, module.albedo_rows, module.smith_h)
+        loops = [getattr(module, name) for name in loops_of(part)]
         hits = sum(sum(k.stats.cache_hits.values()) for k in loops)
         how = "loaded from numba's cache" if hits == len(loops) else "compiled"
-        log.info("compiled loops ready for %s: %s%s in %.1f s", c.label, note, how,
+        log.info("compiled loops ready for %s (%s): %s%s in %.1f s", c.label, part, note, how,
                  time.perf_counter() - t0)
         with _cv:
-            _ready[c] = kernel
+            _ready[key] = kernel
             _cv.notify_all()
         smith_table.COMPILED_H.setdefault(c.ndf, _smith_h(kernel))
         return kernel

@@ -2,11 +2,12 @@
 
 numba compiles in Python, holding the GIL for seconds: in the server's process that
 would halve every request's share of the interpreter while the loops compile. So the
-server's background thread hands each module that is not in the cache yet to this
-process (at a lower CPU priority), one path per line on its stdin, and loads the
-result from the cache when it answers ``ok <path>`` (or ``failed <path> <reason>``).
+server's background thread hands each module part that is not in the cache yet to
+this process (at a lower CPU priority), one ``<part> <path>`` per line on its stdin
+(kernel.PARTS; ``all`` for every loop), and loads the result from the cache when it
+answers ``ok <part> <path>`` (or ``failed <part> <path> <reason>``).
 
-    python -c "from app.kernels.compiler import main; main()"   (paths on stdin until EOF)
+    python -c "from app.kernels.compiler import main; main()"   (lines on stdin until EOF)
 """
 from __future__ import annotations
 
@@ -21,8 +22,9 @@ from pathlib import Path
 NICE = 10
 
 
-def compile_module(path: Path) -> None:
-    """Import a generated module and compile (or load) its two loops."""
+def compile_module(path: Path, part: str | None = None) -> None:
+    """Import a generated module and compile (or load) the loops of ``part`` (every loop
+    when None)."""
     from .compose import compiling
     from .kernel import Kernel
     spec = importlib.util.spec_from_file_location(path.stem, path)
@@ -30,7 +32,7 @@ def compile_module(path: Path) -> None:
     sys.modules[path.stem] = module
     spec.loader.exec_module(module)
     with compiling(module):
-        Kernel(None, module).warm()
+        Kernel(None, module).warm(part)
 
 
 def main() -> int:
@@ -39,12 +41,12 @@ def main() -> int:
     except OSError:
         pass
     for line in sys.stdin:
-        path = Path(line.strip())
+        part, path = line.strip().split(" ", 1)
         try:
-            compile_module(path)
-            answer = f"ok {path}"
+            compile_module(Path(path), None if part == "all" else part)
+            answer = f"ok {part} {path}"
         except Exception as exc:   # reported to the server, which then serves numpy
-            answer = f"failed {path} {type(exc).__name__}: {exc}".replace("\n", " ")
+            answer = f"failed {part} {path} {type(exc).__name__}: {exc}".replace("\n", " ")
         try:
             print(answer, flush=True)
         except BrokenPipeError:    # the server has gone: so do we
@@ -59,8 +61,10 @@ class Client:
         self._proc: subprocess.Popen | None = None
         self._lock = threading.Lock()
 
-    def compile(self, path: Path) -> str | None:
-        """None when compiled, else the reason it was not."""
+    def compile(self, path: Path, part: str | None = None) -> str | None:
+        """None when the loops of ``part`` (every loop: None) are compiled, else the
+        reason they were not."""
+        request = f"{part or 'all'} {path}"
         with self._lock:
             if self._proc is None or self._proc.poll() is not None:
                 env = {**os.environ, "PYTHONPATH": os.pathsep.join(p for p in sys.path if p)}
@@ -69,11 +73,11 @@ class Client:
                     stdin=subprocess.PIPE,
                     stdout=subprocess.PIPE, text=True, env=env, bufsize=1)
             try:
-                self._proc.stdin.write(f"{path}\n")
+                self._proc.stdin.write(f"{request}\n")
                 self._proc.stdin.flush()
                 answer = self._proc.stdout.readline().strip()
             except (BrokenPipeError, OSError) as exc:
                 return f"compiler process: {exc}"
-        if answer == f"ok {path}":
+        if answer == f"ok {request}":
             return None
         return answer or "compiler process ended"

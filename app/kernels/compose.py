@@ -343,11 +343,11 @@ def write(c: Components) -> Path:
     return path
 
 
-def cached(module: ModuleType) -> bool:
-    """Whether numba's disk cache holds both loops of a generated module (its index
+def cached(module: ModuleType, loops: tuple[str, ...]) -> bool:
+    """Whether numba's disk cache holds these loops of a generated module (their index
     files exist: the one signature the warm-up compiles)."""
-    return all(os.path.exists(loop._cache._cache_file._index_path)
-               for loop in (module.f_loop, module.f_deg_loop, module.albedo_rows, module.smith_h))
+    return all(os.path.exists(getattr(module, name)._cache._cache_file._index_path)
+               for name in loops)
 
 
 def load(c: Components) -> ModuleType:

@@ -184,14 +184,14 @@ from app.kernels import compose
 from app.model import make_spec
 brdf = make_spec(ndf="beckmann", masking="walter", g2="separable", fresnel="conductor").brdf()
 t0 = time.monotonic()
-first = kernels.lookup(brdf)
+first = kernels.lookup(brdf, "f")
 answered = time.monotonic() - t0
 time.sleep(2.0)
 written_after_one_ask = len(list(compose.kernel_dir().glob("brdf_kernel_*.py")))
 deadline = time.monotonic() + 600
-while kernels.lookup(brdf) is None and time.monotonic() < deadline:
+while kernels.lookup(brdf, "f") is None and time.monotonic() < deadline:
     time.sleep(0.05)
-print(first is None, answered, written_after_one_ask, kernels.lookup(brdf) is not None)
+print(first is None, answered, written_after_one_ask, kernels.lookup(brdf, "f") is not None)
 """
 
 

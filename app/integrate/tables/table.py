@@ -310,8 +310,8 @@ def compiled(lobe: BRDF) -> bool:
     a moment for them; elsewhere after compiling them)."""
     b = budget.current()
     if b is None:
-        return kernels.compile_now(lobe) is not None
-    return kernels.wait(lobe, min(KERNEL_WAIT_S, 0.5 * (b.seconds - b.elapsed()))) is not None
+        return kernels.compile_now(lobe, "albedo") is not None
+    return kernels.wait(lobe, min(KERNEL_WAIT_S, 0.5 * (b.seconds - b.elapsed())), "albedo") is not None
 
 
 def predict_build_seconds(key: tuple, alpha: float, base_ready: bool) -> float:
