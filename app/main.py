@@ -43,7 +43,7 @@ async def lifespan(app: FastAPI):
     # from, took 1-9 s here, and the port did not accept until then; the document is now
     # built on the first GET /openapi.json).
     server.return_large_frees_to_the_system()
-    kernels.start(default_models())
+    kernels.start(default_loops())
     await run_in_threadpool(openapi.operations, app)
     logging.getLogger("uvicorn.error").info(
         "compiled loops: %s", "loading in the background; numpy answers until each is ready"
@@ -65,13 +65,17 @@ async def lifespan(app: FastAPI):
     work.close()      # the heavy pool's workers killed: shutdown never waits for a job
 
 
-def default_models() -> list:
-    """The models whose loops the server loads first: the page's default, then every
-    NDF with the default options, with F = 1 (the tables' basis) and smith_numeric."""
-    first = [make_spec().brdf(), make_spec(fresnel="none").brdf()]
-    per_ndf = [make_spec(ndf=n, **extra).brdf() for n in NDFS
-               for extra in ({}, {"fresnel": "none"}, {"fresnel": "none", "masking": "smith_numeric"})]
-    return first + per_ndf
+def default_loops() -> list[tuple]:
+    """(model, part) of the loops the server loads first, in order: the page's default
+    model, evaluated and integrated (its albedo panel); each NDF with the default
+    options, evaluated (the menu's other choices); then the lobes of the tables
+    (F = 1, the Smith masking and smith_numeric), integrated only: a table never
+    evaluates f, and their f loops were about half of a cold start's compiling."""
+    first = [(make_spec().brdf(), "f"), (make_spec().brdf(), "albedo")]
+    per_ndf = [(make_spec(ndf=n).brdf(), "f") for n in NDFS]
+    tables_ = [(make_spec(ndf=n, **extra).brdf(), "albedo") for n in NDFS
+               for extra in ({"fresnel": "none"}, {"fresnel": "none", "masking": "smith_numeric"})]
+    return first + per_ndf + tables_
 
 
 #: /docs' groups, by task, in this order

@@ -4,7 +4,8 @@
 (``part``: "f" to evaluate it, "albedo" to integrate it; kernel.PARTS), or None — when
 numba is absent or switched off (BRDF_FAST=0), when a component has no scalar formula,
 or while those loops are still being compiled: a model part asked for a second time is queued
-and compiled by one background thread (with a compiler process, so that compiling does
+(ahead of what was queued earlier: what is in use now compiles next) and compiled by one
+background thread (with a compiler process, so that compiling does
 not hold this process's GIL), and until then the caller takes the numpy path
 (BRDF.evaluate knows nothing of this package). Not at the first ask: a compile costs
 ~5 s of CPU, and a one-off request (a script's sweep over models, a fuzzer) would never
@@ -86,8 +87,8 @@ def lookup(brdf: BRDF, part: str) -> Kernel | None:
     key = (c, part)
     kernel = _ready.get(key)
     if kernel is None and key not in _failed:
-        if key in _told_numpy:               # asked again: worth its compile
-            _enqueue([key])
+        if key in _told_numpy:   # asked again: worth its compile, and next (what is in use
+            _enqueue([key], front=True)      # now goes before what was queued earlier)
         else:
             _told_numpy.add(key)
             log.info("numpy path for %s (%s): its compiled loops are not ready yet "
@@ -131,11 +132,10 @@ def wait(brdf: BRDF, timeout: float, part: str) -> Kernel | None:
     return _ready.get(key)
 
 
-def start(brdfs, parts: tuple[str, ...] = tuple(PARTS)) -> None:
-    """Queue these parts of these models' loops, model by model, for the background
-    thread."""
+def start(loops) -> None:
+    """Queue these (model, part) loops, in order, for the background thread."""
     if ENABLED:
-        _enqueue([(c, p) for c in map(components, brdfs) if c is not None for p in parts])
+        _enqueue([(c, part) for brdf, part in loops if (c := components(brdf)) is not None])
 
 
 def ready() -> list[str]:
