@@ -68,7 +68,7 @@ def all_ndfs(n: int, rounds: int) -> None:
     print("|---|---|---|---|---|")
     for name in NDFS:
         lobe = make_spec(ndf=name, alpha=0.3, fresnel="none", masking=KC_MASKING.get(name, "smith")).brdf()
-        kernels.compile_now(lobe)
+        kernels.compile_now(lobe, "albedo")
         key = tables.table_key(lobe)
         times, cpu, table = [], [], None
         for _ in range(rounds):

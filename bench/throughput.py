@@ -63,7 +63,7 @@ def run(quick: bool = False) -> dict:
     repeat = 5 if quick else 15
     brdf = make_spec(ndf="ggx", g2="height_correlated", fresnel="schlick").brdf()
     l, v, theta, phi = random_pairs(n)
-    have_fast = kernels.compile_now(brdf) is not None
+    have_fast = kernels.compile_now(brdf, "f") is not None
 
     def numpy_path():
         brdf.evaluate(l, v, ("f",))
@@ -76,7 +76,7 @@ def run(quick: bool = False) -> dict:
             kernel_module.PARALLEL_MIN = saved
 
     same = make_spec(ndf="ggx", masking="smith", g2="separable", fresnel="none").brdf()
-    kernels.compile_now(same)
+    kernels.compile_now(same, "f")
     functions = {
         "fast": lambda: kernels.f(brdf, l, v),
         "fast_serial": serial,

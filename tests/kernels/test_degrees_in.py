@@ -55,7 +55,7 @@ ALPHAS = [(0.25, 0.4), (0.25, 0.25), (0.02, 0.02)]
 @pytest.mark.parametrize("case", MODELS, ids=_id)
 def test_degrees_in_matches_numpy(case, alpha):
     brdf = _brdf(case, alpha=alpha[0], alpha_y=alpha[1])
-    assert kernels.compile_now(brdf) is not None
+    assert kernels.compile_now(brdf, "f") is not None
     a = angles()
     got = kernels.f_deg(brdf, *a)
     assert got is not None
@@ -71,7 +71,7 @@ def test_chunked_and_two_lobes(monkeypatch):
     """More pairs than one chunk, and a second lobe (blended as numpy blends it)."""
     monkeypatch.setattr(quantities, "FUSED_CHUNK", 1000)
     brdf = make_spec(ndf="ggx", alpha=0.2, alpha2=0.6, lobe_mix=0.3, fresnel="schlick").brdf()
-    assert kernels.compile_now(brdf) is not None
+    assert kernels.compile_now(brdf, "f") is not None
     a = angles()
     _assert_close(quantities.evaluate(brdf, *a, ("f",))["f"], reference(brdf, *a))
 
@@ -79,7 +79,7 @@ def test_chunked_and_two_lobes(monkeypatch):
 def test_sin_cos_in_degrees_exact_at_quadrants():
     """The loop's directions at multiples of 90° are exact (0 and ±1, no -0.0 height)."""
     brdf = make_spec(ndf="ggx", alpha=0.3, fresnel="schlick").brdf()   # CASES[0]'s loops
-    assert kernels.compile_now(brdf) is not None
+    assert kernels.compile_now(brdf, "f") is not None
     # both grazing, opposite azimuths 90° apart: +inf (height-correlated), as numpy's
     f = kernels.f_deg(brdf, np.array([90.0, 90.0]), np.array([0.0, 450.0]), np.array([90.0, 90.0]),
                       np.array([90.0, -270.0]))

@@ -204,7 +204,7 @@ def test_new_ndf_and_fresnel_in_the_compiled_loops(throwaway):
     for brdf in (_lobe(NDFS["t3_throwaway"](0.3)),
                  _lobe(NDFS["ggx"](0.3), FRESNELS["constant_throwaway"](f_const=0.7)),
                  _lobe(NDFS["t3_throwaway"](0.2), masking="smith_numeric")):
-        kernel = kernels.compile_now(brdf)
+        kernel = kernels.compile_now(brdf, "f")
         assert kernel is not None
         _assert_close(kernel.f(brdf, l, v), brdf.evaluate(l, v, ("f",))["f"])
 
@@ -216,7 +216,7 @@ def test_new_diffuse_model_in_the_compiled_loops(throwaway):
     model = DIFFUSES["minnaert_throwaway"](minnaert_k=1.25)
     l, v = _directions()
     brdf = replace(_lobe(NDFS["t3_throwaway"](0.2, 0.4)), kd=0.6, diffuse=model)
-    kernel = kernels.compile_now(brdf)
+    kernel = kernels.compile_now(brdf, "f")
     assert kernel is not None
     _assert_close(kernel.f(brdf, l, v), brdf.evaluate(l, v, ("f",))["f"])
     theta = np.linspace(0.0, 90.0, 37)

@@ -43,7 +43,7 @@ def _kernel(name, alpha, shape):
     ndf = NDFS[name](alpha, None, **shape)
     case = next(c for c in DESIGN if c[:2] == (name, "smith_numeric"))
     lobe = replace(_brdf(case), ndf=ndf)
-    kernel = kernels.compile_now(lobe)
+    kernel = kernels.compile_now(lobe, "albedo")     # smith_h and the albedo's rows
     assert kernel is not None
     return ndf, kernel
 
