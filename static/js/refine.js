@@ -28,8 +28,12 @@ const MIN_SAMPLES = 16;
 /** Quiet after a draw before the first refining request: a hand that moves on within it
  * costs the server no render. */
 const REST_DELAY_MS = 300;
-/** Answers "busy" (503) in a row after which the refinement stops where it is. */
-const MAX_BUSY = 3;
+/** Longest wait, in seconds, between asks of a server that keeps answering "busy"
+ * (503): each wait is its Retry-After, doubled per busy answer in a row up to this.
+ * The refinement does not give up on a busy server (it stopped after three, and the
+ * heading went on stating the noise of an average that would never improve): a render
+ * asked this rarely costs a loaded server nothing. */
+const MAX_BUSY_WAIT_S = 30;
 /** The largest seed the view takes (2³¹ − 1): the renders' seeds wrap below it. */
 const MAX_SEED = 2 ** 31 - 1;
 
@@ -127,16 +131,18 @@ export class Refiner {
       }
       if (this.run !== run) return;
       if (!this.current(key)) return this.stop();
-      if (res.status === 503 && res.headers.get("Retry-After") && ++busy < MAX_BUSY) {   // the same render later
-        await new Promise((r) => setTimeout(r, 1000 * Number(res.headers.get("Retry-After"))));
+      if (res.status === 503 && res.headers.get("Retry-After")) {   // the same render later
+        const after = Math.max(Number(res.headers.get("Retry-After")) || 1, 1);
+        const wait = Math.max(after, Math.min(after * 2 ** busy++, MAX_BUSY_WAIT_S));
+        await new Promise((r) => setTimeout(r, 1000 * wait));
         j -= 1;
         continue;
       }
       busy = 0;
       if (!res.ok) {
         // too much for the budget: renders of half the samples, averaged afresh (equal
-        // weights need equal samples); any other refusal, or busy MAX_BUSY times, ends
-        // the refinement here, its last average drawn
+        // weights need equal samples); any other refusal ends the refinement here, its
+        // last average drawn
         const onSamples = JSON.stringify(body?.detail ?? "").includes("samples");
         if ((res.status === 413 || res.status === 422) && onSamples && samples / 2 >= MIN_SAMPLES) {
           samples /= 2;

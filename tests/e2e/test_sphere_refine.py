@@ -127,3 +127,28 @@ def test_at_rest_the_sphere_refines_to_five_percent_and_a_slider_starts_it_over(
     assert again["seeds"] == list(range(1, again["renders"] + 1)) and again["noise"] <= 0.05
     assert [int(q["seed"]) for q in later] == again["seeds"]
     assert page_log.problems() == []
+
+
+def test_a_busy_server_pauses_the_refinement_and_it_goes_on_when_the_server_can(page, base_url):
+    """Three 503s with Retry-After in a row (a loaded server) are waited out, not taken as
+    the end: the refinement then goes on to 5 %. It stopped at the third before, its
+    heading stating forever the noise of an average that would not improve."""
+    busy = {"left": 3, "answered": 0}
+
+    def handle(route):
+        if "seed=" in route.request.url and busy["left"] > 0:     # a refining render
+            busy["left"] -= 1
+            busy["answered"] += 1
+            route.fulfill(status=503, headers={"Retry-After": "1", "content-type": "application/json"},
+                          body=json.dumps({"detail": "busy (test)"}))
+        else:
+            route.continue_()
+
+    page.route(re.compile(r".*/api/v1/sphere_env\?.*"), handle)
+    page.add_init_script(DECLARE_N)
+    page.goto(f"/?show=sphere_env&n={N}")
+    wait_quiet(page, ids=("plot-sphere_env",), timeout=120_000)
+    page.wait_for_function(DONE_JS, timeout=120_000)
+    status = page.evaluate(STATUS_JS)
+    assert busy["answered"] == 3 and status["noise"] <= 0.05 and status["renders"] >= 2
+    assert status["seeds"] == list(range(1, status["renders"] + 1))   # the refused render asked again
