@@ -177,7 +177,9 @@ function canShow(name) {
     const terms = { ndf: "D", g1: "G1", fresnel: "F", albedo: "E" };
     return name in terms && s.channels.includes(terms[name]);
   }
-  return ["lobe", "albedo"].includes(name) || s.format === "merl";
+  // BRDF values: the lobe and the albedo from any; a MERL table also the 3-D lobe, the
+  // slice and the sphere (app/datasets/overlay.py: the term views need a term CSV)
+  return ["lobe", "albedo"].includes(name) || (s.format === "merl" && ["lobe3d", "slice", "sphere"].includes(name));
 }
 
 async function overlay(name, div) {

@@ -136,8 +136,8 @@ CONDUCTOR = {"ndf": "ggx", "alpha": 0.2, "fresnel": "conductor", "ior": 0.5, "k"
 def test_a_channel_change_replaces_the_data_label(page, page_log, tmp_path):
     path = tmp_path / "coppery.binary"
     path.write_bytes(known.measured_style_bytes())
-    page.goto("/?show=lobe&theta_i_deg=30")
-    wait_quiet(page, ids=("plot-lobe",))
+    page.goto("/?show=lobe,ndf,g1&theta_i_deg=30")
+    wait_quiet(page, ids=("plot-lobe", "plot-ndf", "plot-g1"))
     page.set_input_files("#data-file", str(path))
     page.wait_for_function(OVERLAID, arg="plot-lobe", timeout=60_000)
     labels = page.locator("#plot-lobe .annotation-text")
@@ -148,6 +148,10 @@ def test_a_channel_change_replaces_the_data_label(page, page_log, tmp_path):
     expect(labels).to_have_text(["data (r)"])           # the luminance's label is gone
     legend = page.locator("#plot-lobe .legendtext").all_text_contents()
     assert "data (luminance)" not in legend
+    # a MERL table holds BRDF values: the term views (D, G1) are not asked to overlay it
+    # (each such request was a 422 in the console)
+    asked = [u for u in page_log.requests if "/datasets/" in u and "/figures/" in u]
+    assert asked and not [u for u in asked if "/figures/ndf" in u or "/figures/g1" in u], asked
     assert not [p for p in page_log.problems() if "/datasets" in p], page_log.problems()
 
 
