@@ -65,3 +65,21 @@ def test_axis_not_narrowed_when_data_is_inside():
     before = fig["layout"]["polar"]["radialaxis"]["range"]
     both = with_data(fig, _result("theta_o_deg", THETA, 0.5 * model), "(r)")
     assert both["layout"]["polar"]["radialaxis"]["range"] == before
+
+
+def test_the_difference_on_the_sphere_is_drawn_round():
+    """(data − model)/model on the sphere's pixels (both axes in sphere radii) keeps its
+    aspect: the y axis is tied to the x axis' scale, and neither is stretched to fill the
+    panel (it was drawn as an ellipse the panel's shape)."""
+    from app.figures.data_overlay import relative_error
+    c = np.linspace(-1.0, 1.0, 9)
+    rel = np.where(np.hypot(*np.meshgrid(c, c, indexing="ij")) <= 1.0, 0.1, np.nan)
+    fig = relative_error({"axes": {"y": c, "x": c}, "relative_error": rel,
+                          "max_relative_error": 0.1, "where": {"y": 0.0, "x": 0.0}}, "(luminance)")
+    x, y = fig["layout"]["xaxis"], fig["layout"]["yaxis"]
+    assert y.get("scaleanchor") == "x" and y.get("scaleratio", 1) == 1
+    assert x.get("constrain") == "domain" and y.get("constrain") == "domain"
+    # a curve of one variable has no such tie
+    line = relative_error({"axes": {"mu": c}, "relative_error": c, "max_relative_error": 1.0,
+                           "where": {"mu": 1.0}}, "(luminance)")
+    assert "scaleanchor" not in line["layout"]["yaxis"]
