@@ -113,7 +113,9 @@ def compile_now(brdf: BRDF, part: str | None = None) -> Kernel | None:
             _compile_elsewhere(key)
         if (kernel := _build(key)) is None:
             return None
-    return kernel
+    if part is None:
+        kernel.warm()   # the kernel handed back runs every loop compiled (each part's own
+    return kernel       # kernel warmed only its part; a no-op where they share the loops)
 
 
 def wait(brdf: BRDF, timeout: float, part: str) -> Kernel | None:

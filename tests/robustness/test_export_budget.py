@@ -14,8 +14,13 @@ import time
 from app.errors import Busy
 from app.export import image
 from app.integrate import budget
+from app.integrate.cost import GRACE_SECONDS
 
 BUDGET = 0.3
+#: the promise: no request holds its worker past BRDF_MAX_SECONDS + GRACE_SECONDS (1 s);
+#: kaleido's own limit, which this replaced, was 60 s. (A 0.2 s margin failed once in the
+#: whole suite at 0.72 s, at load ~4 on 2 cores: the cut's thread waits for the CPU.)
+LATEST = BUDGET + GRACE_SECONDS
 
 
 class Browser:
@@ -60,7 +65,7 @@ def test_a_slow_drawing_is_busy_when_the_budget_ends():
     try:
         answer, seconds = _timed(renderer)
         assert isinstance(answer, Busy) and "BRDF_MAX_SECONDS" in answer.message, answer
-        assert answer.retry_after >= 1 and seconds < BUDGET + 0.2, seconds
+        assert answer.retry_after >= 1 and seconds < LATEST, seconds
     finally:
         renderer.close()
 
@@ -70,7 +75,7 @@ def test_a_slow_start_is_busy_within_the_budget_and_the_next_export_is_drawn():
     try:
         first, seconds = _timed(renderer)
         assert isinstance(first, Busy) and "starting" in first.message, first
-        assert seconds < BUDGET + 0.2, seconds
+        assert seconds < LATEST, seconds
         time.sleep(1.0)                          # the start went on meanwhile
         second, _ = _timed(renderer)
         assert second == b"png"
