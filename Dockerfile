@@ -31,7 +31,7 @@ USER explorer
 ENV BRDF_KERNEL_DIR=/home/explorer/kernels
 # Compile the server's first models into the image (owned by the user that reads them):
 # a container then loads them in seconds instead of compiling them in the background.
-RUN python -c "from app import kernels; from app.main import default_models; [kernels.compile_now(b) for b in default_models()]"
+RUN python -c "from app import kernels; from app.main import default_loops; [kernels.compile_now(b, part) for b, part in default_loops()]"
 
 EXPOSE 8000
 # Healthy when /api/v1/health answers 200 within 2 s (urlopen raises on any other

@@ -12,7 +12,7 @@ from fastapi.routing import APIRoute
 from fastapi.staticfiles import StaticFiles
 from starlette.concurrency import run_in_threadpool
 
-from . import __version__, kernels, server, work
+from . import __version__, allocator, kernels, work
 from .api import errors, http, openapi
 from .api.routes import (batch, code, conventions, datasets, environments, eval, exports, fallback, figures,
                          fit, lut, materials, meta, pages, principled, views)
@@ -42,7 +42,7 @@ async def lifespan(app: FastAPI):
     # from the routes, in milliseconds (FastAPI's OpenAPI document, which it was read
     # from, took 1-9 s here, and the port did not accept until then; the document is now
     # built on the first GET /openapi.json).
-    server.return_large_frees_to_the_system()
+    allocator.return_large_frees_to_the_system()
     kernels.start(default_loops())
     await run_in_threadpool(openapi.operations, app)
     logging.getLogger("uvicorn.error").info(

@@ -12,8 +12,6 @@ accepted connection, whichever path bound the socket.
 from __future__ import annotations
 
 import contextlib
-import ctypes
-import ctypes.util
 import importlib.util
 import socket
 from pathlib import Path
@@ -40,31 +38,6 @@ class NoDelayHTTPProtocol(AutoHTTPProtocol):
 #: dropped connections, and no crash in the log: the 5 s check is what restarts a live
 #: worker. Three times the longest a request may compute (BRDF_MAX_SECONDS + 1 s).
 WORKER_HEALTHCHECK_S = 33
-
-
-#: glibc's mallopt parameters (malloc.h) and the values set in each worker:
-#: M_MMAP_THRESHOLD fixed at 256 kB — an array above it is mmap-ed and its pages go back
-#: to the system when freed. glibc otherwise raises the threshold after each large free
-#: (up to 32 MB), so the large arrays of worst-case requests (a 500 × 500 grid, 250 000
-#: pairs) came from its heaps and stayed resident: in the soak (bench/soak.py) two workers
-#: grew from 608 MB after warm-up to 1 278 MB with no cache above its byte bound.
-#: M_ARENA_MAX 2 — one heap per thread of the thread pool (up to 8 × cores) each keeps
-#: its own free memory; two bound that.
-M_MMAP_THRESHOLD, M_ARENA_MAX = -3, -8
-MMAP_THRESHOLD_BYTES = 256 * 1024
-ARENA_MAX = 2
-
-
-def return_large_frees_to_the_system() -> bool:
-    """Set the allocator so that a worker's resident memory falls back after a large
-    request (glibc only; elsewhere nothing is changed). Whether it was set."""
-    name = ctypes.util.find_library("c")
-    try:
-        libc = ctypes.CDLL(name)
-        return bool(libc.mallopt(M_MMAP_THRESHOLD, MMAP_THRESHOLD_BYTES)
-                    and libc.mallopt(M_ARENA_MAX, ARENA_MAX))
-    except (OSError, AttributeError, TypeError):
-        return False
 
 
 #: what ``brdf-explorer serve`` has uvicorn serve (an import string: each worker imports

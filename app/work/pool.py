@@ -38,6 +38,7 @@ from concurrent.futures.process import BrokenProcessPool
 
 from pydantic import ValidationError
 
+from .. import allocator
 from ..errors import Busy, ParameterError, TooLarge
 from ..integrate import budget
 from ..integrate import cost as cost_model
@@ -302,10 +303,12 @@ class HeavyPool:
 
 
 def _start(niceness: int, warm: str | None) -> None:
-    """A new worker: its niceness, and the jobs' modules (``warm``) imported before the
-    first job (a cold import of the models and data readers took seconds of that job's
-    budget)."""
+    """A new worker: its niceness, the server's allocator setting (its large arrays go
+    back to the system when freed: app/allocator.py), and the jobs' modules (``warm``)
+    imported before the first job (a cold import of the models and data readers took
+    seconds of that job's budget)."""
     os.nice(niceness)
+    allocator.return_large_frees_to_the_system()
     if warm:
         importlib.import_module(warm)
 

@@ -22,3 +22,29 @@ def cheap() -> None:
 
 def square(x: int) -> int:
     return x * x
+
+
+def resident_growth_after_large_arrays() -> float:
+    """MB of resident memory left after six threads made and freed arrays of 4-52 MB
+    (what large jobs do), as tests/robustness/test_server.py measures a server worker."""
+    import threading
+
+    import numpy as np
+
+    def rss() -> float:
+        with open("/proc/self/statm") as f:
+            return int(f.read().split()[1]) * 4096 / 2**20
+
+    def work(k):
+        for i in range(30):
+            a = np.ones((1 + (i * 7 + k) % 13) * 500_000)
+            b = a * 2
+            del a, b
+
+    base = rss()
+    threads = [threading.Thread(target=work, args=(k,)) for k in range(6)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    return rss() - base

@@ -56,7 +56,7 @@ def test_connections_get_tcp_nodelay_on_a_socket_bound_like_the_workers_path():
 _FREES = """
 import sys, threading
 import numpy as np
-from app.server import return_large_frees_to_the_system
+from app.allocator import return_large_frees_to_the_system
 def rss():
     return int(open("/proc/self/statm").read().split()[1]) * 4096 / 2**20
 print(return_large_frees_to_the_system())
