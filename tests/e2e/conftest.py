@@ -106,10 +106,21 @@ class PageLog:
     bad_responses: list[str] = field(default_factory=list)
     external_requests: list[str] = field(default_factory=list)
     requests: list[str] = field(default_factory=list)
+    #: main-frame navigations so far, and the requests that failed net::ERR_ABORTED with the
+    #: navigation count when they were sent
+    navigations: int = 0
+    aborted: list[tuple[int, str]] = field(default_factory=list)
 
     def problems(self) -> list[str]:
-        return [*self.console_errors, *self.page_errors, *self.failed_requests,
+        return [*self.console_errors, *self.page_errors, *self.failed_requests, *self.cut_by_the_page(),
                 *self.bad_responses, *(f"external request: {u}" for u in self.external_requests)]
+
+    def cut_by_the_page(self) -> list[str]:
+        """Aborted requests, but for those of a document the test navigated away from: a
+        browser aborts what a page it leaves still fetches (a refining sphere, say), and
+        that is the test's doing, not the page's."""
+        return [f"request failed: {url} (net::ERR_ABORTED)"
+                for sent_at, url in self.aborted if sent_at == self.navigations]
 
 
 @pytest.fixture
@@ -121,6 +132,7 @@ def page_log(page, live_server):
             log.console_errors.append(f"console {msg.type}: {msg.text}")
 
     def on_request(req):
+        sent_at[req] = log.navigations
         log.requests.append(req.url)
         # the panels' figure GETs of one change travel in one POST /api/v1/batch
         # (static/js/batch.js): each is logged as the GET it stands for
@@ -135,8 +147,19 @@ def page_log(page, live_server):
 
     page.on("console", on_console)
     page.on("pageerror", lambda err: log.page_errors.append(f"page error: {err}"))
-    page.on("requestfailed", lambda req: log.failed_requests.append(
-        f"request failed: {req.url} ({req.failure})"))
+    def on_failed(req):
+        if req.failure == "net::ERR_ABORTED":
+            log.aborted.append((sent_at.get(req, log.navigations), req.url))
+        else:
+            log.failed_requests.append(f"request failed: {req.url} ({req.failure})")
+
+    def on_navigated(frame):
+        if frame == page.main_frame:
+            log.navigations += 1
+
+    sent_at: dict = {}
+    page.on("requestfailed", on_failed)
+    page.on("framenavigated", on_navigated)
     page.on("request", on_request)
     page.on("response", on_response)
     return log
