@@ -11,7 +11,6 @@ Captions are two sentences: what the figure shows, and why it matters.
 from __future__ import annotations
 
 from dataclasses import dataclass
-from urllib.parse import urlencode
 
 from pydantic import ValidationError
 
@@ -195,15 +194,11 @@ def _validate(kind: str, state: dict) -> bool:
 
 def explorer_link(kind: str, state: dict) -> str:
     """The explorer with this state and the view's panel shown."""
-    return "/?" + urlencode({**{k: _text(v) for k, v in state.items()}, "show": kind})
+    return "/?" + cards.query({**state, "show": kind})
 
 
 def figure_path(kind: str, state: dict, ext: str = "") -> str:
-    return f"/api/v1/figures/{kind}{ext}?" + urlencode({k: _text(v) for k, v in state.items()})
-
-
-def _text(value) -> str:
-    return ("true" if value else "false") if isinstance(value, bool) else str(value)
+    return f"/api/v1/figures/{kind}{ext}?" + cards.query(state)
 
 
 def _valid(e: Entry, state: dict) -> bool:
@@ -236,5 +231,5 @@ def available() -> list[dict]:
                     "svg": figure_path(e.kind, state, ".svg"),
                     "png": figure_path(e.kind, state, ".png"),
                     "csv": figure_path(e.kind, state, ".csv"),
-                    "embed": f"/embed/{e.kind}?" + urlencode({k: _text(v) for k, v in state.items()})})
+                    "embed": f"/embed/{e.kind}?" + cards.query(state)})
     return out

@@ -28,6 +28,7 @@ def _text(value) -> str:
 
 
 def query(params: dict) -> str:
+    """A state as a URL's query: booleans as the API spells them (true/false)."""
     return urlencode({k: _text(v) for k, v in params.items()})
 
 

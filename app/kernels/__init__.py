@@ -258,6 +258,8 @@ def _build(key: tuple[Components, str], note: str = "") -> Kernel | None:
         try:
             module = compose.load(c)
             kernel = Kernel(c, module)
+            # a loop two parts share (smith_h) may be compiled in this process already
+            had = {name for name in loops_of(part) if getattr(module, name).signatures}
             with compose.compiling(module):
                 kernel.warm(part)
         except Exception as exc:   # a formula numba cannot compile: numpy serves it
@@ -267,9 +269,10 @@ def _build(key: tuple[Components, str], note: str = "") -> Kernel | None:
             log.warning("no compiled loops for %s (%s; numpy serves it): %s", c.label, part,
                         _failed[key])
             return None
-        loops = [getattr(module, name) for name in loops_of(part)]
-        hits = sum(sum(k.stats.cache_hits.values()) for k in loops)
-        how = "loaded from numba's cache" if hits == len(loops) else "compiled"
+        new = [getattr(module, name) for name in loops_of(part) if name not in had]
+        hits = sum(sum(k.stats.cache_hits.values()) for k in new)
+        how = ("compiled already with another part" if not new else
+               "loaded from numba's cache" if hits == len(new) else "compiled")
         log.info("compiled loops ready for %s (%s): %s%s in %.1f s", c.label, part, note, how,
                  time.perf_counter() - t0)
         with _cv:
