@@ -130,3 +130,13 @@ def fit(data, model: dict, free: list, measure: str, channel, seconds: float, ma
     return (fitting.fit_all if fit_all else fitting.fit)(data, model, free, measure, channel,
                                                          seconds, max_points)
 
+
+
+def warm_up() -> None:
+    """Bring a new pool process to its working size as it starts: numba and LLVM with the
+    default model's loops (~120 MB resident, which the first job running compiled loops
+    otherwise loads — a replaced process then stepped inside a later job), and the
+    figure modules the views' answers use."""
+    from .. import kernels
+    from ..figures import sphere_image  # noqa: F401  (plotly's validators come with it)
+    kernels.compile_now(make_spec().brdf(), "f")

@@ -58,7 +58,8 @@ KILL_AFTER_SECONDS = 0.5
 #: first; without it a heavy job took its core's share from the event loop (cheap p50
 #: 2.9 → 19 ms at load 14 on 2 cores, tests/robustness/test_heavy_pool.py)
 WORKER_NICENESS = 10
-#: the module a new worker imports at once (the routes' jobs and what they use)
+#: the module a new worker imports at once (the routes' jobs and what they use), calling
+#: its ``warm_up()`` if it has one
 WARM_MODULE = "app.work.jobs"
 #: weight of the newest job in the running mean of job seconds (Retry-After's estimate)
 MEAN_WEIGHT = 0.3
@@ -305,12 +306,15 @@ class HeavyPool:
 def _start(niceness: int, warm: str | None) -> None:
     """A new worker: its niceness, the server's allocator setting (its large arrays go
     back to the system when freed: app/allocator.py), and the jobs' modules (``warm``)
-    imported before the first job (a cold import of the models and data readers took
-    seconds of that job's budget)."""
+    imported, and warmed up, before the first job (a cold import of the models and data
+    readers took seconds of that job's budget; numba and LLVM, loaded by the first job
+    running compiled loops, added ~150 MB inside it)."""
     os.nice(niceness)
     allocator.return_large_frees_to_the_system()
     if warm:
-        importlib.import_module(warm)
+        module = importlib.import_module(warm)
+        if hasattr(module, "warm_up"):
+            module.warm_up()
 
 
 def _call(start: float, seconds: float, memory_bytes: int, fn, args: tuple):

@@ -7,6 +7,12 @@ from __future__ import annotations
 import time
 
 
+def rss() -> float:
+    """This process's resident memory, MB."""
+    with open("/proc/self/statm") as f:
+        return int(f.read().split()[1]) * 4096 / 2**20
+
+
 def spin(seconds: float) -> float:
     """Pure-Python CPU work (holds the GIL of whichever process runs it)."""
     end, x = time.perf_counter() + seconds, 0.0
@@ -31,10 +37,6 @@ def resident_growth_after_large_arrays() -> float:
 
     import numpy as np
 
-    def rss() -> float:
-        with open("/proc/self/statm") as f:
-            return int(f.read().split()[1]) * 4096 / 2**20
-
     def work(k):
         for i in range(30):
             a = np.ones((1 + (i * 7 + k) % 13) * 500_000)
@@ -48,3 +50,19 @@ def resident_growth_after_large_arrays() -> float:
     for t in threads:
         t.join()
     return rss() - base
+
+
+def resident_step_of_compiled_work() -> float:
+    """MB of resident memory that evaluating the default model by its compiled loops adds
+    to this process: numba and LLVM come with the first such job unless the process
+    loaded them as it started."""
+    import numpy as np
+
+    from app import kernels
+    from app.model import make_spec
+    before = rss()
+    brdf = make_spec().brdf()
+    kernels.compile_now(brdf, "f")
+    l = np.tile([0.0, 0.6, 0.8], (10_000, 1))
+    kernels.f(brdf, l, l)
+    return rss() - before

@@ -19,7 +19,8 @@ from pydantic import BaseModel, Field
 
 from app.errors import Busy, ParameterError, TooLarge
 from app.work.pool import WORKER_NICENESS, HeavyPool, WorkerError
-from tests.robustness.pool_jobs import cheap, resident_growth_after_large_arrays, spin, square
+from tests.robustness.pool_jobs import (cheap, resident_growth_after_large_arrays, resident_step_of_compiled_work,
+                                         spin, square)
 
 
 class Alpha(BaseModel):
@@ -263,5 +264,19 @@ def test_a_pool_worker_gives_large_arrays_back():
     try:
         growth = run(pool.run(resident_growth_after_large_arrays))
         assert growth < 16.0, growth
+    finally:
+        pool.close()
+
+
+def test_a_new_pool_worker_starts_at_its_working_size():
+    """The server's pool processes load numba and LLVM with the default model's loops as
+    they start (app.work.jobs.warm_up): the first job that runs compiled loops then adds
+    little. Loaded by that job instead, they added ~150 MB inside it, to every process
+    replaced after a cut — which the soak read as a pool growing 5-9 MB/min."""
+    pool = HeavyPool(workers=1, queue=1, max_seconds=120)      # the server's warm module
+    try:
+        run(pool.started(300))
+        step = run(pool.run(resident_step_of_compiled_work))
+        assert step < 40.0, step
     finally:
         pool.close()
