@@ -22,7 +22,10 @@ second half (a leak keeps a slope; a cache filling to its bound flattens), in al
 worker (each uvicorn worker with its heavy pool's processes), and per worker by process
 kind (its own, its pool's, its Chromium's with the browser's whole tree, other:
 bench/soak_rss.py; a pool process renewed in the window is reported apart, its warm-up
-not read as a leak). Not a test: it measures.
+not read as a leak). The same per kind *at rest*: from the sample taken just before each
+export burst (the previous burst's images drawn, Chromium's garbage collected: a burst's
+~130 MB swing read on a slope over 4.5 minutes moves it by a few MB/min either way, a
+trough that climbs is a leak). Not a test: it measures.
 """
 from __future__ import annotations
 
@@ -262,6 +265,7 @@ def main() -> None:
     per_worker: list[tuple[float, list[int]]] = []     # (t, each worker's MB), every sample
     with_pool: list[tuple[float, list[int]]] = []      # the same, each with its pool's processes
     by_kind: list[tuple[float, dict]] = []             # (t, soak_rss.sample), every sample
+    at_rest: list[tuple[float, dict]] = []             # the sample taken just before each burst
     # stopped by the helper on the way out (SIGTERM, SIGKILL after 10 s)
     with running_server(("--workers", "2", "--timeout-worker-healthcheck", str(WORKER_HEALTHCHECK_S)),
                         env={"BRDF_CACHE_DIR": cache}, log_path=log_path, seconds=300) as (url, proc):
@@ -294,6 +298,7 @@ def main() -> None:
                 side[-1].start()
                 k_worst, next_worst = k_worst + 1, next_worst + WORST_EVERY
             if phase[0] == "mixed" and now >= next_burst:
+                at_rest.append(by_kind[-1])
                 for _ in range(BURST):
                     side.append(threading.Thread(target=_export, args=(url, rec, k_export), daemon=True))
                     side[-1].start()
@@ -325,6 +330,7 @@ def main() -> None:
                    "per_worker_second_half_mb_per_min": _per_worker_slopes(per_worker, total),
                    "with_pool_second_half_mb_per_min": _per_worker_slopes(with_pool, total),
                    "by_kind_second_half": _kind_slopes(by_kind, total),
+                   "at_rest_second_half": _kind_slopes(at_rest, total),
                    "warmup_s": round(warmup, 1),
                    "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]],
                    "per_worker": per_worker[::5],
@@ -357,6 +363,8 @@ def main() -> None:
           f"{', '.join(f'{v:+.1f}' for v in r['with_pool_second_half_mb_per_min'] if v is not None)} MB/min")
     for n, kinds in r["by_kind_second_half"].items():
         print(_kind_line(n, kinds))
+    for n, kinds in r["at_rest_second_half"].items():
+        print(_kind_line(n, kinds).replace("second half", "second half at rest (before each export burst)"))
     for e in rec.errors:
         print("error:", e)
 
