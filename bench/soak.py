@@ -20,9 +20,9 @@ worst cases' times, and the workers' resident memory (from /proc) sampled every 
 seconds: after warm-up, at the end, the largest, and the slope over the mixed phase's
 second half (a leak keeps a slope; a cache filling to its bound flattens), in all and per
 worker (each uvicorn worker with its heavy pool's processes), and per worker by process
-kind (its own, its pool's, its Chromium's with the browser's whole tree, other:
-bench/soak_rss.py; a pool process renewed in the window is reported apart, its warm-up
-not read as a leak). The same per kind *at rest*: from the sample taken just before each
+kind in PSS, which sums a process tree without counting shared pages twice (its own,
+its pool's, its Chromium's with the browser's whole tree, other: bench/soak_rss.py; a
+pool process renewed in the window is reported apart, its warm-up not read as a leak). The same per kind *at rest*: from the sample taken just before each
 export burst (the previous burst's images drawn, Chromium's garbage collected: a burst's
 ~130 MB swing read on a slope over 4.5 minutes moves it by a few MB/min either way, a
 trough that climbs is a leak). Not a test: it measures.
@@ -205,7 +205,7 @@ def _kind_line(n: int, kinds: dict) -> str:
             part += (f"; {v['renewals']} renewed, the newest at {v['newest_end_mb']:.0f} MB "
                      f"vs {v['before_max_mb']:.0f} MB before")
         parts.append(part + ")")
-    return f"  worker {n}, second half, MB/min per kind: " + "; ".join(parts)
+    return f"  worker {n}, second half, MB/min per kind (PSS): " + "; ".join(parts)
 
 
 def _export(url: str, rec: Recorder, k: int, phase: str = "mixed") -> None:
