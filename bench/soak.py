@@ -7,7 +7,9 @@ One uvicorn with 2 workers on 127.0.0.1 (a fresh table cache directory, so the s
 builds are part of the run). Phases:
 
 1. warm-up: slider traffic, every worst case three times and one export burst (imports,
-   compiles, tables, the allocator's arenas: every kind of work has run once); not counted;
+   compiles, tables, the allocator's arenas: every kind of work has run once), then the
+   heavy pool's cases in rounds, so that each pool process meets each one after its
+   compile (POOL_ROUNDS); not counted;
    it lasts at least a tenth of the run and until those requests are answered;
 2. baseline: slider traffic only: the cheap-request latencies to compare with;
 3. mixed: the same slider traffic, plus every WORST_EVERY seconds one worst case of an
@@ -56,6 +58,11 @@ SLIDER = [
     "/api/v1/figures/lobe3d?alpha={a}&theta_i_deg={t}",
     "/api/v1/figures/g2?alpha={a}",
 ]
+#: the worst cases that run in the heavy pool's processes (issue 36's heavy routes)
+POOL_WORST = [
+    ("GET", "/api/v1/export/model.csv?n_theta=91&n_phi=60&masking=smith_numeric"),
+    ("GET", "/api/v1/figures/sphere_env?n=256&samples=16&environment=studio&model=principled&sheen=1"),
+]
 WORST = [
     ("GET", "/api/v1/albedo?n=257&tol=1e-7&alpha=1e-4&masking=smith_numeric&ndf=exp_power&p=0.25"),
     ("GET", "/api/v1/albedo?n=257&tol=1e-7&alpha=1e-4&alpha_y=1"),
@@ -65,10 +72,14 @@ WORST = [
     ("GET", "/api/v1/figures/sphere?n=500"),
     ("GET", "/api/v1/albedo?n=9&multiscatter=kulla_conty&ndf=student_t&gamma={g}"),
     ("POST", "/api/v1/eval"),
-    # issue 36's heavy routes, in the heavy pool's processes
-    ("GET", "/api/v1/export/model.csv?n_theta=91&n_phi=60&masking=smith_numeric"),
-    ("GET", "/api/v1/figures/sphere_env?n=256&samples=16&environment=studio&model=principled&sheen=1"),
+    *POOL_WORST,
 ]
+#: the warm-up's rounds of the pool's worst cases, POOL_CLIENTS of each at a time,
+#: POOL_PAUSE s apart: a pool process loads a model's compiled loops from its second job
+#: of that model on, once the background compile is done (app/kernels: "asked for a second
+#: time"), so each pool process must meet each pool case at least three times, the last
+#: after the compile, before its size is its working size
+POOL_ROUNDS, POOL_CLIENTS, POOL_PAUSE = 4, 4, 15.0
 WORST_EVERY = 20.0
 BURST_EVERY = 60.0
 BURST = 20
@@ -129,16 +140,22 @@ def _slider(url: str, rec: Recorder, phase: list, stop: threading.Event) -> None
                     rec.cheap[p].append(seconds)
 
 
-def _worst(url: str, rec: Recorder, body: bytes, k: int, phase: str = "mixed") -> None:
+def _worst(url: str, rec: Recorder, body: bytes, k: int, phase: str = "mixed",
+           retries: int = 0) -> None:
+    """One worst case; a 503 with Retry-After tried again up to ``retries`` times."""
     method, path = WORST[k % len(WORST)]
     path = path.format(g=f"{1.6 + 0.1 * (k // len(WORST)):.2f}")
     with httpx.Client(base_url=url, timeout=120) as c:
-        t0 = time.perf_counter()
-        if method == "POST":
-            r = c.post(path, content=body, headers={"content-type": "application/json"})
-        else:
-            r = c.get(path)
-        seconds = time.perf_counter() - t0
+        for attempt in range(retries + 1):
+            t0 = time.perf_counter()
+            if method == "POST":
+                r = c.post(path, content=body, headers={"content-type": "application/json"})
+            else:
+                r = c.get(path)
+            seconds = time.perf_counter() - t0
+            if not (r.status_code == 503 and "retry-after" in r.headers and attempt < retries):
+                break
+            time.sleep(float(r.headers["retry-after"]))
     rec.count(r, phase)
     with rec.lock:
         rec.worst.append({"request": f"{method} {path}", "status": r.status_code, "phase": phase,
@@ -147,16 +164,27 @@ def _worst(url: str, rec: Recorder, body: bytes, k: int, phase: str = "mixed") -
 
 def _warm_up(url: str, rec: Recorder, body: bytes) -> None:
     """Every worst case three times (three clients at a time, so that each worker likely
-    meets each one) and one export burst."""
+    meets each one) and one export burst; then the pool's cases in POOL_ROUNDS rounds."""
     def one_worker(offset: int) -> None:
         for k in range(len(WORST)):
             _worst(url, rec, body, (k + offset) % len(WORST), phase="warmup")
     workers = [threading.Thread(target=one_worker, args=(o,))
                for o in (0, len(WORST) // 3, 2 * len(WORST) // 3)]
     workers += [threading.Thread(target=_export, args=(url, rec, k, "warmup")) for k in range(BURST)]
-    for t in workers:
+    _run_all(workers)
+    first = WORST.index(POOL_WORST[0])
+    for round_ in range(POOL_ROUNDS):
+        if round_:
+            time.sleep(POOL_PAUSE)
+        _run_all([threading.Thread(target=_worst, args=(url, rec, body, first + k % len(POOL_WORST)),
+                                   kwargs={"phase": "warmup", "retries": 5})
+                  for k in range(POOL_CLIENTS * len(POOL_WORST))])
+
+
+def _run_all(threads: list[threading.Thread]) -> None:
+    for t in threads:
         t.start()
-    for t in workers:
+    for t in threads:
         t.join(timeout=600)
 
 
