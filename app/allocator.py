@@ -1,6 +1,6 @@
 """glibc's allocator set so that a process's resident memory falls back after a large
 request: every server worker and every heavy-pool process (app/work/pool.py) sets it as
-it starts (a pool process, forked from the pool's fork server, inherits nothing of the server's setting).
+it starts (a spawned pool process inherits nothing of its parent's setting).
 
 M_MMAP_THRESHOLD fixed at 256 kB — an array above it is mmap-ed and its pages go back
 to the system when freed. glibc otherwise raises the threshold after each large free

@@ -29,7 +29,7 @@ PLOTLY_JS = pages.PLOTLY_JS
 SWAGGER_UI_DIR = Path(fastapi_offline.__file__).resolve().parent / "static"
 
 
-#: seconds after startup at which the heavy pool's workers start: after the page's
+#: seconds after startup at which the heavy pool's workers are spawned: after the page's
 #: first requests, which a clean start answers within ~3 s on two cores
 WARM_POOL_AFTER_SECONDS = 1.0
 
@@ -57,9 +57,9 @@ async def lifespan(app: FastAPI):
     logging.getLogger("uvicorn.error").info(
         "E(μ, α) tables: %s%s", cache or "in memory only",
         f", {len(table_store.building())} being built" if table_store.building() else "")
-    # The heavy pool's workers started a moment after the port opens (its fork server
-    # imports the application, each worker warms up), so that the first upload or export
-    # does not wait for them (~1-4 s here) inside its own time budget.
+    # The heavy pool's workers spawned a moment after the port opens (each imports the
+    # application in its own process), so that the first upload or export does not wait
+    # for a fresh interpreter (~2-8 s here) inside its own time budget.
     asyncio.get_running_loop().call_later(WARM_POOL_AFTER_SECONDS, work.pool)
     yield
     work.close()      # the heavy pool's workers killed: shutdown never waits for a job

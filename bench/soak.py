@@ -24,8 +24,7 @@ second half (a leak keeps a slope; a cache filling to its bound flattens), in al
 worker (each uvicorn worker with its heavy pool's processes), and per worker by process
 kind in PSS, which sums a process tree without counting shared pages twice (its own,
 its pool's, its Chromium's with the browser's whole tree, other: bench/soak_rss.py; a
-pool process renewed in the window is reported apart, its warm-up not read as a leak; the
-pool's kind is its fork server's tree, where a renewed worker replaces the one killed). The same per kind *at rest*: from the sample taken just before each
+pool process renewed in the window is reported apart, its warm-up not read as a leak). The same per kind *at rest*: from the sample taken just before each
 export burst (the previous burst's images drawn, Chromium's garbage collected: a burst's
 ~130 MB swing read on a slope over 4.5 minutes moves it by a few MB/min either way, a
 trough that climbs is a leak). Not a test: it measures.
@@ -257,11 +256,10 @@ def _export(url: str, rec: Recorder, k: int, phase: str = "mixed") -> None:
 
 def _workers_rss(master: int) -> dict[int, int]:
     """Resident bytes of each of the master's child processes (the uvicorn workers, and
-    multiprocessing's resource tracker): its own, and its heavy pool's from /proc (the
-    fork server and the workers it forked, app/work; or spawned workers), and Chromium's
-    launcher (choreographer's 15 MB wrapper, not the browser below it); soak_rss.sample
-    has the whole tree by kind, in PSS."""
-    parent, rss, pool_parents = {}, {}, set()
+    multiprocessing's resource tracker): its own, and its direct children's, from /proc:
+    its heavy pool's processes (app/work) and Chromium's launcher (choreographer's 15 MB
+    wrapper, not the browser below it); soak_rss.sample has the whole tree by kind."""
+    parent, rss = {}, {}
     for d in Path("/proc").iterdir():
         if not d.name.isdigit():
             continue
@@ -271,16 +269,11 @@ def _workers_rss(master: int) -> dict[int, int]:
             for line in (d / "status").read_text().splitlines():
                 if line.startswith("VmRSS:"):
                     rss[int(d.name)] = int(line.split()[1]) * 1024
-            if b"multiprocessing.forkserver" in (d / "cmdline").read_bytes():
-                pool_parents.add(int(d.name))
         except (OSError, ValueError, IndexError):
             continue
     workers = [p for p, pp in parent.items() if pp == master]
-
-    def below(w: int) -> int:
-        kids = [c for c, pp in parent.items() if pp == w]
-        return sum(rss.get(c, 0) + (below(c) if c in pool_parents else 0) for c in kids)
-    return {w: (rss.get(w, 0), below(w)) for w in workers}
+    return {w: (rss.get(w, 0), sum(rss.get(c, 0) for c, pp in parent.items() if pp == w))
+            for w in workers}
 
 
 def main() -> None:

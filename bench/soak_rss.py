@@ -38,9 +38,8 @@ def _kind(cmdline: str) -> str:
     """A worker's direct child's kind, from its command line."""
     if "chrom" in cmdline or "headless_shell" in cmdline:
         return "chromium"
-    if "multiprocessing.forkserver" in cmdline or "multiprocessing.spawn" in cmdline or "spawn_main" in cmdline:
-        return "pool"        # the fork server with the pool's processes below it, or a spawned
-                             # pool process (multiprocessing's resource tracker is not)
+    if "multiprocessing.spawn" in cmdline or "spawn_main" in cmdline:
+        return "pool"        # a spawned ProcessPoolExecutor process (the resource tracker is not)
     return "other"
 
 

@@ -18,13 +18,8 @@ threads, where the GIL let one of them starve every slider request of its worker
   was the SIGTERM that hung until SIGKILL).
 
 Each worker is a one-process ``ProcessPoolExecutor`` (its process known, so one overrun
-kills one job only), forked by multiprocessing's *fork server*: a single-threaded process,
-started once, that imported the jobs' modules (WARM_MODULE) and forks each new worker from
-that state. Never ``fork`` from the server itself: its threads (uvicorn, numba, the table
-builders) make that unsafe. A spawned interpreter re-imported the application for every
-worker, ~1.5 CPU-s and 5-10 s under load each; a forked one starts in ~1.3 s, its warm-up
-(``warm_up``) being most of it. The worker's environment is the server's at the time it
-starts, as with ``spawn`` (``_start``). ``fn`` and its arguments must be picklable: a
+kills one job only), started with ``spawn``: the server's threads (uvicorn, numba, the
+table builders) make ``fork`` unsafe. ``fn`` and its arguments must be picklable: a
 module-level function and plain data.
 """
 from __future__ import annotations
@@ -79,8 +74,7 @@ class _Worker:
     def __init__(self, context, warm: str | None):
         self.context, self.warm = context, warm
         self.executor = ProcessPoolExecutor(max_workers=1, mp_context=context,
-                                            initializer=_start,
-                                            initargs=(WORKER_NICENESS, warm, dict(os.environ)))
+                                            initializer=_start, initargs=(WORKER_NICENESS, warm))
         # start the process now, not at the first job: a spawned interpreter took > 1 s
         # to start under load, which the next job's budget would pay; done once started
         self.spawned = time.perf_counter()
@@ -117,17 +111,12 @@ class HeavyPool:
     ``warm``: the module each worker imports as it starts."""
 
     def __init__(self, workers: int = DEFAULT_WORKERS, queue: int = DEFAULT_QUEUE,
-                 max_seconds: float = 10.0, start_method: str = "forkserver",
+                 max_seconds: float = 10.0, start_method: str = "spawn",
                  warm: str | None = WARM_MODULE):
         if workers < 1 or queue < 0:
             raise ValueError(f"{WORKERS_ENV} must be ≥ 1 and {QUEUE_ENV} ≥ 0")
         self.workers, self.queue, self.max_seconds = workers, queue, float(max_seconds)
         self._context, self._warm = multiprocessing.get_context(start_method), warm
-        if start_method == "forkserver" and warm == WARM_MODULE:
-            # the application's modules, imported once by the fork server before its first
-            # fork (a global setting, read when the fork server starts: other warm modules,
-            # the tests', are imported by each worker as it starts, as a spawned one would)
-            self._context.set_forkserver_preload([WARM_MODULE])
         self._idle = [_Worker(self._context, warm) for _ in range(workers)]
         self._busy: set[_Worker] = set()
         self._running = 0
@@ -314,16 +303,12 @@ class HeavyPool:
                 "waiting": len(self._waiters), "mean_seconds": round(self._mean_seconds, 3)}
 
 
-def _start(niceness: int, warm: str | None, environ: dict[str, str]) -> None:
-    """A new worker: the server's environment as it is now (a forked worker has the fork
-    server's, from when it started; settings are read now, config.environment), its
-    niceness, the server's allocator setting (its large arrays go back to the system when
-    freed: app/allocator.py), and the jobs' modules (``warm``) imported, and warmed up,
-    before the first job (a cold import of the models and data readers took seconds of
-    that job's budget; numba and LLVM, loaded by the first job running compiled loops,
-    added ~150 MB inside it)."""
-    os.environ.clear()
-    os.environ.update(environ)
+def _start(niceness: int, warm: str | None) -> None:
+    """A new worker: its niceness, the server's allocator setting (its large arrays go
+    back to the system when freed: app/allocator.py), and the jobs' modules (``warm``)
+    imported, and warmed up, before the first job (a cold import of the models and data
+    readers took seconds of that job's budget; numba and LLVM, loaded by the first job
+    running compiled loops, added ~150 MB inside it)."""
     os.nice(niceness)
     allocator.return_large_frees_to_the_system()
     if warm:
