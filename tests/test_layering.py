@@ -39,7 +39,7 @@ RANKS = [
     ("integrate", ("app.integrate",)),
     ("kernels", ("app.kernels",)),
     ("physics", ("app.physics",)),
-    ("base", ("app.config", "app.errors", "app.resources", "app.allocator", "app")),
+    ("base", ("app.config", "app.errors", "app.resources", "app.allocator", "app.npz", "app")),
 ]
 
 

@@ -31,6 +31,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .. import npz
 from ..errors import TooLarge
 from .dataset import BrdfData, TermData
 from .store import Expired, Forbidden, Unknown, token_hash as _hash, token_matches
@@ -186,8 +187,7 @@ class DiskDatasetStore:
         meta = self._read_meta(data_id)
         if meta is not None:
             try:
-                with np.load(self._path(data_id, ".npz")) as arrays:
-                    data = _decode(meta, {k: arrays[k] for k in arrays.files})
+                data = _decode(meta, npz.read(self._path(data_id, ".npz")))
                 os.utime(self._path(data_id, ".npz"))        # the LRU's "last used"
                 return data, meta["summary"]
             except (OSError, ValueError, KeyError):

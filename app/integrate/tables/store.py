@@ -31,6 +31,7 @@ from pathlib import Path
 import numpy as np
 from scipy.interpolate import RectBivariateSpline
 
+from ... import npz
 from ...errors import Busy
 from .. import budget
 from . import table as tables
@@ -116,10 +117,10 @@ def _save(path: Path, key: tuple, t: tables.ETable) -> None:
 
 def _load(path: Path, key: tuple) -> tables.ETable | None:
     try:
-        with np.load(path, allow_pickle=False) as z:
-            if str(z["key"]) != _describe(key):
-                return None
-            r, y, values, numbers = z["r"], z["y"], z["values"], z["numbers"]
+        z = npz.read(path)
+        if str(z["key"]) != _describe(key):
+            return None
+        r, y, values, numbers = z["r"], z["y"], z["values"], z["numbers"]
     except (OSError, ValueError, KeyError) as exc:
         log.warning("table cache: %s unreadable (%s); building it again", path.name, exc)
         return None
