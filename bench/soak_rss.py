@@ -16,8 +16,8 @@ worker's direct child it descends from, told apart by that child's command line
 
 A pool process killed at a job's budget is replaced by a fresh one that starts small
 (~110 MB: the interpreter and the application's imports) and grows back while it warms:
-the allocator's arenas at its first big job, tables and compiled kernels (loaded at a
-model's second ask) as it meets each kind of job, which in the soak (one worst case every
+the allocator's arenas at its first big job, tables and compiled kernels (loaded once a
+model is in use) as it meets each kind of job, which in the soak (one worst case every
 20 s, ten kinds, two workers) takes minutes. That climb is a renewal, not a leak. So a
 kind's slope is the slope of the *life* (the same pids of that kind's direct children)
 that was alive when the measured window began, with its age then; lives born in the

@@ -116,37 +116,38 @@ def _integrate_order(brdf: BRDF, v: np.ndarray, order: int) -> np.ndarray:
         rows = kernel.albedo_rows(brdf, v, cp[..., 0], sp[..., 0], U[..., 0], V0[..., 0],
                                   head, tail, weight, h, dh, use_log)
         return np.einsum("np,np->n", rows, w_psi[..., 0]) / (2.0 * np.pi)
-    u = U * head
-    one_minus_u = V0 + U * tail
-    du = U * weight
-    if use_log:
-        finite = V0 > 0
-        L = np.log(np.where(finite, V0, 1.0))               # ln(1 − U) < 0
-        log_omu = np.exp(h * L)
-        u = np.where(finite, -np.expm1(h * L), u)
-        one_minus_u = np.where(finite, log_omu, one_minus_u)
-        du = np.where(finite, -L * log_omu * dh, du)
-    rho2 = np.where(u < 0.5, where_valid(u < 0.5, [u], ndf.radial_cdf_inv, 0.0),
-                    where_valid(u >= 0.5, [one_minus_u], ndf.radial_ccdf_inv, 0.0))
-    rho = np.sqrt(rho2)
-    X, Y = ax * rho * cp, ay * rho * sp
-    k = vz - vx * X - vy * Y                               # (v·m)/μ_m
-    inv_len2 = 1.0 / (1.0 + X * X + Y * Y)                 # μ_m²
-    mu_l = 2.0 * k * inv_len2 - vz
-    # l = 2(v·m) m − v with m = (−X, −Y, 1) μ_m
-    two_vm_mum = 2.0 * k * inv_len2
-    l = np.stack(np.broadcast_arrays(-two_vm_mum * X - vx, -two_vm_mum * Y - vy, mu_l), axis=-1)
-    vb = np.broadcast_to(v[:, None, None, :], l.shape)
-    ml_l = brdf.masking.mu_Lambda(ndf, l)
-    ml_v = brdf.masking.mu_Lambda(ndf, vb)
-    inside = mu_l > 0
-    mu_l_c = np.where(inside, mu_l, 0.0)
-    phi = azimuth_difference(l, vb) if brdf.g2.needs_phi else None
-    _, V = brdf.g2.G2_and_V(mu_l_c, np.broadcast_to(vz, mu_l.shape), ml_l, ml_v,
-                            phi=phi, ndf=ndf, lambda_phi=brdf.lambda_phi)
-    F = brdf.fresnel.F(k * np.sqrt(inv_len2))
-    g = where_valid(inside, [F, V, mu_l_c, k], lambda f, vis, ml, kk: 4.0 * f * vis * ml * kk, 0.0)
-    return np.einsum("npu,npu,npu->n", g, du, np.broadcast_to(w_psi, g.shape)) / (2.0 * np.pi)
+    with kernels.numpy_path(brdf, "albedo"):   # its CPU time counts towards the compile
+        u = U * head
+        one_minus_u = V0 + U * tail
+        du = U * weight
+        if use_log:
+            finite = V0 > 0
+            L = np.log(np.where(finite, V0, 1.0))               # ln(1 − U) < 0
+            log_omu = np.exp(h * L)
+            u = np.where(finite, -np.expm1(h * L), u)
+            one_minus_u = np.where(finite, log_omu, one_minus_u)
+            du = np.where(finite, -L * log_omu * dh, du)
+        rho2 = np.where(u < 0.5, where_valid(u < 0.5, [u], ndf.radial_cdf_inv, 0.0),
+                        where_valid(u >= 0.5, [one_minus_u], ndf.radial_ccdf_inv, 0.0))
+        rho = np.sqrt(rho2)
+        X, Y = ax * rho * cp, ay * rho * sp
+        k = vz - vx * X - vy * Y                               # (v·m)/μ_m
+        inv_len2 = 1.0 / (1.0 + X * X + Y * Y)                 # μ_m²
+        mu_l = 2.0 * k * inv_len2 - vz
+        # l = 2(v·m) m − v with m = (−X, −Y, 1) μ_m
+        two_vm_mum = 2.0 * k * inv_len2
+        l = np.stack(np.broadcast_arrays(-two_vm_mum * X - vx, -two_vm_mum * Y - vy, mu_l), axis=-1)
+        vb = np.broadcast_to(v[:, None, None, :], l.shape)
+        ml_l = brdf.masking.mu_Lambda(ndf, l)
+        ml_v = brdf.masking.mu_Lambda(ndf, vb)
+        inside = mu_l > 0
+        mu_l_c = np.where(inside, mu_l, 0.0)
+        phi = azimuth_difference(l, vb) if brdf.g2.needs_phi else None
+        _, V = brdf.g2.G2_and_V(mu_l_c, np.broadcast_to(vz, mu_l.shape), ml_l, ml_v,
+                                phi=phi, ndf=ndf, lambda_phi=brdf.lambda_phi)
+        F = brdf.fresnel.F(k * np.sqrt(inv_len2))
+        g = where_valid(inside, [F, V, mu_l_c, k], lambda f, vis, ml, kk: 4.0 * f * vis * ml * kk, 0.0)
+        return np.einsum("npu,npu,npu->n", g, du, np.broadcast_to(w_psi, g.shape)) / (2.0 * np.pi)
 
 
 @lru_cache(maxsize=64)

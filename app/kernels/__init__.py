@@ -3,15 +3,16 @@
 ``lookup(brdf, part)`` gives the compiled :class:`~.kernel.Kernel` of a model for one use
 (``part``: "f" to evaluate it, "albedo" to integrate it; kernel.PARTS), or None — when
 numba is absent or switched off (BRDF_FAST=0), when a component has no scalar formula,
-or while those loops are still being compiled: a model part asked for a second time is queued
+or while those loops are still being compiled. Until then the caller takes the numpy path
+(BRDF.evaluate knows nothing of this package) inside :func:`numpy_path`, which counts the
+CPU seconds it spends; once a model part's numpy work reaches RENT_SECONDS it is queued
 (ahead of what was queued earlier: what is in use now compiles next) and compiled by one
-background thread (with a compiler process, so that compiling does
-not hold this process's GIL), and until then the caller takes the numpy path
-(BRDF.evaluate knows nothing of this package). Not at the first ask: a compile costs
-~5 s of CPU, and a one-off request (a script's sweep over models, a fuzzer) would never
-run the loops; the page asks for a model from several panels at once, so its models
-compile as soon as before. Only the part asked for compiles: a table build (albedo rows)
-never waits for the loops that evaluate f. :func:`start` queues the models the server
+background thread (with a compiler process, so that compiling does not hold this
+process's GIL). Rent or buy: a compile costs ~1.5-3 s of CPU a part, so a model used in
+passing (a script's sweep over models, a fuzzer, a few figures) never pays one, and a
+model in use (a drag, a table build) pays it after a fraction of its price in numpy work.
+Only the part in use compiles: a table build (albedo rows) never waits for the loops
+that evaluate f. :func:`start` queues the models the server
 expects, :func:`compile_now` compiles in the calling thread (tests, benchmarks, the CLI).
 The log says which path answered: one line when a model's loops are ready (compiled, or
 loaded from numba's cache, and how long it took), one when a model was first answered
@@ -48,6 +49,13 @@ ENABLED = (importlib.util.find_spec("numba") is not None
 
 log = logging.getLogger("uvicorn.error")   # uvicorn shows its own loggers' lines
 
+#: CPU seconds of numpy work on one model part after which its loops are compiled: a third
+#: of a part's compile (~1.5 s of CPU for f, whose two loops take ~3), so that a model in use
+#: costs at most 1⅓ compiles' worth of CPU before it runs compiled (rent or buy), and one
+#: used in passing costs none. The page's figures of a model take ~5-60 ms each on numpy: a
+#: drag on a model not yet compiled queues it within its first seconds.
+RENT_SECONDS = 0.5
+
 #: keyed by (components, part): a part is ready, failed or queued on its own
 _ready: dict[tuple[Components, str], Kernel] = {}
 _failed: dict[tuple[Components, str], str] = {}
@@ -55,6 +63,8 @@ _queue: list[tuple[Components, str]] = []
 _cv = threading.Condition()
 _worker: threading.Thread | None = None
 _told_numpy: set[tuple[Components, str]] = set()
+#: CPU seconds of numpy work done so far on each model part that is not compiled
+_rent: dict[tuple[Components, str], float] = {}
 _compile_locks: dict[tuple[Components, str], threading.Lock] = {}
 _compiler = Client()
 
@@ -77,8 +87,8 @@ def components(brdf: BRDF) -> Components | None:
 
 
 def lookup(brdf: BRDF, part: str) -> Kernel | None:
-    """The kernel of ``brdf``'s model if its loops for ``part`` are ready, else None (and
-    they are queued if this is not their first ask)."""
+    """The kernel of ``brdf``'s model if its loops for ``part`` are ready, else None: the
+    caller then does the work on numpy inside :func:`numpy_path`."""
     if not ENABLED:
         return None
     c = components(brdf)
@@ -86,14 +96,28 @@ def lookup(brdf: BRDF, part: str) -> Kernel | None:
         return None
     key = (c, part)
     kernel = _ready.get(key)
-    if kernel is None and key not in _failed:
-        if key in _told_numpy:   # asked again: worth its compile, and next (what is in use
-            _enqueue([key], front=True)      # now goes before what was queued earlier)
-        else:
-            _told_numpy.add(key)
-            log.info("numpy path for %s (%s): its compiled loops are not ready yet "
-                     "(compiled when it is asked for again)", c.label, part)
+    if kernel is None and key not in _failed and key not in _told_numpy:
+        _told_numpy.add(key)
+        log.info("numpy path for %s (%s): its compiled loops are not ready yet (compiled "
+                 "after %.1f s of numpy work on it)", c.label, part, RENT_SECONDS)
     return kernel
+
+
+@contextlib.contextmanager
+def numpy_path(brdf: BRDF, part: str):
+    """Around the numpy work done for ``brdf``'s ``part`` because :func:`lookup` gave None:
+    its CPU seconds (this thread's) are added to the model part's rent, and the part is
+    queued for compiling, at the front, once the rent reaches RENT_SECONDS."""
+    start = time.thread_time()
+    try:
+        yield
+    finally:
+        if ENABLED and (c := components(brdf)) is not None:
+            key = (c, part)
+            with _cv:
+                rent = _rent[key] = _rent.get(key, 0.0) + time.thread_time() - start
+            if rent >= RENT_SECONDS:
+                _enqueue([key], front=True)
 
 
 def compile_now(brdf: BRDF, part: str | None = None) -> Kernel | None:
@@ -161,7 +185,8 @@ def f(brdf: BRDF, l, v) -> np.ndarray:
     second lobe and the Kulla-Conty term as BRDF.evaluate adds them."""
     kernel = lookup(brdf, "f")
     if kernel is None:
-        return brdf.evaluate(l, v, ("f",))["f"]
+        with numpy_path(brdf, "f"):
+            return brdf.evaluate(l, v, ("f",))["f"]
     single = brdf.single() if isinstance(brdf, CompensatedBRDF) else brdf
     first = replace(single, lobe2=None, lobe_mix=0.0)
     out = kernel.f(first, l, v)
