@@ -1,4 +1,4 @@
-"""Time for the environment sphere's refinement at rest (static/js/refine.js) to reach its
+"""Time for the environment sphere's refinement at rest (static/js/panels/refine.js) to reach its
 target noise: renders of seeds 1, 2, … at ``samples`` per pixel through the view's
 pipeline (what the data route computes for each), averaged as the page averages them
 (render.averaged), one after the other as the page asks for them, until the stated

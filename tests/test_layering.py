@@ -1,6 +1,6 @@
 """Imports go one way, down the ranks of docs/architecture.md's module map (wiring and
 the API on top, physics and the base at the bottom): every package and top-level module
-of app/ is named in exactly one rank, a module imports only modules of its own rank or
+of app/ is named in exactly one rank, and so is every folder of static/js/; a module imports only modules of its own rank or
 below ("upward" is an import of a module ranked above the importer's), and no modules
 import each other in a circle (late imports, inside a function, count: a circle broken
 by one is still a circle). Below the API nothing imports FastAPI; below the views nothing
@@ -9,6 +9,7 @@ but figures/ imports Plotly; below the kernels nothing imports numba.
 from __future__ import annotations
 
 import ast
+import re
 import sys
 from functools import lru_cache
 from pathlib import Path
@@ -124,9 +125,11 @@ def _upward() -> set[str]:
     return out
 
 
-def _circles() -> list[list[str]]:
-    """The strongly connected components of more than one module (Tarjan)."""
-    graph, index, low, stack, on, out = _graph(), {}, {}, [], set(), []
+def _circles(graph: dict[str, set[str]] | None = None) -> list[list[str]]:
+    """The strongly connected components of more than one module (Tarjan) of ``graph``
+    (app/'s import graph when None)."""
+    graph = _graph() if graph is None else graph
+    index, low, stack, on, out = {}, {}, [], set(), []
 
     def visit(v):
         index[v] = low[v] = len(index)
@@ -197,3 +200,56 @@ def test_what_a_lower_rank_does_not_import(rank, banned):
 def test_nothing_below_the_api_imports_it():
     below = [p for p in _below("api")] + [p for p in ("app.export", "app.gallery")]
     assert _violations(below, ("app.api", "app.main", "app.cli")) == []
+
+
+STATIC_JS = APP.parent / "static" / "js"
+
+#: static/js/'s folders, bottom to top (docs/architecture.md): a script imports from its own
+#: folder or a lower rank; the folders of one rank (the entry points of the explorer and of
+#: the other pages) import nothing of each other.
+JS_RANKS = [("base",), ("net",), ("state",), ("controls",), ("panels",), ("gpu",), ("app", "pages")]
+_JS_RANK = {folder: i for i, folders in enumerate(JS_RANKS) for folder in folders}
+#: a relative module specifier: import … from "./x.js", import("../y/z.js"), new URL("./w.js", …)
+_JS_IMPORT = re.compile(r"""(?:\bfrom\s*|\bimport\s*\(?\s*|new URL\(\s*)["'](\.{1,2}/[^"']+\.js)["']""")
+
+
+def _js_graph() -> dict[str, set[str]]:
+    """static/js's scripts (paths relative to it) → the scripts each imports."""
+    graph = {}
+    for path in STATIC_JS.rglob("*.js"):
+        name = path.relative_to(STATIC_JS).as_posix()
+        graph[name] = {(path.parent / spec).resolve().relative_to(STATIC_JS).as_posix()
+                       for spec in _JS_IMPORT.findall(path.read_text())}
+    return graph
+
+
+def _js_wrong_way(graph: dict[str, set[str]]) -> set[str]:
+    """Imports of a higher rank's script, or of another folder of the same rank."""
+    out = set()
+    for script, imported in graph.items():
+        here = script.split("/")[0]
+        for other in imported:
+            there = other.split("/")[0]
+            if there != here and _JS_RANK.get(there, -1) >= _JS_RANK.get(here, -1):
+                out.add(f"{script} imports {other}")
+    return out
+
+
+def test_every_script_of_static_js_is_in_a_ranked_folder():
+    graph = _js_graph()
+    assert sorted(s for s in graph if s.split("/")[0] not in _JS_RANK or "/" not in s) == []
+    assert sorted(f for f in _JS_RANK if not (STATIC_JS / f).is_dir()) == []
+    assert all(t in graph for targets in graph.values() for t in targets), "an import of a missing script"
+
+
+def test_no_script_imports_upward_or_across_and_none_in_a_circle():
+    graph = _js_graph()
+    assert sorted(_js_wrong_way(graph)) == []
+    assert _circles(graph) == []
+
+
+def test_the_script_checks_see_an_upward_import_and_a_circle():
+    graph = {**_js_graph(), "base/dom.js": {"panels/panels.js"}, "pages/lut.js": {"app/main.js"}}
+    wrong = _js_wrong_way(graph)
+    assert "base/dom.js imports panels/panels.js" in wrong and "pages/lut.js imports app/main.js" in wrong
+    assert any("base/dom.js" in c for c in _circles(graph))

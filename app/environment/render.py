@@ -167,7 +167,7 @@ def averaged(renders) -> tuple[np.ndarray, np.ndarray]:
     """k independent renders (L_o, σ) of one image, each pixel's σ its standard error,
     averaged pixel by pixel: (Σ L_o / k, √(Σ σ²) / k) — the variance of a mean of
     independent estimates is the sum of their variances over k² (Bienaymé). The page's
-    refinement at rest (static/js/refine.js) does the same with the data route's
+    refinement at rest (static/js/panels/refine.js) does the same with the data route's
     ``std_error``."""
     radiance = np.mean([r for r, _ in renders], axis=0)
     return radiance, np.sqrt(np.sum([s * s for _, s in renders], axis=0)) / len(renders)

@@ -18,7 +18,7 @@ with warnings.catch_warnings():
 from app.api import startup
 
 PAGE = ["/", "/favicon.ico", "/static/vendor/plotly.min.js", "/static/style.css",
-        "/static/early.js", "/static/js/main.js"]
+        "/static/early.js", "/static/js/app/main.js"]
 VOLATILE = {"date"}
 
 
@@ -78,7 +78,7 @@ def test_before_the_application_only_existing_page_files_are_answered(slow_targe
 
         def scope(path, method="GET", qs=b""):
             return {"type": "http", "method": method, "path": path, "query_string": qs}
-        assert serves(scope("/")) and serves(scope("/static/js/main.js"))
+        assert serves(scope("/")) and serves(scope("/static/js/app/main.js"))
         assert not serves(scope("/static/no-such-file.js"))           # the app's own 404
         assert not serves(scope("/static/../app/main.py"))
         assert not serves(scope("/static/js"))                        # a directory

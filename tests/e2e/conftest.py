@@ -135,7 +135,7 @@ def page_log(page, live_server):
         sent_at[req] = log.navigations
         log.requests.append(req.url)
         # the panels' figure GETs of one change travel in one POST /api/v1/batch
-        # (static/js/batch.js): each is logged as the GET it stands for
+        # (static/js/net/batch.js): each is logged as the GET it stands for
         if req.method == "POST" and urlparse(req.url).path == "/api/v1/batch":
             log.requests.extend(live_server + u for u in json.loads(req.post_data or "{}").get("requests", []))
         if not (req.url.startswith(live_server) or req.url.startswith(("data:", "blob:"))):

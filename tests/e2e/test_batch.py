@@ -111,7 +111,7 @@ def test_a_held_slider_moved_back_draws_from_memory_and_writes_the_url_on_releas
 
 def test_a_held_slider_asks_at_most_every_33_ms_and_ends_on_the_newest_state(page, page_log):
     """While a slider is held, a move every 4 ms sends a batch at most every 33 ms
-    (static/js/scheduler.js HELD_FRAME_MS, from the call that asked; the POST leaves at
+    (static/js/net/scheduler.js HELD_FRAME_MS, from the call that asked; the POST leaves at
     the end of that task, a few ms later or sooner; unpaced, the second went out 4 ms
     after the first), and the panels end drawing the last position."""
     page.goto("/")

@@ -1,6 +1,6 @@
 """A busy server (503 with Retry-After: a table being built, a time budget spent on a
 loaded machine) is waited for, not shown as an error: the panel or the embed says it
-waits, asks again when the server said, and draws (static/js/scheduler.js). Only when
+waits, asks again when the server said, and draws (static/js/net/scheduler.js). Only when
 the server stays busy is its message shown as the error."""
 from __future__ import annotations
 

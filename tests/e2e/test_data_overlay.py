@@ -93,7 +93,7 @@ def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_pa
     # the data's peak (its α = 0.06 lobe, far above the model's α = 0.3) is on the axis
     # drawn, not cut off at the model's top
     top, peak = page.evaluate("""async () => { const d = document.getElementById('plot-lobe');
-        const { numbers } = await import('/static/js/fastdraw.js');     // a typed array sent as {dtype, bdata}
+        const { numbers } = await import('/static/js/panels/fastdraw.js');     // a typed array sent as {dtype, bdata}
         const r = d.data.filter((t) => t.name && t.name.startsWith('data')).flatMap((t) => Array.from(numbers(t.r)))
           .filter(Number.isFinite);
         return [d.layout.polar.radialaxis.range[1], Math.max(...r)]; }""")

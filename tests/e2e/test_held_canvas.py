@@ -58,7 +58,7 @@ POINTS_JS = """(name) => {
 # traces are hidden.
 INK_JS = """async ([name, { all, sample }]) => {
   const gd = document.getElementById(`plot-${name}`);
-  const img = await (await import('/static/js/heldcanvas.js')).heldPixels(gd);
+  const img = await (await import('/static/js/panels/heldcanvas.js')).heldPixels(gd);
   const cv = { width: img.width, height: img.height };
   const svg = gd.querySelector('.svg-container > svg.main-svg');
   const r = cv.width / Number.parseFloat(svg.getAttribute('width'));
@@ -95,7 +95,7 @@ INKED_PNG_JS = """async ([png, pts]) => {
   return pts.filter(([x, y]) => ink(x, y)).length;
 }"""
 SHOWN_JS = """async (name) => { const gd = document.getElementById(`plot-${name}`);
-  const img = await (await import('/static/js/heldcanvas.js')).heldPixels(gd);
+  const img = await (await import('/static/js/panels/heldcanvas.js')).heldPixels(gd);
   const ink = !!img && img.data.some((v, i) => i % 4 === 3 && v > 0);
   return { held: gd.classList.contains('held-canvas'), canvas: ink,
            traces: [...gd.querySelectorAll('.scatterlayer g.trace')].every((g) => getComputedStyle(g).visibility === 'visible') }; }"""
@@ -132,11 +132,11 @@ def test_a_held_slider_draws_the_curves_on_a_canvas_and_gives_them_back_on_relea
 
 def test_a_heading_whose_numbers_moved_is_rewritten_in_place(page):
     """A panel's heading (GGX α=0.0425, θ<sub>i</sub>=45°) is redrawn with each held frame:
-    the same markup keeps its nodes and only their text changes (static/js/dom.js
+    the same markup keeps its nodes and only their text changes (static/js/base/dom.js
     replaceText); other markup replaces them. Either way it reads as richText renders it."""
     page.goto("/")
     got = page.evaluate("""async () => {
-      const { richText, replaceText } = await import('/static/js/dom.js');
+      const { richText, replaceText } = await import('/static/js/base/dom.js');
       const h = document.createElement('span');
       const say = (t) => { replaceText(h, richText(t)); return [h.textContent, h.innerHTML]; };
       const first = say('GGX α=0.0425, θ_i=45°');
@@ -154,13 +154,13 @@ def test_a_heading_whose_numbers_moved_is_rewritten_in_place(page):
 
 
 def test_readouts_follow_a_held_slider_a_few_times_a_second_and_at_once_when_let_go(page):
-    """A panel's heading and legend numbers (static/js/readouts.js): while a slider is
+    """A panel's heading and legend numbers (static/js/panels/readouts.js): while a slider is
     held, a write waits until READOUT_MS have passed since the last one and the newest
     waiting value is the one written; not held, or let go, everything is written at once;
     a write dropped (Plotly drew the legend meanwhile) is never made."""
     page.goto("/")
     got = page.evaluate("""async () => {
-      const { Readouts, READOUT_MS } = await import('/static/js/readouts.js');
+      const { Readouts, READOUT_MS } = await import('/static/js/panels/readouts.js');
       const r = new Readouts(), log = [];
       const sleep = (ms) => new Promise((f) => setTimeout(f, ms));
       const t0 = performance.now(), at = () => performance.now() - t0;

@@ -183,7 +183,7 @@ def test_headings_render_names_as_names_and_captions_say_what_each_plot_shows(pa
     page.goto("/?show=g2,lobe")
     wait_quiet(page, ids=("plot-g2", "plot-lobe"))
     # a subscript is an index (θ_i, G_1, E_avg), never half of a name
-    html = page.evaluate("""async () => { const { richText } = await import('/static/js/dom.js');
+    html = page.evaluate("""async () => { const { richText } = await import('/static/js/base/dom.js');
         const p = document.createElement('p');
         p.append(richText('G2 — ggx, height_correlated, lambda_phi=1, θ_i=45°, E_avg, G_1'));
         return p.innerHTML; }""")
@@ -219,8 +219,8 @@ def test_figure_subscripts_are_drawn_by_plotly_and_read_as_before_by_the_page(pa
     heading = page.locator('[data-panel="lobe"] h2 .sub').inner_html()
     assert heading.endswith("θ<sub>i</sub>=45°") and "&lt;" not in heading, heading
     out = json.loads(page.evaluate("""async () => {
-        const { richText, plainIndex } = await import('/static/js/dom.js');
-        const { titleText, fitLayout } = await import('/static/js/layout.js');
+        const { richText, plainIndex } = await import('/static/js/base/dom.js');
+        const { titleText, fitLayout } = await import('/static/js/panels/layout.js');
         const p = document.createElement('p');
         p.append(richText('μ = cos θ<sub>v</sub>, E<sub>avg</sub> = 0.05, theta_o_deg<img src=x onerror="window.bad=1">'));
         const layout = { title: { text: 'Albedo — GGX α=0.3<br><sub>max of |E − E<sub>ref</sub>|</sub>' } };

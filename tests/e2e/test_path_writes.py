@@ -1,4 +1,4 @@
-"""A slider move's data-only redraw (static/js/svgpaths.js writes the traces' SVG paths
+"""A slider move's data-only redraw (static/js/panels/svgpaths.js writes the traces' SVG paths
 itself) draws what Plotly draws for the same data: after the write, Plotly is asked to
 draw the same figure (Panel.sync) and every vertex of its lines must be a vertex of the
 written ones (Plotly may drop collinear points; it adds none), the two-point guides equal."""
@@ -14,7 +14,7 @@ pytestmark = pytest.mark.e2e
 
 PANELS = ("lobe", "ndf", "g1", "albedo")
 # The curves a plot shows, as path strings: its SVG traces' lines, or while a slider is
-# held, the runs the canvas over it drew (static/js/heldcanvas.js; test_held_canvas.py
+# held, the runs the canvas over it drew (static/js/panels/heldcanvas.js; test_held_canvas.py
 # holds the canvas to them)
 PATHS_JS = """(name) => { const gd = document.getElementById(`plot-${name}`);
     if (gd.classList.contains('held-canvas'))
@@ -134,7 +134,7 @@ def test_label_shift_moves_the_decimal_point(page):
     from decimal import Decimal
     page.goto("/")
     cases = [(t, j) for t in ("0", "0.02", "1500", "2.5", "−0.5", "120", "7") for j in range(-4, 5)]
-    got = page.evaluate("""async (cases) => { const m = await import('/static/js/decades.js');
+    got = page.evaluate("""async (cases) => { const m = await import('/static/js/panels/decades.js');
         return cases.map(([t, j]) => m.shiftLabel(t, j)); }""", cases)
     for (text, j), out in zip(cases, got):
         value = Decimal(text.replace("−", "-")).scaleb(j)
@@ -144,7 +144,7 @@ def test_label_shift_moves_the_decimal_point(page):
             assert out is None, (text, j, out)
         else:
             assert out == plain.replace("-", "−"), (text, j, out)
-    assert page.evaluate("""async () => (await import('/static/js/decades.js')).shiftLabel('10\u200b4', 1)""") is None
+    assert page.evaluate("""async () => (await import('/static/js/panels/decades.js')).shiftLabel('10\u200b4', 1)""") is None
 
 
 def test_the_page_spaces_log_ticks_by_the_servers_rule(page):
@@ -153,7 +153,7 @@ def test_the_page_spaces_log_ticks_by_the_servers_rule(page):
     from app.figures.style import log_dtick
     page.goto("/")
     spans = [0.2, 1.0, 1.5, 1.5001, 2.7, 3.5, 3.5001, 9.99, 10.0, 10.15, 20.3, 31.0]
-    got = page.evaluate("""async (spans) => { const m = await import('/static/js/fastdraw.js');
+    got = page.evaluate("""async (spans) => { const m = await import('/static/js/panels/fastdraw.js');
         return spans.map((s) => m.logDtick(s)); }""", spans)
     assert got == [log_dtick(s) for s in spans]
 
@@ -164,7 +164,7 @@ Y_LABELS_JS = """(n) => [...document.querySelectorAll(`#plot-${n} .cartesianlaye
 def test_a_held_slider_moves_the_ndf_log_axis_by_whole_decades_as_plotly_would(page, page_log):
     """While a slider is held, the NDF's peak moving past the top of its log axis is drawn
     on the axis as it is, the curve moved by whole decades and each label's exponent
-    with it (static/js/decades.js): Plotly, drawing the same data on the range those
+    with it (static/js/panels/decades.js): Plotly, drawing the same data on the range those
     labels stand for, draws the same curve and writes the same labels, at each step of
     a drag over α both ways."""
     page.goto("/?alpha=0.01")             # an NDF over decades: labelled every whole one

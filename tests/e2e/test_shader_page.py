@@ -1,4 +1,4 @@
-"""The shader tools (static/tools.html, static/js/{tools,shader,lut}.js): the model as
+"""The shader tools (static/tools.html, static/js/{pages/tools,pages/shader,pages/lut}.js): the model as
 code, the material presets with their RGB Fresnel, the roughness conventions and the LUT
 workbench, on a page of their own that the explorer links to with its model, in Chromium.
 

@@ -1,4 +1,4 @@
-"""The environment sphere refined at rest (issue 34, static/js/refine.js): left alone, the
+"""The environment sphere refined at rest (issue 34, static/js/panels/refine.js): left alone, the
 panel averages independent renders until its stated noise is at most 5 %, the picture
 visibly less noisy; the noise it states is the one the server's own averaging
 (app/environment/render.py) states for the same seeds; a slider moved during a

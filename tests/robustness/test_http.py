@@ -39,7 +39,7 @@ def _every_kind_of_response(client):
         "data": r,
         "figure": client.get("/api/v1/figures/g1"),
         "page": client.get("/"),
-        "static": client.get("/static/js/main.js"),
+        "static": client.get("/static/js/app/main.js"),
         "plotly": client.get("/static/vendor/plotly.min.js"),
         "304": client.get("/api/v1/ndf", headers={"if-none-match": r.headers["etag"]}),
         "404": client.get("/no/such/page"),
@@ -155,7 +155,7 @@ def test_gzip_body_is_a_valid_gzip_stream(client):
 # ------------------------------------------------------------------- ETag, Cache-Control
 
 @pytest.mark.parametrize("url", ["/api/v1/ndf?alpha=0.2", "/api/v1/figures/lobe", "/api/v1/models",
-                                 "/", "/static/js/main.js", "/static/vendor/plotly.min.js"])
+                                 "/", "/static/js/app/main.js", "/static/vendor/plotly.min.js"])
 @pytest.mark.parametrize("encoding", ["gzip", "identity"])
 def test_etag_and_304(client, url, encoding):
     first = client.get(url, headers={"accept-encoding": encoding})
@@ -209,7 +209,7 @@ TRAVERSALS = [
     "/static/..\\app\\main.py",
     "/static//etc/passwd",
     "/static/%00../app/main.py",
-    "/static/js/main.js%00.html",
+    "/static/js/app/main.js%00.html",
     "/static/vendor/..%2f..%2fpyproject.toml",
     "/static/.%2e/.%2e/pyproject.toml",
 ]
@@ -255,7 +255,7 @@ def test_static_files_only_from_static(path):
 
 
 def test_static_files_are_served(client):
-    r = client.get("/static/js/main.js")
+    r = client.get("/static/js/app/main.js")
     assert r.status_code == 200 and r.headers["content-type"].startswith(("text/javascript",
                                                                          "application/javascript"))
 

@@ -27,7 +27,7 @@ def inline_script_hashes(static_dir: Path) -> list[str]:
 
 
 def content_security_policy(script_hashes: list[str]) -> str:
-    """The page and the embeds load only same-origin scripts (static/js/*.js, plotly.min.js from
+    """The page and the embeds load only same-origin scripts (static/js/**/*.js, plotly.min.js from
     /static/vendor/) and fetch only /api/v1. Plotly injects its stylesheet at run time and
     styles elements inline, hence 'unsafe-inline' for styles only (styles cannot run
     code); its modebar icons and image downloads use data: and blob: URLs.

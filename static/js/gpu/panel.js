@@ -4,14 +4,14 @@
  * toggle (truth.js). Where WebGL2 or float targets are missing, or the server has no
  * shader for the model, the panel says so and the server's sphere panel is the view.
  */
-import { API, el, apiMessage, query } from "../dom.js";
-import { modelQuery } from "../model.js";
-import { fam } from "../families.js";
+import { API, el, apiMessage, query } from "../base/dom.js";
+import { modelQuery } from "../state/model.js";
+import { fam } from "../state/families.js";
 import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
 import { referenceFrame, referenceSlice, compare, compareSlice, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
 import { SliceRenderer } from "./slice.js";
-import { lightAt } from "../spheredrag.js";
+import { lightAt } from "../panels/spheredrag.js";
 import { UserBrdf, LINK_KEY } from "./userbrdf.js";
 import { EnvSphere, ENVIRONMENTS, MAP, PREVIEW_SIZE } from "./env.js";
 

@@ -11,7 +11,7 @@
  *   ~6e-8, so μ ≈ 1e-4 carries a relative error of ~1e-3 whatever the shader does — a
  *   property of float32 input, not of the model. Both numbers are shown.
  */
-import { API, apiMessage, query } from "../dom.js";
+import { API, apiMessage, query } from "../base/dom.js";
 
 /** Relative to the frame's brightest channel value: below FLOOR·peak a pixel's
  * difference counts as absolute, in units of the peak. */

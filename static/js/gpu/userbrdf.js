@@ -5,7 +5,7 @@
  * that does not compile (with the file's line numbers), an undeclared parameter, a shader
  * that stalls the GPU (context lost) — is a message here; the rest of the page works.
  */
-import { el, saveBlob } from "../dom.js";
+import { el, saveBlob } from "../base/dom.js";
 import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
 import { parseBrdf, defaults, BrdfFileError, MAX_BYTES } from "./brdffile.js";

@@ -20,7 +20,7 @@
  * send(req, signal, {batchable, recall}) -> Promise<{res: {status, ok, statusText, retryAfter}, body}>;
  * rejects when the server cannot be reached or the signal aborted the request.
  */
-import { API } from "./dom.js";
+import { API } from "../base/dom.js";
 
 const BATCH_URL = `${API}/batch`;
 const MAX_BATCH = 16;               // app/api/routes_batch.py MAX_REQUESTS

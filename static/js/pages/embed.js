@@ -6,12 +6,12 @@
  * lives in the URL, as in the explorer. The controls and the bar take their height
  * first; the plot gets the rest and is re-fitted whenever that changes.
  */
-import { API, el, richText, query, copyText, flash } from "./dom.js";
-import { paramControl } from "./sliders.js";
-import { exportBar } from "./exports.js";
-import { fitLayout, reuseLayout, titleText, PLOT_CONFIG } from "./layout.js";
-import { Scheduler } from "./scheduler.js";
-import { fieldRole, fieldLabel, isHeavy } from "./views.js";
+import { API, el, richText, query, copyText, flash } from "../base/dom.js";
+import { paramControl } from "../state/sliders.js";
+import { exportBar } from "../panels/exports.js";
+import { fitLayout, reuseLayout, titleText, PLOT_CONFIG } from "../panels/layout.js";
+import { Scheduler } from "../net/scheduler.js";
+import { fieldRole, fieldLabel, isHeavy } from "../state/views.js";
 
 const PAGE_OPTIONS = ["controls", "buttons", "embed"];
 const TRUE_WORDS = new Set(["1", "true", "yes", "on"]);

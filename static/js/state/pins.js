@@ -9,7 +9,7 @@
 import { reg, subOptions, paramFor, choiceDefaults, fixApplicability, modelQuery, compact,
          isPerceptual, isAnisotropic, materialOf } from "./model.js";
 import { inRange, rangeText } from "./sliders.js";
-import { ctx } from "./ctx.js";
+import { ctx } from "../base/ctx.js";
 import { fam, otherFamily, familyDefaults, readFamily, fixFamily, familyNames } from "./families.js";
 
 export const MAX_PINS = 6;                // a legend of 7 curves is still readable

@@ -5,7 +5,7 @@
  * piecewise-linearly in log(value), with most of the travel on the range people use;
  * linear ones step in round decimals.
  */
-import { el, richText, setIf } from "./dom.js";
+import { el, richText, setIf } from "../base/dom.js";
 
 const LOG_TICKS = 1000;            // resolution of a log-scale slider
 const INVALID_DELAY_MS = 450;      // typing "0." on the way to "0.05" is not an error yet

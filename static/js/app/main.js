@@ -2,20 +2,20 @@
  *   controls --(input)--> state --> URL (replaceState, throttled)
  *                               \--> every wanted panel fetches at once (scheduler)
  */
-import { el, $, richText, getJSON, copyText, flash, setIf } from "./dom.js";
-import { setModels, setMaterials, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "./model.js";
-import { ctx } from "./ctx.js";
-import { stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "./state.js";
-import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "./pins.js";
-import { HINTS, PANEL_ORDER, PAGE_DEFAULTS, panelList } from "./views.js";
-import { lightDrag } from "./spheredrag.js";
-import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows, controls } from "./sidebar.js";
-import { Panel } from "./panels.js";
-import { panelBar, fieldApplies } from "./panelcontrols.js";
-import { Scheduler } from "./scheduler.js";
-import { fam, setFamilies, allFamilyDefaults, familyRoughness } from "./families.js";
-import { GpuPanel } from "./gpu/panel.js";
-import { LINK_KEY as USER_BRDF_KEY } from "./gpu/userbrdf.js";
+import { el, $, richText, getJSON, copyText, flash, setIf } from "../base/dom.js";
+import { setModels, setMaterials, reg, modelDefaults, fixApplicability, choiceDefaults, choiceOf, isPerceptual } from "../state/model.js";
+import { ctx } from "../base/ctx.js";
+import { stateFromSearch, scheduleUrlWrite, releaseUrlWrite, urlPending } from "../state/state.js";
+import { MAX_PINS, pinOf, samePin, pinLabel, encodePin } from "../state/pins.js";
+import { HINTS, PANEL_ORDER, PAGE_DEFAULTS, panelList } from "../state/views.js";
+import { lightDrag } from "../panels/spheredrag.js";
+import { buildSidebar, syncSidebar, syncChoices, syncDerived, syncActiveRows, controls } from "../controls/sidebar.js";
+import { Panel } from "../panels/panels.js";
+import { panelBar, fieldApplies } from "../controls/panelcontrols.js";
+import { Scheduler } from "../net/scheduler.js";
+import { fam, setFamilies, allFamilyDefaults, familyRoughness } from "../state/families.js";
+import { GpuPanel } from "../gpu/panel.js";
+import { LINK_KEY as USER_BRDF_KEY } from "../gpu/userbrdf.js";
 
 const state = ctx.state;
 const scheduler = new Scheduler();

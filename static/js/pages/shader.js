@@ -3,7 +3,7 @@
  * Each section takes the model as a query (tools.js: the page's link, kept to the
  * parameters each endpoint declares) and builds its own nodes.
  */
-import { API, el, getJSON, apiMessage, copyText } from "./dom.js";
+import { API, el, getJSON, apiMessage, copyText } from "../base/dom.js";
 
 const LANGS = [["glsl", "GLSL"], ["hlsl", "HLSL"], ["python", "Python"]];
 const CHANNEL_COLORS = ["#D55E00", "#009E73", "#0072B2"];

@@ -2,7 +2,7 @@
  * On a page the figure's box sets the size and a legend sits above the axes, clear of
  * the axis titles at any height. keepTitle: the title stays, in the top margin (embeds).
  */
-import { plainIndex } from "./dom.js";
+import { plainIndex } from "../base/dom.js";
 
 export const PLOT_CONFIG = { responsive: true, displaylogo: false, modeBarButtonsToRemove: ["lasso2d", "select2d"] };
 

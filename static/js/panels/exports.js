@@ -8,7 +8,7 @@
  * renders the drawn plot at the same size instead. The file is named after the figure
  * and every parameter that differs from the defaults, so two slides never share a name.
  */
-import { API, el, apiMessage, query, saveBlob, copyText, flash } from "./dom.js";
+import { API, el, apiMessage, query, saveBlob, copyText, flash } from "../base/dom.js";
 
 export const SLIDE = { width: 1600, height: 1000, pngScale: 2 };
 const EMBED = { width: 640, height: 440 };

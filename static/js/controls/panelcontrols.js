@@ -1,9 +1,9 @@
 /* A panel's own controls (its toggles, menus and bounded numbers, beside its figure)
  * and the bar of panels above the figures, one toggle per view. */
-import { el, $, richText } from "./dom.js";
-import { reg } from "./model.js";
-import { ctx } from "./ctx.js";
-import { hintOf, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "./views.js";
+import { el, $, richText } from "../base/dom.js";
+import { reg } from "../state/model.js";
+import { ctx } from "../base/ctx.js";
+import { hintOf, fieldRole, fieldLabel, localKey, localId, OPTION_LABELS } from "../state/views.js";
 
 /** The view's fields a panel sets itself: toggles, menus and bounded numbers that are
  * not geometry (the sidebar's θ_i, φ_i) nor resolution (left at the API's defaults). */

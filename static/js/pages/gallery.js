@@ -3,9 +3,9 @@
  * what its entry carries (app/gallery/cards.py): a Plotly figure (a view's, a data set's
  * on a view, the conventions'); a fit (its POST, then the fitted model over the data);
  * an excerpt of generated shader code; or a LUT's PNG with the error its JSON states. */
-import { API, el, richText, apiMessage } from "./dom.js";
-import { exportBar } from "./exports.js";
-import { fitLayout, PLOT_CONFIG } from "./layout.js";
+import { API, el, richText, apiMessage } from "../base/dom.js";
+import { exportBar } from "../panels/exports.js";
+import { fitLayout, PLOT_CONFIG } from "../panels/layout.js";
 
 const PARALLEL = 2;               // figures fetched at once (the server has few cores)
 const EXCERPT_LINES = 26;         // of generated code: the model's f(l, v) and its comment

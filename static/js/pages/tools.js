@@ -4,7 +4,7 @@
  * "Shader tools" link carries its state; each endpoint gets the parameters it declares
  * in /openapi.json.
  */
-import { $ } from "./dom.js";
+import { $ } from "../base/dom.js";
 import { codeSection, materialSection, conventionsSection } from "./shader.js";
 import { lutSection } from "./lut.js";
 

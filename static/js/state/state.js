@@ -8,7 +8,7 @@ import { reg, subOptions, paramFor, choiceDefaults, activeParams, activeGroups, 
          perceptualAllowed, secondLobeAllowed, materialIn, materialOf, PRESENCE, MATERIAL_REPLACES } from "./model.js";
 import { inRange, rangeText, clampParam } from "./sliders.js";
 import { fam, otherFamily, writeFamily, readFamily, fixFamily, familyNames } from "./families.js";
-import { ctx } from "./ctx.js";
+import { ctx } from "../base/ctx.js";
 import { encodePin, decodePin, samePin, MAX_PINS } from "./pins.js";
 
 

@@ -8,9 +8,9 @@
  * state, a held slider or the panel leaving the page stops it; the next rest starts over
  * from one render.
  */
-import { API, query } from "./dom.js";
-import { ctx } from "./ctx.js";
-import { fieldRole } from "./views.js";
+import { API, query } from "../base/dom.js";
+import { ctx } from "../base/ctx.js";
+import { fieldRole } from "../state/views.js";
 import { RenderAverage } from "./average.js";
 
 /** The stated relative noise at which the refinement stops: a slide's sphere. */

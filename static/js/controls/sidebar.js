@@ -3,13 +3,13 @@
  * other family's from its entry (familyform.js); only the chosen family's are shown. Kept
  * in step with the state.
  */
-import { el, $, richText, setIf } from "./dom.js";
-import { paramControl } from "./sliders.js";
+import { el, $, richText, setIf } from "../base/dom.js";
+import { paramControl } from "../state/sliders.js";
 import { reg, subOptions, choiceOf, sameSpec, switchChoice, fixApplicability, appliesTo, whyNot,
          subApplies, activeParams, anisoAllowed, isAnisotropic, isPerceptual, secondLobeAllowed,
-         materialIn, MATERIAL_REPLACES } from "./model.js";
-import { ctx } from "./ctx.js";
-import { fam, fixModel } from "./families.js";
+         materialIn, MATERIAL_REPLACES } from "../state/model.js";
+import { ctx } from "../base/ctx.js";
+import { fam, fixModel } from "../state/families.js";
 import { familySections, syncFamilyForms } from "./familyform.js";
 
 const SECOND_LOBE_START_MIX = 0.5;

@@ -4,12 +4,12 @@
  * either is the scheduler's business. A view that does not take the chosen model
  * (GET /api/v1/models lists the views that draw each family) says so instead.
  */
-import { API, el, richText, replaceText, apiMessage, errorLoc, query, setIf } from "./dom.js";
-import { reg, modelQuery, compact, isAnisotropic } from "./model.js";
-import { ctx } from "./ctx.js";
-import { compareModels } from "./pins.js";
-import { hintOf, viewTitle, fieldRole, isHeavy, overlayable, layoutOf } from "./views.js";
-import { panelFields, localControl, fieldApplies } from "./panelcontrols.js";
+import { API, el, richText, replaceText, apiMessage, errorLoc, query, setIf } from "../base/dom.js";
+import { reg, modelQuery, compact, isAnisotropic } from "../state/model.js";
+import { ctx } from "../base/ctx.js";
+import { compareModels } from "../state/pins.js";
+import { hintOf, viewTitle, fieldRole, isHeavy, overlayable, layoutOf } from "../state/views.js";
+import { panelFields, localControl, fieldApplies } from "../controls/panelcontrols.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
 import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
          logAxes, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
@@ -18,7 +18,7 @@ import { drawHeld, endHeld, readyHeld, ownTask } from "./heldcanvas.js";
 import { Readouts } from "./readouts.js";
 import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
-import { fam, viewTakes, whyNot, otherFamily, familyAnisotropic } from "./families.js";
+import { fam, viewTakes, whyNot, otherFamily, familyAnisotropic } from "../state/families.js";
 import { Refiner, serverNote } from "./refine.js";
 
 const LOADING_DELAY_MS = 300;

@@ -6,7 +6,7 @@
  * orientation, split form, channels — with each one's margin, and its lookup error).
  * The options are the ones /openapi.json declares for GET /api/v1/lut.
  */
-import { API, el, apiMessage } from "./dom.js";
+import { API, el, apiMessage } from "../base/dom.js";
 import { card } from "./shader.js";
 
 const OPTIONS = ["kind", "size", "mu_axis", "roughness_axis", "quantisation"];

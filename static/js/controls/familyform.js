@@ -4,10 +4,10 @@
  * "<family>-<name>" (a name's own "<family>_" prefix not repeated): the default family's
  * controls already use names such as "roughness".
  */
-import { el, $, richText } from "./dom.js";
-import { paramControl } from "./sliders.js";
-import { fam, familyNames, choiceApplies, parseColor, colorText, fixFamily } from "./families.js";
-import { ctx } from "./ctx.js";
+import { el, $, richText } from "../base/dom.js";
+import { paramControl } from "../state/sliders.js";
+import { fam, familyNames, choiceApplies, parseColor, colorText, fixFamily } from "../state/families.js";
+import { ctx } from "../base/ctx.js";
 
 export const familyControls = new Map();      // "<family>/<name>" -> {row, set}
 export const fid = (f, name) => `${f.name}-${name.replace(new RegExp(`^${f.name}_`), "").replace(/_/g, "-")}`;
