@@ -305,7 +305,6 @@ $("#notice-close").addEventListener("click", () => { $("#notice").hidden = true;
 $("#compare-stop").addEventListener("click", () => {
   state.vary = null;
   state.values = null;
-  for (const p of panels) p.noOverlay = false;
   syncAll();
   onStateChange();
 });

@@ -4,7 +4,7 @@
  * either is the scheduler's business. A view that does not take the chosen model
  * (GET /api/v1/models lists the views that draw each family) says so instead.
  */
-import { API, el, richText, replaceText, apiMessage, errorLoc, query, setIf } from "../base/dom.js";
+import { API, el, richText, replaceText, apiMessage, query, setIf } from "../base/dom.js";
 import { reg, modelQuery, compact, isAnisotropic } from "../state/model.js";
 import { ctx } from "../base/ctx.js";
 import { compareModels } from "../state/pins.js";
@@ -51,7 +51,7 @@ export class Panel {
     this.hint = hintOf(view.name);
     this.refiner = this.hint.refine ? new Refiner(this) : null;    // refined at rest (refine.js)
     Object.assign(this, { inflight: null, dirty: false, drawing: null, drawnKey: null, inView: false,
-                          noOverlay: false, noPin: false, drawn: false, error: null, loadingTimer: 0,
+                          drawn: false, error: null, loadingTimer: 0,
                           relayout: {},      // axis ranges to relay out in the next write (refit)
                           readouts: new Readouts() });
     const hid = `h-${view.name}`;
@@ -116,9 +116,9 @@ export class Panel {
     this.sub.hidden = off;
     this.section.classList.toggle("panel-off", off);   // a note needs no plot's height
   }
-  pinned(s) { return s.pins.length > 0 && !!this.hint.pin && overlayable(this.view) !== false && !this.noPin; }
+  pinned(s) { return s.pins.length > 0 && !!this.hint.pin && overlayable(this.view); }
   overlaid(s) {
-    return !!s.vary && overlayable(this.view) !== false && !this.noOverlay && this.view.vary.includes(s.vary) && !this.pinned(s);
+    return !!s.vary && overlayable(this.view) && this.view.vary.includes(s.vary) && !this.pinned(s);
   }
 
   /** The figure's parameters that are not the model's (the "view" of a POST). */
@@ -172,16 +172,6 @@ export class Panel {
 
   receive(req, res, body) {
     const s = ctx.state;
-    // a server that does not declare `overlayable` (GET /api/v1/views): learnt from its refusal
-    if (overlayable(this.view) === null && res.status === 422 && req.init.method === "POST"
-        && /cannot be compared/.test(apiMessage(body, res))) {
-      this.noPin = true;                 // this figure cannot overlay models: draw it alone
-      return { retry: true };
-    }
-    if (overlayable(this.view) === null && res.status === 422 && this.overlaid(s) && errorLoc(body).includes("vary")) {
-      this.noOverlay = true;             // an image or a surface cannot overlay curves
-      return { retry: true };
-    }
     if (!res.ok) throw new Error(apiMessage(body, res));
     if (!body || !Array.isArray(body.data)) throw new Error("The server sent no figure.");
     const compare = req.init.method === "POST";

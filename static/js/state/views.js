@@ -1,11 +1,10 @@
-/* What the page adds to GET /api/v1/views: presentation only (order, size, which
- * panels open by default, one sentence of what each shows). Titles and field roles
- * are the API's ("title", field "role"); whether a view is heavy or overlayable is the
- * API's when it declares it ("heavy", "overlayable"), this table's until then.
+/* What the page adds to GET /api/v1/views: presentation only (order, which panels open
+ * by default, one sentence of what each shows). Titles, field roles, whether a view is
+ * heavy (an image fetched coarser while a slider is held), overlayable and the room it
+ * takes are the API's ("title", field "role", "heavy", "overlayable", "layout").
  *   shown: open by default; slice: its phi_deg follows the plane of incidence when
- *   anisotropic; keys: URL names of its toggles that predate generic panels; wide /
- *   short: layout; pin: made of curves, so POST /figures/{name} can overlay pinned
- *   models; tails: "compare tails"; heavy: an image fetched coarser while a slider is held;
+ *   anisotropic; keys: URL names of its toggles that predate generic panels; pin: made of
+ *   curves, so POST /figures/{name} can overlay pinned models; tails: "compare tails";
  *   lightDrag: a sphere whose light is dragged on it (spheredrag.js); refine: a sampled image
  *   refined at rest by averaging independent renders (refine.js).
  */
@@ -18,25 +17,25 @@ export const HINTS = {
         caption: "The fraction of microfacets seen from a direction, G₁ = 1/(1 + Λ), against its angle." },
   albedo: { shown: true, slice: true, pin: true, fields: ["tol"],
             caption: "The share of light the surface reflects for each incidence μ = cos θ, with its error." },
-  lobe3d: { wide: true, heavy: true,
+  lobe3d: {
             caption: "f over the whole hemisphere of outgoing directions, for the light at (θ_i, φ_i)." },
   g2: {
         caption: "G₂(θ_l, θ_v): the microfacets seen from both the light and the viewer." },
   fresnel: { pin: true,
              caption: "F(θ_d): the share reflected by one microfacet against the angle to its normal." },
-  sphere: { heavy: true, lightDrag: true,
+  sphere: { lightDrag: true,
             caption: "A sphere of this material under one directional light at (θ_i, φ_i); drag on it to move the light." },
-  sphere_env: { heavy: true, lightDrag: true, refine: true,
+  sphere_env: { lightDrag: true, refine: true,
                 caption: "A sphere of this material in an environment or under a point light; drag on it to move the light." },
-  slice: { heavy: true,
+  slice: {
            caption: "f over half-vector and difference angles, the image slice of Disney's BRDF explorer." },
-  samples: { heavy: true,
+  samples: {
              caption: "Directions drawn by the sampler for one view, against the density they should follow." },
-  checks: { wide: true,
+  checks: {
             caption: "Identities the model must satisfy, each computed next to the value it must have." },
-  tradeoff: { wide: true,
+  tradeoff: {
               caption: "The albedo's error against its cost, for each integration method." },
-  advise: { wide: true, short: true, fields: ["tol"],
+  advise: { fields: ["tol"],
             caption: "Cheaper choices of the model, their largest error over the scene and their cost." },
 };
 export const PANEL_ORDER = ["lobe", "ndf", "g1", "albedo"];   // first; then the API's order
@@ -77,14 +76,12 @@ export const VIEW_FIELD_LABELS = {
 export const hintOf = (name) => HINTS[name] || {};
 export const viewTitle = (view) => view.title || view.name;
 export const fieldRole = (f) => f.role || (f.type === "boolean" ? "display" : "shape");
-/** A heavy image (fetched coarser while a slider is held): the server's `heavy` flag on the
- * view (GET /api/v1/views), else this page's table until every server declares it. */
-export const isHeavy = (view) => view.heavy ?? !!hintOf(view.name).heavy;
-/** The room a view takes: the server's `layout` (half | wide | strip), else this table's. */
-export const layoutOf = (view) => view.layout ?? (hintOf(view.name).wide ? (hintOf(view.name).short ? "strip" : "wide") : "half");
-/** Whether a view overlays models or values (pins, vary): the server's `overlayable`, or
- * null when it does not say (the page then learns it from the refusal). */
-export const overlayable = (view) => (typeof view.overlayable === "boolean" ? view.overlayable : null);
+/** A heavy image (fetched coarser while a slider is held): the view's `heavy`. */
+export const isHeavy = (view) => !!view.heavy;
+/** The room a view takes: the view's `layout` (half | wide | strip). */
+export const layoutOf = (view) => view.layout;
+/** Whether a view overlays models or values (pins, vary): the view's `overlayable`. */
+export const overlayable = (view) => !!view.overlayable;
 
 /** A panel field's state key and element id ("view.field" cannot collide with a model
  * parameter: those have no dots). */
