@@ -72,3 +72,46 @@ def test_d_and_g_on_different_alphas_peak_at_grazing(client):
 def test_the_right_implementation_is_not_shown_wrong(client):
     out = difference(client, dump(lambda l, v: known.ggx_f(l, v, ALPHA, 0.04, 0.0)))
     assert abs(out["max_relative_error"]) < 1e-9
+
+
+def test_the_relative_error_is_stated_only_where_it_is_a_number():
+    """Data at the ends of the floats against GGX: (data − model)/model where it is a float,
+    null where it is not — data of 10³⁰⁸ against a model of ~0.1 (10³⁰⁹ is no float), or a
+    model of 0 (Schlick F₀ = F₉₀ = 0, no diffuse) against any data. Checked in exact decimal arithmetic;
+    the largest and the rms are those of the stated values, and no overflow is computed (a
+    RuntimeWarning is an error here: the relative error overflowed, and a model of 0 read
+    as a relative error of 0.0, a perfect match)."""
+    import warnings
+    from decimal import Decimal, getcontext
+
+    from fastapi.testclient import TestClient
+
+    from app.main import create_app
+    from tests.budget import settings_for_tests
+
+    getcontext().prec = 50
+    half_max = Decimal(np.finfo(float).max) / 2
+    content = (b"theta_i_deg,phi_i_deg,theta_o_deg,phi_o_deg,f\n30,0,30,180,1e308\n45,0,20,90,1e-300\n"
+               b"60,0,60,180,5e307\n30,0,90,0,1.0\n10,0,10,180,3.0\n")
+    with TestClient(create_app(settings_for_tests())) as client, warnings.catch_warnings():
+        warnings.simplefilter("error", RuntimeWarning)
+        out = difference(client, content)
+        data_id = client.post("/api/v1/datasets", content=content).json()["id"]
+        black = client.get(f"/api/v1/datasets/{data_id}/difference", params={**REFERENCE, "f0": 0.0, "f90": 0.0})
+    assert black.status_code == 200, black.text
+    black = black.json()
+    assert max(black["model"]) == 0.0 and black["relative_error"] == [None] * 5
+    assert black["max_relative_error"] is None and black["rms_relative_error"] is None
+    stated = {}
+    for i, (d, m, r) in enumerate(zip(out["data"], out["model"], out["relative_error"])):
+        exact = (Decimal(d) - Decimal(m)) / Decimal(m) if m > 0 else None
+        if exact is None or abs(exact) > half_max:
+            assert r is None, (i, d, m, r)
+        else:
+            assert r == pytest.approx(float(exact), rel=1e-12), (i, d, m, r)
+            stated[i] = exact
+    assert {1, 4} <= set(stated) and not {0, 2} & set(stated)     # 10³⁰⁸ / 0.1: no float
+    largest = max(stated.values(), key=abs)
+    assert out["max_relative_error"] == pytest.approx(float(largest), rel=1e-12)
+    rms = (sum(x * x for x in stated.values()) / len(stated)).sqrt()
+    assert out["rms_relative_error"] == pytest.approx(float(rms), rel=1e-12)

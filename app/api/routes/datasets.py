@@ -131,8 +131,10 @@ class DifferenceQuery(schemas.ModelQuery):
 
 @router.get("/datasets/{data_id}/difference", tags=["datasets"],
             summary="Model − data at the data's points, and the largest relative error with where",
-            description="relative_error = (data − model)/model where the model is positive; "
-                        "max_relative_error is the largest in magnitude, `where` its angles.")
+            description="relative_error = (data − model)/model where the model is positive and "
+                        "the ratio is a float, null elsewhere; max_relative_error is the largest "
+                        "in magnitude, `where` its angles, rms_relative_error their rms (all null "
+                        "when no point has one).")
 def difference(datasets: DatasetsDep, data_id: DataId, q: Annotated[DifferenceQuery, Query()]) -> Response:
     values = schemas.model_values(q)
     if "channel" not in family_of(values).own_names():   # the data's channel, not the model's
