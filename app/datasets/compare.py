@@ -46,16 +46,13 @@ def difference(data, brdf, channel: str | None, limit: int | None = None) -> dic
     ok = where_valid(ok, [target, model], lambda d, m: d >= m - FLOAT_MAX, 0.0) > 0   # d − m a float
     ok = where_valid(ok, [target, model], lambda d, m: np.abs(d - m) / HALF_MAX <= m, 0.0) > 0
     relative = where_valid(ok, [target, model], lambda d, m: (d - m) / m, np.nan)   # NaN: a gap
-    if not ok.any():
-        return {"available": True, "points": int(target.size), "note": note, "model": model,
-                "data": target, "difference": model - target, "relative_error": relative,
-                "at": where, "max_relative_error": None, "where": None, "rms_relative_error": None}
     k = int(np.argmax(np.where(ok, np.abs(relative), -1.0)))
-    largest = abs(relative[k])     # the rms scaled by it: its square cannot overflow
-    rms = largest * float(np.sqrt(np.mean((relative[ok] / largest) ** 2))) if largest > 0 else 0.0
+    largest = abs(relative[k]) if ok.any() else None   # the rms scaled by it: no overflow
+    rms = None if largest is None else (
+        largest * float(np.sqrt(np.mean((relative[ok] / largest) ** 2))) if largest > 0 else 0.0)
     return {"available": True, "points": int(target.size), "note": note,
             "model": model, "data": target, "difference": model - target,
             "relative_error": relative, "at": where,
-            "max_relative_error": float(relative[k]),
-            "where": {name: float(x[k]) for name, x in where.items()},
+            "max_relative_error": None if largest is None else float(relative[k]),
+            "where": None if largest is None else {name: float(x[k]) for name, x in where.items()},
             "rms_relative_error": rms}

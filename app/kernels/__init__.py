@@ -49,11 +49,13 @@ ENABLED = (importlib.util.find_spec("numba") is not None
 
 log = logging.getLogger("uvicorn.error")   # uvicorn shows its own loggers' lines
 
-#: CPU seconds of numpy work on one model part after which its loops are compiled: a third
-#: of a part's compile (~1.5 s of CPU for f, whose two loops take ~3), so that a model in use
-#: costs at most 1⅓ compiles' worth of CPU before it runs compiled (rent or buy), and one
-#: used in passing costs none. The page's figures of a model take ~5-60 ms each on numpy: a
-#: drag on a model not yet compiled queues it within its first seconds.
+#: CPU seconds of numpy work on one model part after which its loops are compiled (rent or
+#: buy). A loop compiles in ~1.4-1.5 CPU-s (means over the 391 compiles of one full test run:
+#: f_loop 1.36, f_deg_loop 1.45, albedo_rows 1.47), so f costs ~2.8 s, albedo ~1.5 s: the rent
+#: is a third of the cheaper part, and a model in use spends at most RENT_SECONDS more than
+#: its compile before it runs compiled; one used in passing spends no compile. Measured on a
+#: live server: a Beckmann + conductor + Burley model dragged (five figures a round, ~20
+#: rounds/s, a few ms of numpy work each) had its f loops ready after 12 s.
 RENT_SECONDS = 0.5
 
 #: keyed by (components, part): a part is ready, failed or queued on its own
