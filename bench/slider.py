@@ -2,9 +2,8 @@
 1400 × 900, the default page and the page with every panel shown.
 
 Single moves: for each of N moves of the α slider, the time from the slider's `input`
-event to the last finished draw (`plotly_afterplot`, or the page's own draw event where
-it declares one) among the panels in the viewport (every shown panel
-depends on α), the page let go quiet between moves. Median and p95.
+event to the last finished draw (the page's own draw event, `brdf-drawn`) among the
+panels in the viewport (every shown panel depends on α), the page let go quiet between moves. Median and p95.
 
 Sustained drag: the slider pressed (pointerdown) where its thumb is, 60 `input` events
 a second for 3 s, then released (change, pointerup), as a hand drags it. The thumb is
@@ -41,25 +40,23 @@ DRAG_HZ, DRAG_SECONDS = 60, 3.0
 LATE_MS = 1000 / 60
 
 # The plot divs in the viewport (a shown panel's plot whose box meets the window).
-IN_VIEW_JS = """() => [...document.querySelectorAll('.js-plotly-plot, .plot')].filter((d) => {
+IN_VIEW_JS = """() => [...document.querySelectorAll('.plot')].filter((d) => {
   const r = d.getBoundingClientRect();
   return d.offsetParent !== null && r.width > 0 && r.bottom > 0 && r.top < innerHeight
     && r.right > 0 && r.left < innerWidth; }).map((d) => d.id)"""
 
 QUIET_JS = """(ids) => window.__brdf && window.__brdf.pending() === 0
-    && ids.every((id) => { const d = document.getElementById(id); return d && d._fullLayout; })"""
+    && ids.every((id) => { const d = document.getElementById(id); return d && d.layout; })"""
 
-# In the page: hooks the end of each draw on every plot div (the page's own event when
-# it names one: a data-only redraw fires no plotly_afterplot), and a quiet-wait helper.
+# In the page: hooks the end of each draw on every plot div (the page's own event), and a
+# quiet-wait helper.
 HOOK_JS = """() => {
   window.__bench = { events: [] };
   const name = window.__brdf.drawEvent;
-  for (const d of document.querySelectorAll('.js-plotly-plot')) {
-    if (d.__benchHooked || typeof d.on !== 'function') continue;
+  for (const d of document.querySelectorAll('.plot')) {
+    if (d.__benchHooked) continue;
     d.__benchHooked = true;
-    const hit = () => window.__bench.events.push([d.id, performance.now()]);
-    if (name) d.addEventListener(name, hit);
-    else d.on('plotly_afterplot', hit);
+    d.addEventListener(name, () => window.__bench.events.push([d.id, performance.now()]));
   }
   window.__bench.quiet = async (since, deadline) => {
     const sleep = (ms) => new Promise((r) => setTimeout(r, ms));

@@ -207,7 +207,7 @@ STATIC_JS = APP.parent / "static" / "js"
 #: static/js/'s folders, bottom to top (docs/architecture.md): a script imports from its own
 #: folder or a lower rank; the folders of one rank (the entry points of the explorer and of
 #: the other pages) import nothing of each other.
-JS_RANKS = [("base",), ("net",), ("state",), ("controls",), ("panels",), ("gpu",), ("app", "pages")]
+JS_RANKS = [("base",), ("chart", "net"), ("state",), ("controls",), ("panels",), ("gpu",), ("app", "pages")]
 _JS_RANK = {folder: i for i, folders in enumerate(JS_RANKS) for folder in folders}
 #: a relative module specifier: import … from "./x.js", import("../y/z.js"), new URL("./w.js", …)
 _JS_IMPORT = re.compile(r"""(?:\bfrom\s*|\bimport\s*\(?\s*|new URL\(\s*)["'](\.{1,2}/[^"']+\.js)["']""")

@@ -24,7 +24,7 @@ def test_pages_render_without_csp_violations(page, page_log, live_server, path):
     page.wait_for_load_state("networkidle")
     # a selector, not a predicate string: Playwright polls a string by eval, which this
     # page's CSP refuses whenever the plot is not drawn by the first check
-    page.wait_for_selector(".js-plotly-plot .main-svg", state="attached", timeout=20_000)
+    page.wait_for_selector(".js-plotly-plot .main-svg, .plot.chart canvas", state="attached", timeout=20_000)
     assert page.evaluate("window.__csp") == []
     assert not [m for m in page_log.console_errors if "Content Security Policy" in m]
 

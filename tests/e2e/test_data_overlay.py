@@ -93,7 +93,7 @@ def test_a_measured_file_opened_fitted_and_its_fit_loaded(page, page_log, tmp_pa
     # the data's peak (its α = 0.06 lobe, far above the model's α = 0.3) is on the axis
     # drawn, not cut off at the model's top
     top, peak = page.evaluate("""async () => { const d = document.getElementById('plot-lobe');
-        const { numbers } = await import('/static/js/panels/fastdraw.js');     // a typed array sent as {dtype, bdata}
+        const { numbers } = await import('/static/js/chart/traces.js');     // a typed array sent as {dtype, bdata}
         const r = d.data.filter((t) => t.name && t.name.startsWith('data')).flatMap((t) => Array.from(numbers(t.r)))
           .filter(Number.isFinite);
         return [d.layout.polar.radialaxis.range[1], Math.max(...r)]; }""")
@@ -140,13 +140,13 @@ def test_a_channel_change_replaces_the_data_label(page, page_log, tmp_path):
     wait_quiet(page, ids=("plot-lobe", "plot-ndf", "plot-g1"))
     page.set_input_files("#data-file", str(path))
     page.wait_for_function(OVERLAID, arg="plot-lobe", timeout=60_000)
-    labels = page.locator("#plot-lobe .annotation-text")
+    labels = page.locator("#plot-lobe .chart-note")
     expect(labels).to_have_text(["data (luminance)"])
     page.select_option("#data-channel", "r")
-    page.wait_for_function("() => [...document.querySelectorAll('#plot-lobe .legendtext')]"
+    page.wait_for_function("() => [...document.querySelectorAll('#plot-lobe .chart-legend-text')]"
                            ".some((t) => t.textContent === 'data (r)')", timeout=60_000)
     expect(labels).to_have_text(["data (r)"])           # the luminance's label is gone
-    legend = page.locator("#plot-lobe .legendtext").all_text_contents()
+    legend = page.locator("#plot-lobe .chart-legend-text").all_text_contents()
     assert "data (luminance)" not in legend
     # a MERL table holds BRDF values: the term views (D, G1) are not asked to overlay it
     # (each such request was a 422 in the console)

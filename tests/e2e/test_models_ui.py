@@ -226,7 +226,7 @@ def test_compare_tails_and_screenshot(page, page_log, shots):
     wait_quiet(page, shown)
     names = ndf_names(page)
     assert [n.split(",")[0] for n in names] == ["ggx", "beckmann", "blinn_phong"], names
-    assert page.evaluate("() => document.getElementById('plot-ndf')._fullLayout.yaxis.type") == "log"
+    assert page.evaluate("() => document.getElementById('plot-ndf').layout.yaxis.type") == "log"
     assert len(url_query(page)["pin"]) == 3
     # the current model is one of the pins: drawn once, marked "now"
     assert "(now)" in names[0]

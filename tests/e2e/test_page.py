@@ -16,13 +16,13 @@ pytestmark = pytest.mark.e2e
 PANELS = ("plot-lobe", "plot-ndf", "plot-g1", "plot-albedo")
 
 QUIET_JS = """(ids) => window.__brdf && window.__brdf.pending() === 0
-    && ids.every((id) => { const d = document.getElementById(id); return d && d.data && d._fullLayout; })"""
+    && ids.every((id) => { const d = document.getElementById(id); return d && d.data && d.layout; })"""
 # a panel is fetched only near the viewport: each is scrolled into view in turn and
 # waited for until it shows the current state
 CURRENT_JS = """(id) => { const d = document.getElementById(id);
     if (d) d.scrollIntoView({ block: 'nearest' });
     const p = window.__brdf && window.__brdf.panels().find((x) => 'plot-' + x.name === id);
-    return !!p && window.__brdf.pending() === 0 && !!(d && d._fullLayout) && (p.current || !!p.error); }"""
+    return !!p && window.__brdf.pending() === 0 && !!(d && d.layout) && (p.current || !!p.error); }"""
 LOBE_R_EXPR = "JSON.stringify(document.getElementById('plot-lobe').data[0].r)"
 LOBE_R_JS = f"() => {LOBE_R_EXPR}"
 

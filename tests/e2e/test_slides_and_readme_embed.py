@@ -64,7 +64,7 @@ def test_readme_iframe_snippet_shows_legend_and_export_bar(page, page_log):
     for selector in ("#embed-bar", '#embed-bar button[data-format="svg"]',
                      '#embed-bar button[data-format="png"]', "#plot .legend"):
         assert inside(page, selector), selector
-    drawn = page.evaluate("() => document.getElementById('plot')._fullLayout.height")
+    drawn = page.evaluate("() => Number(document.querySelector('#plot svg.main-svg').getAttribute('height'))")
     box = page.locator("#plot").bounding_box()
     assert abs(drawn - box["height"]) <= 2          # drawn at the size left by the controls
     assert page_log.problems() == []

@@ -17,9 +17,13 @@ from test_page import api_requests, wait_quiet   # tests/e2e is not a package
 
 pytestmark = pytest.mark.e2e
 
-SCREEN_JS = """([id, x, y]) => { const d = document.getElementById(id), fl = d._fullLayout;
-  const b = d.getBoundingClientRect();
-  return [b.left + fl.xaxis._offset + fl.xaxis.c2p(x), b.top + fl.yaxis._offset + fl.yaxis.c2p(y)]; }"""
+# data → screen through what Plotly drew: its plot area (the xy subplot's clip rectangle)
+# and the axes' ranges it wrote back into the figure's layout
+SCREEN_JS = """([id, x, y]) => { const d = document.getElementById(id);
+  const r = d.querySelector('clipPath.axesclip[id$="xy"] rect'), n = (a) => Number(r.getAttribute(a));
+  const b = d.querySelector('svg.main-svg').getBoundingClientRect();
+  const [x0, x1] = d.layout.xaxis.range, [y0, y1] = d.layout.yaxis.range;
+  return [b.left + n('x') + (x - x0) / (x1 - x0) * n('width'), b.top + n('y') + (y1 - y) / (y1 - y0) * n('height')]; }"""
 
 
 def drag(page, plot_id: str, start, end, steps: int = 8) -> None:

@@ -223,7 +223,7 @@ async function overlay(name, div) {
       { name: LABEL, text: label, xref: "paper", yref: "paper", x: 0, y: 1, xanchor: "left", yanchor: "bottom",
         showarrow: false, font: { size: 11, color: "#000" } }];
   }
-  await Plotly.react(div, traces, layout);
+  await window.__brdf.overlay(name, { data: traces, layout });
   // as text, in the page's notation: Plotly's "θ<sub>o</sub>" (the figure's) reads "θ_o"
   const title = String(body.layout.title.text).replace(/(\p{L})<sub>([\p{L}\p{N}]+)<\/sub>/gu, "$1_$2");
   const largest = title.slice(title.indexOf("largest"));

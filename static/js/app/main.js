@@ -131,9 +131,8 @@ function onStateChange() {
   for (const loc of ctx.locals.values()) setIf(loc.input.parentElement, "hidden", !fieldApplies(loc.view, loc.field, state));
 }
 
-/** A slider held: the heavy images come coarser until it is let go, and the plots in
- * view draw their curves on a canvas (heldcanvas.js; made when the page was idle, or
- * here at the grab). */
+/** A slider held: the heavy images come coarser until it is let go, and the readouts
+ * (headings) change a few times a second. */
 function onHold(held) {
   if (ctx.held === held) return;
   ctx.held = held;
@@ -167,16 +166,16 @@ const inViewObserver = new IntersectionObserver((entries) => {
   }
 }, { threshold: [0, 0.01] });
 
-// Plots fit their boxes when the layout changes (a panel shown, the sidebar wraps).
+// Plotly's plots fit their boxes when the layout changes (a panel shown, the sidebar
+// wraps); a chart follows its own box (chart.js).
 const resizeObserver = new ResizeObserver((entries) => {
   for (const { target: div, contentRect: { width, height } } of entries) {
-    // the size Plotly drew at: its SVG's (none before the first draw)
-    const svg = div.querySelector("svg.main-svg");
+    // the size Plotly drew at: its SVG's (none before the first draw, none on a chart)
+    const svg = div.querySelector(":scope > .plot-container svg.main-svg");
     if (!svg || div.offsetParent === null || width < 10 || height < 10) continue;
     const drawnW = Number(svg.getAttribute("width")), drawnH = Number(svg.getAttribute("height"));
     if (Math.abs(drawnW - width) < 1 && Math.abs(drawnH - height) < 1) continue;
-    const panel = panels.find((p) => p.div === div);
-    Promise.resolve(panel?.sync()).then(() => Plotly.Plots.resize(div)).catch(() => {});
+    Promise.resolve(Plotly.Plots.resize(div)).catch(() => {});
   }
 });
 
@@ -337,6 +336,8 @@ window.__brdf = {
   url: (name) => panels.find((x) => x.name === name)?.url(),
   request: (name) => panels.find((x) => x.name === name)?.request(),
   panel: (name) => panels.find((x) => x.name === name),
+  // For the data module: a figure of the data over a panel's, drawn as the panel draws
+  overlay: (name, figure) => panels.find((x) => x.name === name)?.overlay(figure),
   // For another module (data overlays): query parameters it owns, kept in the page URL
   // and sent to every panel whose view declares them. Declare before the page boots (at
   // module load) so that a link carrying them is read, not flagged as unknown.

@@ -197,13 +197,12 @@ export class Scheduler {
     panel.waiting = null;
   }
 
-  /** A data-only redraw at once (Plotly draws it in its next animation frame, a newer
-   * one replacing it); false when the answer needs a full draw in our frame. */
+  /** A curve panel's answer drawn by its chart in the next gated animation frame (the
+   * newest of those that land before it); false when the answer is drawn in our frame. */
   quick(panel, r) {
     const p = panel.quick?.(r.drawable, () => this.gate(r.born ?? -Infinity));
     if (!p) return false;
     panel.drawnKey = r.key;
-    // a newer redraw interrupts this one: Plotly then rejects its promise, which is no error
     const a = p.catch(() => {}).finally(() => {
       if (panel.animating === a) panel.animating = null;
       if (this.ready.size) this.requestFrame();

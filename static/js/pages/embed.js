@@ -155,7 +155,7 @@ async function buildControls() {
 
 function buildButtons() {
   const bar = document.getElementById("embed-bar");
-  const exports = exportBar(() => ({ kind, params: { ...params }, div: plot, title }), (k, text) => {
+  const exports = exportBar(() => ({ kind, params: { ...params }, figure: plot, title }), (k, text) => {
     if (k === "busy") setStatus("loading", text);
     else if (k === "error" || k === "note") setStatus("note", text);
     else setStatus(null);

@@ -137,7 +137,7 @@ function canvas(entry, draws) {
 
 /** A view's card: the explorer link and the export buttons (SVG, PNG, CSV, embed). */
 function viewLinks(entry, div, note) {
-  const bar = exportBar(() => ({ kind: entry.kind, params: entry.state, div, title: entry.title }), (kind, text) => {
+  const bar = exportBar(() => ({ kind: entry.kind, params: entry.state, figure: div, title: entry.title }), (kind, text) => {
     note.textContent = kind === "busy" || kind === "note" || kind === "error" ? text : "";
     note.hidden = !note.textContent;
   });

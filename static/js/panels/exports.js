@@ -21,8 +21,9 @@ export function exportName(kind, params, format) {
 }
 
 /** Download one export of a view: format "svg" | "png" | "csv"; params: the figure's
- * query without its defaults; div: the drawn plot (the browser fallback). */
-export async function exportFigure(format, kind, params, div) {
+ * query without its defaults; figure: what Plotly draws in this browser when the server
+ * cannot (a plot it drew, or a figure {data, layout}). */
+export async function exportFigure(format, kind, params, figure) {
   const { width, height } = SLIDE;
   const scale = format === "png" ? SLIDE.pngScale : 1;
   const extra = format === "csv" ? {} : { width, height, scale };
@@ -39,8 +40,8 @@ export async function exportFigure(format, kind, params, div) {
     return { how: "server", message: "" };
   }
   const body = await res.json().catch(() => null);
-  if (res.status === 503 && format !== "csv" && div && window.Plotly) {
-    await Plotly.downloadImage(div, { format, width, height, scale, filename: filename.replace(/\.\w+$/, "") });
+  if (res.status === 503 && format !== "csv" && figure && window.Plotly) {
+    await Plotly.downloadImage(figure, { format, width, height, scale, filename: filename.replace(/\.\w+$/, "") });
     return { how: "browser", message: `${apiMessage(body, res)} (Exported in your browser instead.)` };
   }
   throw new Error(apiMessage(body, res));
@@ -53,7 +54,7 @@ export function embedSnippet(kind, params, title) {
     + `title="${safeTitle}" loading="lazy" style="border:0;max-width:100%"></iframe>`;
 }
 
-/* The buttons. get() returns {kind, params, div, title}; report(kind, text) shows a
+/* The buttons. get() returns {kind, params, figure, title}; report(kind, text) shows a
  * status: "busy", "note", "error", or null to clear. */
 export function exportBar(get, report) {
   const bar = el("div", { class: "export-bar", role: "group", "aria-label": "Export this figure" });
@@ -64,11 +65,11 @@ export function exportBar(get, report) {
                              title: format === "csv" ? "Download the numbers behind the figure (CSV, units in the header)"
                                : `Download the figure as ${name}, ${SLIDE.width} × ${SLIDE.height} (a slide)` });
     b.addEventListener("click", async () => {
-      const { kind, params, div, title } = get();
+      const { kind, params, figure, title } = get();
       b.disabled = true;
       report("busy", `exporting ${name}…`);
       try {
-        const r = await exportFigure(format, kind, params, div);
+        const r = await exportFigure(format, kind, params, figure);
         report(r.how === "browser" ? "note" : null, r.message);
         if (r.how !== "browser") flash(b, "✓");
         b.setAttribute("aria-label", `${name} of ${title || kind}: downloaded`);

@@ -11,22 +11,14 @@ import { compareModels } from "../state/pins.js";
 import { hintOf, viewTitle, fieldRole, isHeavy, overlayable, layoutOf } from "../state/views.js";
 import { panelFields, localControl, fieldApplies } from "../controls/panelcontrols.js";
 import { fitLayout, reuseLayout, compactLegend, titleText, PLOT_CONFIG } from "./layout.js";
-import { canAnimate, animateData, renameLegend, traceStyle, splitRanges, rangesFit, withHeadroom, withRanges,
-         logAxes, sameTraces, rangeUpdate, HELD_FILL, HELD_HEADROOM } from "./fastdraw.js";
-import { writePaths } from "./svgpaths.js";
-import { drawHeld, endHeld, readyHeld, ownTask } from "./heldcanvas.js";
 import { Readouts } from "./readouts.js";
-import { decadesFor, scaleData, scaleRanges, baseLabels, labelsShift, writeLabels } from "./decades.js";
 import { exportBar } from "./exports.js";
+import { Chart } from "../chart/chart.js";
+import { drawsFigure } from "../chart/traces.js";
 import { fam, viewTakes, whyNot, otherFamily, familyAnisotropic } from "../state/families.js";
 import { Refiner, serverNote } from "./refine.js";
 
 const LOADING_DELAY_MS = 300;
-// After paths written directly, Plotly's own state is brought up to date (Panel.sync)
-// when the plot is used (hover, resize, export), or once the page has been quiet this long.
-const SYNC_IDLE_MS = 1500;
-// a browser without requestIdleCallback (Safari before 18) gets a short timer
-const whenIdle = (f) => (window.requestIdleCallback ? requestIdleCallback(f, { timeout: 2000 }) : setTimeout(f, 200));
 
 // D, Λ/G1 and E(μ) are taken at one azimuth: the plane of incidence's when anisotropic.
 const anisotropic = (s) => (otherFamily(s) ? familyAnisotropic(s) : isAnisotropic(s));
@@ -51,8 +43,7 @@ export class Panel {
     this.hint = hintOf(view.name);
     this.refiner = this.hint.refine ? new Refiner(this) : null;    // refined at rest (refine.js)
     Object.assign(this, { inflight: null, dirty: false, drawing: null, drawnKey: null, inView: false,
-                          drawn: false, error: null, loadingTimer: 0,
-                          relayout: {},      // axis ranges to relay out in the next write (refit)
+                          drawn: false, error: null, loadingTimer: 0, chart: null, figure: null,
                           readouts: new Readouts() });
     const hid = `h-${view.name}`;
     this.heading = el("h2", { id: hid }, richText(viewTitle(view)));
@@ -63,11 +54,8 @@ export class Panel {
     this.div = el("div", { class: "plot", id: `plot-${view.name}` });
     this.modelNote = el("p", { class: "model-note", id: `note-${view.name}`, role: "note", hidden: true });
     const caption = el("p", { class: "caption", id: `cap-${view.name}` }, richText(this.hint.caption || view.summary || ""));
-    this.div.addEventListener("pointerenter", () => this.sync());
-    const bar = exportBar(() => {
-      this.sync();                                    // its image export reads Plotly's state
-      return { kind: view.name, params: compact(this.params(ctx.state)), div: this.div, title: viewTitle(view) };
-    }, (k, t) => this.report?.(k, t));
+    const bar = exportBar(() => ({ kind: view.name, params: compact(this.params(ctx.state)), figure: this.exportable(),
+                                   title: viewTitle(view) }), (k, t) => this.report?.(k, t));
     bar.classList.add("panel-export");
     const buttons = el("div", { class: "panel-buttons" });
     if (this.hint.pin || this.hint.tails) {
@@ -183,165 +171,71 @@ export class Panel {
     // a sampled image states its noise and samples in the title's second line: shown
     // before the heading's parameters (the refinement at rest states its own: refine.js)
     const sampled = this.refiner && note ? serverNote(note) : "";
-    return { data: body.data, layout: fitLayout(body.layout || {}), uirevision: this.uirevision(s),
+    return { data: body.data, layout: body.layout || {}, uirevision: this.uirevision(s),
              sub: sampled ? `${sampled} · ${heading}` : heading, heading };
   }
 
-  /** A data-only redraw (see fastdraw.js) when only the data moved; null otherwise.
-   * While a slider is held, data that left a linear axis by decades is drawn rescaled on
-   * the axes as they are, their labels moved (decades.js). */
-  quick({ data, layout, uirevision, sub }, frame = () => new Promise((r) => requestAnimationFrame(r))) {
-    if (!this.drawn || this.error || uirevision !== this.uirev) return null;
-    const { ranges, rest } = splitRanges(layout);
-    if (rest !== this.rest || (this.decades && !ctx.held)) return null;
-    if (this.refitDue && !ctx.held) return this.refit({ data, layout, sub }, ranges, frame, "exact");
-    if (Object.keys(this.relayout).length) {
-      // new ranges wait for the next frame (refit): Plotly's axes are not yet what the
-      // answer is measured against; the server's ranges hold its data
-      return rangesFit(this.ranges, ranges) ? this.refit({ data, layout, sub }, ranges, frame) : null;
-    }
-    const fill = ctx.held ? HELD_FILL : undefined;
-    const logs = logAxes(layout), openBelow = ctx.held ? logs : undefined;
-    const fits = (shown, decades) => rangesFit(this.ranges, scaleRanges(ranges, decades, -1, logs), fill, openBelow)
-      && canAnimate(this.div, shown, this.styles, fill);
-    let decades = this.decades, shown = decades ? scaleData(data, decades) : data;
-    if (!fits(shown, decades)) {
-      if (!ctx.held) return this.refit({ data, layout, sub }, ranges, frame);
-      decades = decadesFor(this.div, data, this.ranges, ranges);
-      if (decades) {
-        // an axis not shifted since Plotly drew it: its labels as drawn are the base
-        this.labels = { ...baseLabels(this.div, Object.keys(decades).filter((k) => !this.labels?.[k]), this.ranges), ...this.labels };
-        shown = labelsShift(this.labels, decades) ? scaleData(data, decades) : null;
-      }
-      if (!decades || !shown || !fits(shown, decades)) {
-        if (!logs.size || this.decades) return null;
-        // a log axis its decades cannot follow: relaid out with room at both ends
-        this.labels = null;
-        const moved = this.refit({ data, layout, sub }, ranges, frame, "held");
-        if (moved) this.loose = true;
-        return moved;
-      }
-    }
-    const scaled = decades && Object.keys(decades).length ? decades : null;
-    if (ctx.held && (scaled || !rangesFit(this.ranges, ranges))) this.loose = true;
-    this.setSub(sub);
-    this.styles = data.map(traceStyle);
-    this.shown_();
-    return this.writeInFrame(data, frame, shown, scaled);
-  }
-
-  /** New axis ranges and nothing else new (the same traces and layout, no rescaled
-   * axes): the ranges are relaid out alone and the data written as a data-only redraw,
-   * in one animation frame (~25 ms, where Plotly.react took 45–120 ms: the NDF's and
-   * G1's full draws when a drag is let go were most of the time it took to settle);
-   * null when more than the ranges changed. fit: "exact", the server's ranges as they
-   * are (a drag let go: as a fresh page draws them); "held", with HELD_HEADROOM at both
-   * ends of a log axis that whole decades cannot follow (labelled between decades: a
-   * relayout, 17-40 ms, where its full draw took 45-120); else with headroom where they
-   * moved. */
-  refit({ data, layout, sub }, ranges, frame, fit = "moved") {
-    if (this.decades || !sameTraces(data, this.styles)) return null;
-    const drawn = this.rangesToDraw(fit, this.serverRanges, ranges, layout);
-    const moved = Object.keys(drawn).filter((k) => !(this.ranges?.[k]?.[0] === drawn[k][0] && this.ranges?.[k]?.[1] === drawn[k][1]));
-    Object.assign(this.relayout, rangeUpdate(reuseLayout(this, withRanges(layout, drawn), this.uirev), moved));
-    Object.assign(this, { serverRanges: ranges, ranges: drawn, loose: false });
-    this.setSub(sub);
-    this.styles = data.map(traceStyle);
-    this.shown_();
-    return this.writeInFrame(data, frame);
-  }
-
-  /** The ranges to draw for the server's `ranges`, by `fit`: "exact", as they are (a
-   * drag let go; so for every answer until the one still in flight is in); "held", with
-   * HELD_HEADROOM at both ends of a log axis and where the others moved since `previous`;
-   * "moved", with HEADROOM where they moved. */
-  rangesToDraw(fit, previous, ranges, layout) {
-    if (fit === "exact" && !this.inflight) this.refitDue = false;
-    if (fit === "exact") return ranges;
-    return fit === "held" ? withHeadroom(previous, ranges, HELD_HEADROOM, logAxes(layout)) : withHeadroom(previous, ranges);
-  }
-
-  /** Writes the newest data's paths in the animation frame `frame()` resolves in (one
-   * write a frame however many answers land before it; a held slider's, in a task of
-   * its own just after it: ownTask); Plotly draws it if the paths cannot take it
-   * (Plotly's transition on its own axes). `shown`: the data as drawn on axes rescaled by `decades`. */
-  writeInFrame(data, frame, shown = data, decades = null) {
-    this.toWrite = { data, shown, decades };
-    this.writing ||= new Promise((resolve) => frame().then(() => ctx.held && ownTask()).then(() => {
-      const { data: d, shown: s, decades: j } = this.toWrite;
-      this.toWrite = null;
-      this.writing = null;
-      if (Object.keys(this.relayout).length) {     // new ranges (refit): in this frame
-        const update = this.relayout;
-        this.relayout = {};
-        Plotly.relayout(this.div, update).catch(() => {});
-      }
-      // a held slider's curves on the canvas over the plot (heldcanvas.js), else the SVG's
-      const onCanvas = ctx.held && drawHeld(this.div, s);
-      if (onCanvas || writePaths(this.div, s)) {
-        if (!onCanvas) endHeld(this.div);
-        if (this.labels) writeLabels(this.labels, j || {});
-        this.decades = j;
-        this.readouts.show("legend", () => renameLegend(this.div, d), ctx.held);
-        this.div.data = d;        // what the plot shows, for readers of it; Plotly's own state follows in sync()
-        this.stale = d;
-        clearTimeout(this.syncTimer);
-        this.syncTimer = setTimeout(() => this.sync({ idle: true }), SYNC_IDLE_MS);
-        this.announce();
-        resolve();
-      } else if (!j && !this.decades) {        // axes as Plotly drew them: its own transition
-        endHeld(this.div);
-        this.readouts.drop("legend");          // Plotly names the traces
-        resolve(animateData(this.div, d).then(() => this.announce()));
-      } else {
-        this.decades = this.labels = null;
-        endHeld(this.div);
-        this.readouts.drop("legend");
-        resolve(Plotly.react(this.div, d, this.layout, PLOT_CONFIG).then(() => this.announce()));
-      }
-    }));
+  /** A curve figure is drawn by the panel's chart in the animation frame `frame()`
+   * resolves in: one draw a frame however many answers land before it, the newest. Null
+   * for a figure the chart does not draw (the scheduler then draws it in its own frame). */
+  quick(drawable, frame = () => new Promise((r) => requestAnimationFrame(r))) {
+    if (!this.chart || this.error || !drawsFigure(drawable)) return null;
+    this.toDraw = drawable;
+    this.writing ||= frame().then(() => {
+      const d = this.toDraw;
+      this.toDraw = this.writing = null;
+      this.draw(d);
+    });
     return this.writing;
   }
 
-  /** Plotly's state (read by hover, zoom, resize and its image export) brought to the
-   * data shown, after paths were written directly; the pixels stay as they are (on
-   * rescaled axes, Plotly draws the axes that they stand for). `idle`: called because
-   * the page was quiet, which a slider held still is not: the hand may move again at any
-   * moment, and the four redraws (20-50 ms each) would be in its way; it waits. */
-  sync({ idle = false } = {}) {
-    clearTimeout(this.syncTimer);
-    if (!this.stale) return Promise.resolve();
-    if (this.drawing || this.writing || (idle && ctx.held)) {   // a draw under way, or held: later
-      this.syncTimer = setTimeout(() => this.sync({ idle }), SYNC_IDLE_MS);
+  /** Draws an answer: curves on the panel's chart (chart/chart.js), anything else (an
+   * image, a heat map, the 3-D lobe, a table) with Plotly. */
+  draw(drawable) {
+    const { data, layout, uirevision, sub } = drawable;
+    this.refiner?.drawn(drawable);
+    this.setSub(sub);
+    this.figure = { data, layout };
+    if (drawsFigure(drawable)) {
+      if (!this.chart) {
+        if (this.div.layout) Plotly.purge(this.div);
+        this.chart = new Chart(this.div);
+      }
+      this.chart.draw(this.figure, { revision: uirevision });
+      this.shown_();
+      this.announce();
       return Promise.resolve();
     }
-    const data = this.stale;
-    this.stale = null;
-    if (this.decades) {
-      this.ranges = scaleRanges(this.ranges, this.decades, 1, logAxes(this.layout));
-      this.layout = withRanges(this.layout, this.ranges);
-      this.layoutKey = null;
-      this.decades = this.labels = null;
+    if (this.chart) {
+      this.chart.dispose();
+      this.chart = null;
     }
-    endHeld(this.div);
-    this.readouts.drop("legend");
-    return Plotly.react(this.div, data, this.layout, PLOT_CONFIG).catch(() => {});
+    return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, fitLayout(layout), uirevision), PLOT_CONFIG));
   }
 
-  /** A slider grabbed (or the page idle after a draw): a plot in view has its canvas for
-   * a drag ready, at its size (heldcanvas.js). */
-  grab() {
-    this.refiner?.check();
-    if (this.inView && this.drawn && !this.error) readyHeld(this.div);
+  /** A figure the data module (app/data.js) draws over this panel's: the data beside
+   * the model, drawn as the panel draws; not announced (it follows the panel's own). */
+  overlay(figure) {
+    this.figure = figure;
+    if (this.chart && drawsFigure(figure)) {
+      this.chart.draw(figure, { revision: this.chart.revision });
+      return Promise.resolve();
+    }
+    return Plotly.react(this.div, figure.data, figure.layout, PLOT_CONFIG);
   }
 
-  /** The slider let go: axes left loose by the drag are fitted to the data again, to the
-   * ranges the server gives, as a fresh page draws them (the panel asks again: refit). */
-  release() {
-    this.readouts.flush();
-    if (this.loose) Object.assign(this, { drawnKey: null, refitDue: true });
-    this.loose = false;
+  /** What an image export draws in this browser when the server cannot (exports.js):
+   * the figure as the server made it, title and all, or the Plotly plot as drawn. */
+  exportable() {
+    if (!this.figure) return null;
+    return this.chart ? { data: this.figure.data, layout: fitLayout(this.figure.layout, { keepTitle: true }) } : this.div;
   }
+
+  /** A slider grabbed: a refinement at rest stops (refine.js). */
+  grab() { this.refiner?.check(); }
+
+  /** The slider let go: readouts held back while it moved are shown. */
+  release() { this.readouts.flush(); }
 
   /** The heading's parameters (a readout: while a slider is held, a few times a second). */
   setSub(sub) {
@@ -350,24 +244,6 @@ export class Panel {
       this.subText = sub;
       replaceText(this.sub, richText(sub));
     }, ctx.held);
-  }
-
-  draw(drawable) {
-    const { data, layout, uirevision, sub } = drawable;
-    this.refiner?.drawn(drawable);
-    this.setSub(sub);
-    this.styles = data.map(traceStyle);
-    this.stale = this.decades = this.labels = null;
-    this.relayout = {};
-    clearTimeout(this.syncTimer);
-    const { ranges, rest } = splitRanges(layout);
-    const same = rest === this.rest && uirevision === this.uirev;
-    const fit = ctx.held ? "held" : this.refitDue ? "exact" : "moved";
-    const drawn = this.rangesToDraw(fit, same ? this.serverRanges : null, ranges, layout);
-    Object.assign(this, { rest, uirev: uirevision, serverRanges: ranges, ranges: drawn, loose: ctx.held && same });
-    endHeld(this.div);
-    this.readouts.drop("legend");
-    return this.drawn_(Plotly.react(this.div, data, reuseLayout(this, withRanges(layout, drawn), uirevision), PLOT_CONFIG));
   }
 
   shown_() {
@@ -382,14 +258,7 @@ export class Panel {
 
   drawn_(promise) {
     this.shown_();
-    return promise.then(() => {
-      this.announce();
-      // the canvas a held slider draws on, made while the page is idle (else at the grab)
-      if (!this.canvasDue) {
-        this.canvasDue = true;
-        whenIdle(() => { this.canvasDue = false; this.grab(); });
-      }
-    });
+    return promise.then(() => this.announce());
   }
 
   fail(message) {

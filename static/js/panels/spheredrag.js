@@ -8,7 +8,14 @@
  * images come coarser and axes stay put; the sidebar's θ_i and φ_i follow the drag.
  * A press off the disk is left to Plotly (zoom, pan).
  */
-import { plotBox } from "./svgpaths.js";
+/** The plot area Plotly drew (its clip rectangle of the xy subplot, in the SVG's
+ * pixels), or null before the first draw. */
+function plotBox(gd) {
+  const rect = gd.querySelector('clipPath.axesclip[id$="xy"] rect');
+  const n = (a) => Number(rect?.getAttribute(a));
+  const box = { x: n("x"), y: n("y"), w: n("width"), h: n("height") };
+  return rect && Object.values(box).every(Number.isFinite) && box.w > 0 && box.h > 0 ? box : null;
+}
 
 const DEG = 180 / Math.PI;
 const round1 = (v) => Math.round(v * 10) / 10;
