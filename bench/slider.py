@@ -2,8 +2,8 @@
 1400 × 900, the default page and the page with every panel shown.
 
 Single moves: for each of N moves of the α slider, the time from the slider's `input`
-event to the last finished draw (the page's own draw event, `brdf-drawn`) among the
-panels in the viewport (every shown panel depends on α), the page let go quiet between moves. Median and p95.
+event to the last finished draw (the page's own draw event, `brdf-drawn`, at the time it
+states: when the chart's worker finished painting the canvas) among the panels in the viewport (every shown panel depends on α), the page let go quiet between moves. Median and p95.
 
 Sustained drag: the slider pressed (pointerdown) where its thumb is, 60 `input` events
 a second for 3 s, then released (change, pointerup), as a hand drags it. The thumb is
@@ -56,7 +56,10 @@ HOOK_JS = """() => {
   for (const d of document.querySelectorAll('.plot')) {
     if (d.__benchHooked) continue;
     d.__benchHooked = true;
-    d.addEventListener(name, () => window.__bench.events.push([d.id, performance.now()]));
+    // the draw's own time where the page gives it (a chart painted in its worker tells
+    // when; the event comes a task later), else the event's
+    d.addEventListener(name, (e) => window.__bench.events.push([d.id,
+      e.detail?.paintedAt ? e.detail.paintedAt - performance.timeOrigin : performance.now()]));
   }
   window.__bench.quiet = async (since, deadline) => {
     const sleep = (ms) => new Promise((r) => setTimeout(r, ms));

@@ -12,8 +12,9 @@ from test_page import wait_quiet   # tests/e2e is not a package
 
 pytestmark = pytest.mark.e2e
 
-# A 600 × 400 chart in the page, drawn from `figure`; the rows and columns of the
-# canvas where a colour is (within a tolerance), in CSS pixels.
+# A 600 × 400 chart in the page, drawn from `figure`; the points of the canvas where a
+# colour is (within a tolerance), in CSS pixels, read from the pixels the chart painted
+# (its canvas is painted in a worker: chart.pixels() asks it).
 SETUP_JS = """async (figure) => {
   const { Chart } = await import('/static/js/chart/chart.js');
   let div = document.getElementById('chart-test');
@@ -25,19 +26,19 @@ SETUP_JS = """async (figure) => {
     document.body.append(div);
     window.__chart = new Chart(div);
   }
-  window.__chart.draw(figure, { revision: 'test' });
+  await window.__chart.draw(figure, { revision: 'test' });
 }"""
 
-FIND_JS = """(rgb) => {
-  const c = document.querySelector('#chart-test canvas'), dpr = c.width / c.getBoundingClientRect().width;
-  const px = c.getContext('2d').getImageData(0, 0, c.width, c.height).data, out = [];
-  for (let y = 0; y < c.height; y++) for (let x = 0; x < c.width; x++) {
-    const k = 4 * (y * c.width + x);
+FIND_JS = """async (rgb) => {
+  const chart = CHART, c = chart.canvas;
+  const { width, height, data: px } = await chart.pixels(), dpr = width / c.getBoundingClientRect().width, out = [];
+  for (let y = 0; y < height; y++) for (let x = 0; x < width; x++) {
+    const k = 4 * (y * width + x);
     if (Math.abs(px[k] - rgb[0]) + Math.abs(px[k + 1] - rgb[1]) + Math.abs(px[k + 2] - rgb[2]) < 40 && px[k + 3] > 200)
       out.push([x / dpr, y / dpr]);
   }
   return out;
-}"""
+}""".replace("CHART", "window.__chart")
 
 RED = [230, 0, 0]
 BLUE = [0, 0, 230]
@@ -152,10 +153,12 @@ def test_the_legend_hides_and_shows_a_curve(blank):
     entries = blank.locator("#chart-test .chart-legend-item")
     assert entries.all_text_contents() == ["model", "data"]
     entries.nth(1).click()
+    blank.wait_for_function("() => !window.__chart.painting")
     assert blank.evaluate(FIND_JS, BLUE) == []
     assert blank.evaluate(FIND_JS, RED)
     entries = blank.locator("#chart-test .chart-legend-item")
     entries.nth(1).click()
+    blank.wait_for_function("() => !window.__chart.painting")
     assert blank.evaluate(FIND_JS, BLUE)
 
 
@@ -184,12 +187,16 @@ def test_a_box_drag_zooms_and_a_double_click_undoes_it(blank):
     blank.mouse.down()
     blank.mouse.move(box["x"] + (left + right) / 2, box["y"] + 300, steps=5)
     blank.mouse.up()
-    x_range = blank.evaluate("() => window.__chart.zoom.x")
+    blank.wait_for_function("() => window.__chart.zoom && !window.__chart.zooming && !window.__chart.painting")
+    x_range = blank.evaluate("() => document.getElementById('chart-test').layout.xaxis.range")
     assert 0 <= x_range[0] < 0.02 and 0.45 < x_range[1] < 0.55, x_range
     _, zoomed = rows_and_cols(blank, RED)
     assert abs(min(zoomed) - left) <= 2 and abs(max(zoomed) - right) <= 2
     blank.mouse.dblclick(box["x"] + left + 50, box["y"] + 100)
     assert blank.evaluate("() => window.__chart.zoom") is None
+    blank.wait_for_function("() => !window.__chart.painting")
+    # the ranges drawn, as the plot's layout states them: the figure's again
+    assert blank.evaluate("() => document.getElementById('chart-test').layout.xaxis.range") == [0, 1]
 
 
 def test_the_page_draws_the_curves_of_its_answer(page, page_log):
@@ -197,7 +204,7 @@ def test_the_page_draws_the_curves_of_its_answer(page, page_log):
     answer for the new α, and the canvas shows a different curve."""
     page.goto("/?show=ndf&alpha=0.5")
     wait_quiet(page, ids=("plot-ndf",))
-    find = FIND_JS.replace("#chart-test canvas", "#plot-ndf canvas")
+    find = FIND_JS.replace("window.__chart", "window.__brdf.panel('ndf').chart")
     curve = lambda: {(round(x), round(y)) for x, y in page.evaluate(find, [0, 114, 178])}
     before = curve()
     page.evaluate("""() => { const s = document.getElementById('alpha-slider');

@@ -2,19 +2,19 @@
  * figure in one go (axes, grid, curves) on a canvas, with its legend, axis titles and
  * notes as page text. Built for data that moves with a slider (uPlot's idea): drawing a
  * figure again costs a millisecond or two whatever changed, so there is one way to draw
- * and nothing to keep in step. It reads the API's figures (Plotly's format: scatter or
- * scatterpolar traces; see traces.js for what it takes) and keeps them on the element
- * as `div.data` and `div.layout` for its readers. Box zoom by dragging on a cartesian
- * plot, a double click to undo it; the zoom and the legend's hidden curves stay while
- * the figure's revision does. Exports draw the same figure with Plotly (exports.js).
+ * and nothing to keep in step. The canvas is painted in a worker where the browser has
+ * OffscreenCanvas (worker.js: the main thread then spends nothing on the pixels), else
+ * in the page, by the same painter.js. It reads the API's figures (Plotly's format:
+ * scatter or scatterpolar traces; see traces.js for what it takes) and keeps them on the
+ * element as `div.data` and `div.layout` (with the ranges drawn) for its readers. Box
+ * zoom by dragging on a cartesian plot, a double click to undo it; the zoom and the
+ * legend's hidden curves stay while the figure's revision does. Exports draw the same
+ * figure with Plotly (exports.js).
  */
-import { el } from "../base/dom.js";
+import { el, setIf } from "../base/dom.js";
 import { markup } from "./text.js";
-import { readTraces } from "./traces.js";
-import { drawTraces } from "./marks.js";
-import { drawCartesian } from "./cartesian.js";
-import { drawPolar } from "./polar.js";
-import { hoverText, nearest } from "./hover.js";
+import { legendEntries } from "./traces.js";
+import { Painter } from "./painter.js";
 
 const ZOOM_MIN_PX = 6;       // a drag shorter than this either way is a click, not a zoom
 
@@ -25,6 +25,13 @@ const glyph = (symbol) => GLYPHS[Array.isArray(symbol) ? symbol[0] : symbol] || 
 
 /** Plotly's title text of an axis or figure, or "". */
 const textOf = (t) => String((typeof t === "string" ? t : t?.text) || "");
+
+/** A text placed at (x, y) of the plot, its style written only when it moved: a style
+ * set to what it holds is still a change to the browser (style and layout again). */
+function place(node, x, y) {
+  setIf(node.style, "left", `${Math.round(x)}px`);
+  setIf(node.style, "top", `${Math.round(y)}px`);
+}
 
 function setText(node, text) {
   if (node.dataset.text === text) return;
@@ -45,6 +52,55 @@ function drawnRanges(layout, ranges) {
   return out;
 }
 
+/** The painter of one canvas, asked by messages: in a worker of its own where the
+ * browser can hand it the canvas (OffscreenCanvas), else here. ask(op, args) resolves
+ * with its answer either way. */
+class PainterPort {
+  constructor(canvas) {
+    if (typeof canvas.transferControlToOffscreen === "function" && typeof Worker === "function") {
+      try {
+        this.worker = new Worker(new URL("./worker.js", import.meta.url), { type: "module" });
+        const offscreen = canvas.transferControlToOffscreen();
+        this.waiting = new Map();
+        this.seq = 0;
+        this.worker.onmessage = ({ data: { id, result, error } }) => {
+          const w = this.waiting.get(id);
+          this.waiting.delete(id);
+          if (error === undefined) w?.resolve(result);
+          else w?.reject(new Error(error));
+        };
+        this.worker.onerror = (e) => {
+          for (const w of this.waiting.values()) w.reject(new Error(`the chart's worker failed: ${e.message || "not loaded"}`));
+          this.waiting.clear();
+        };
+        this.ask("init", { canvas: offscreen }, [offscreen]);
+        return;
+      } catch {
+        this.worker?.terminate();        // no module workers here: painted in the page below
+        this.worker = null;
+      }
+    }
+    this.local = new Painter(canvas);
+  }
+
+  ask(op, args = {}, transfer = []) {
+    if (this.local) {
+      try {
+        return Promise.resolve(this.local[op](args));
+      } catch (e) {
+        return Promise.reject(e);
+      }
+    }
+    const id = ++this.seq;
+    return new Promise((resolve, reject) => {
+      this.waiting.set(id, { resolve, reject });
+      this.worker.postMessage({ id, op, ...args }, transfer);
+    });
+  }
+
+  close() { this.worker?.terminate(); }
+}
+
 export class Chart {
   constructor(div) {
     this.div = div;
@@ -58,7 +114,8 @@ export class Chart {
     this.box = el("div", { class: "chart-zoom", hidden: true });
     this.area = el("div", { class: "chart-area" }, this.canvas, ...Object.values(this.titles), this.notes, this.box, this.tip);
     div.replaceChildren(this.legend, this.area);
-    Object.assign(this, { figure: null, revision: null, hidden: new Set(), zoom: null, size: null, legendKey: null, frame: null });
+    this.port = new PainterPort(this.canvas);
+    Object.assign(this, { figure: null, revision: null, hidden: new Set(), zoom: null, size: null, legendKey: null, plot: null });
     this.resize = new ResizeObserver(([e]) => {
       const { width, height } = e.contentRect;
       if (this.size && Math.abs(width - this.size.w) < 0.5 && Math.abs(height - this.size.h) < 0.5) return;
@@ -72,18 +129,20 @@ export class Chart {
     this.area.addEventListener("dblclick", () => { if (this.zoom) { this.zoom = null; this.paint(); } });
   }
 
-  /** Draws `figure` ({data, layout}) now. revision: what the zoom and the hidden curves
-   * belong to (a new one forgets them). */
+  /** Draws `figure` ({data, layout}); resolves when it is on the canvas (with the
+   * painter's answer, paintedAt: when, in ms since the epoch). revision: what
+   * the zoom and the hidden curves belong to (a new one forgets them). */
   draw(figure, { revision = null } = {}) {
     if (revision !== this.revision) Object.assign(this, { revision, zoom: null, hidden: new Set() });
     this.figure = figure;
     this.div.data = figure.data;
     this.div.layout = figure.layout;
-    this.paint();
+    return this.paint();
   }
 
   dispose() {
     this.resize.disconnect();
+    this.port.close();
     this.div.replaceChildren();
     this.div.classList.remove("chart");
     delete this.div.data;
@@ -91,55 +150,46 @@ export class Chart {
     this.figure = null;
   }
 
+  /** Paints the current figure (a newer call while one paints waits for it and paints
+   * the figure current then: one paint in flight, the newest next). Resolves, when the
+   * figure current at the call is on the canvas, with the painter's answer (painter.js). */
   paint() {
+    if (this.painting) return (this.next ||= this.painting.then(() => { this.next = null; return this.paint(); }));
     const { data, layout = {} } = this.figure;
-    const traces = readTraces({ data, layout });
-    for (const tr of traces) if (this.hidden.has(tr.group ?? tr.name)) tr.hidden = true;
-    this.showLegend(traces, layout);
+    this.showLegend(legendEntries({ data, layout }, this.hidden), layout);
     if (!this.size) {
       const r = this.area.getBoundingClientRect();
       this.size = { w: r.width, h: r.height };
     }
     const { w, h } = this.size;
-    const dpr = window.devicePixelRatio || 1;
-    if (this.canvas.width !== Math.round(w * dpr) || this.canvas.height !== Math.round(h * dpr)) {
-      this.canvas.width = Math.round(w * dpr);
-      this.canvas.height = Math.round(h * dpr);
-      this.canvas.style.width = `${w}px`;
-      this.canvas.style.height = `${h}px`;
-    }
-    const ctx = this.canvas.getContext("2d");
-    ctx.setTransform(dpr, 0, 0, dpr, 0, 0);
-    ctx.clearRect(0, 0, w, h);
-    if (w < 20 || h < 20) return;
-    const font = this.font ||= (() => {
-      const cs = getComputedStyle(this.div);
-      return { tick: `12px ${cs.fontFamily}`, color: "#444" };
-    })();
-    const polar = traces.some((tr) => tr.polar);
-    const zoomed = this.zoom && !polar ? { ...layout, xaxis: { ...layout.xaxis, range: this.zoom.x }, yaxis: { ...layout.yaxis, range: this.zoom.y } } : layout;
-    const frame = (polar ? drawPolar : drawCartesian)(ctx, zoomed, traces, w, h, font);
-    ctx.save();
-    if (frame.clip) frame.clip();
-    else { ctx.beginPath(); ctx.rect(frame.area.x, frame.area.y, frame.area.w, frame.area.h); ctx.clip(); }
-    drawTraces(ctx, traces, frame.at, { zeroY: frame.zeroY, atY: frame.atY });
-    ctx.restore();
-    this.frame = { ...frame, traces, polar };
-    this.div.layout = drawnRanges(layout, frame.ranges);
-    this.pts = null;                                   // the hovered points, found when asked
-    for (const k of ["x", "y", "y2"]) {
-      const t = frame.titles[k];
-      setText(this.titles[k], t?.text || "");
-      if (t?.text) Object.assign(this.titles[k].style, { left: `${t.x}px`, top: `${t.y}px` });
-    }
-    this.showNotes(layout, frame.area);
-    this.tip.hidden = true;
+    setIf(this.canvas.style, "width", `${w}px`);
+    setIf(this.canvas.style, "height", `${h}px`);
+    this.font ||= { tick: `12px ${getComputedStyle(this.div).fontFamily}`, color: "#444" };
+    const ask = { figure: { data, layout }, w, h, dpr: window.devicePixelRatio || 1, hidden: [...this.hidden],
+                  zoom: this.zoom, font: this.font };
+    this.painting = this.port.ask("paint", ask).then((out) => {
+      this.plot = out;
+      this.div.layout = drawnRanges(layout, out.ranges);
+      for (const k of ["x", "y", "y2"]) {
+        const t = out.titles[k];
+        setText(this.titles[k], t?.text || "");
+        if (t?.text) place(this.titles[k], t.x, t.y);
+      }
+      this.showNotes(layout, out.area);
+      setIf(this.tip, "hidden", true);
+      return out;
+    }).finally(() => { this.painting = null; });
+    return this.painting;
   }
+
+  /** The canvas's pixels as drawn ({width, height, data}: RGBA rows), for a reader that
+   * checks what the chart shows. */
+  pixels() { return this.port.ask("pixels"); }
 
   /** The legend: one entry per named curve (or group), its line's colour and dash; a
    * click hides or shows the curve (its whole group). Rebuilt only when it changes. */
-  showLegend(traces, layout) {
-    const entries = layout.showlegend === false ? [] : traces.filter((tr) => tr.legend);
+  showLegend(named, layout) {
+    const entries = layout.showlegend === false ? [] : named;
     const key = JSON.stringify(entries.map((tr) => [tr.name, tr.color, tr.dash, tr.lines, tr.markers && tr.marker.symbol, tr.hidden, tr.fill]));
     if (key === this.legendKey) return;
     this.legendKey = key;
@@ -159,7 +209,7 @@ export class Chart {
       });
       return item;
     }));
-    this.legend.hidden = !entries.length;
+    setIf(this.legend, "hidden", !entries.length);
   }
 
   /** The figure's notes placed on the paper (annotations with xref/yref "paper"). */
@@ -172,30 +222,36 @@ export class Chart {
     }
     [...this.notes.children].forEach((n, k) => {
       const a = notes[k];
-      Object.assign(n.style, { left: `${area.x + (a.x ?? 0) * area.w}px`, top: `${area.y + (1 - (a.y ?? 1)) * area.h}px`,
-                               transform: `translate(${a.xanchor === "right" ? "-100%" : a.xanchor === "center" ? "-50%" : "0"}, ${a.yanchor === "top" ? "0" : "-100%"})` });
+      place(n, area.x + (a.x ?? 0) * area.w, area.y + (1 - (a.y ?? 1)) * area.h);
+      setIf(n.style, "transform", `translate(${a.xanchor === "right" ? "-100%" : a.xanchor === "center" ? "-50%" : "0"}, ${a.yanchor === "top" ? "0" : "-100%"})`);
     });
   }
 
   hover(e) {
-    if (!this.frame || this.dragging) return;
+    if (!this.plot?.area || this.dragging) return;
     const r = this.area.getBoundingClientRect();
-    const px = e.clientX - r.left, py = e.clientY - r.top;
-    const { traces, at } = this.frame;
-    this.pts ||= traces.map((tr) => (tr.hover && !tr.hidden ? Array.from(tr.y, (_, i) => at(tr)(i)) : null));
-    const hit = nearest(traces, this.pts, px, py);
-    if (!hit) { this.tip.hidden = true; return; }
-    this.tip.replaceChildren(...hoverText(hit.tr, hit.i).split(/<br\s*\/?>/i).map((line) => el("div", {}, markup(line))));
-    this.tip.style.borderColor = hit.tr.color;
-    this.tip.hidden = false;
-    const left = hit.p[0] + 12 + this.tip.offsetWidth > r.width ? hit.p[0] - 12 - this.tip.offsetWidth : hit.p[0] + 12;
-    Object.assign(this.tip.style, { left: `${Math.max(0, left)}px`, top: `${Math.max(0, hit.p[1] - this.tip.offsetHeight / 2)}px` });
+    const at = { x: e.clientX - r.left, y: e.clientY - r.top };
+    if (this.hovering) { this.hoverNext = at; return; }          // one question in flight, the newest next
+    this.hovering = this.port.ask("hover", at).then((hit) => {
+      if (!hit) { setIf(this.tip, "hidden", true); return; }
+      this.tip.replaceChildren(...hit.lines.map((line) => el("div", {}, markup(line))));
+      this.tip.style.borderColor = hit.color;
+      this.tip.hidden = false;
+      const left = hit.x + 12 + this.tip.offsetWidth > r.width ? hit.x - 12 - this.tip.offsetWidth : hit.x + 12;
+      Object.assign(this.tip.style, { left: `${Math.max(0, left)}px`, top: `${Math.max(0, hit.y - this.tip.offsetHeight / 2)}px` });
+    }).catch(() => {}).finally(() => {
+      this.hovering = null;
+      const next = this.hoverNext;
+      this.hoverNext = null;
+      if (next) this.hover({ clientX: next.x + r.left, clientY: next.y + r.top });
+    });
   }
 
   /** A box zoom on a cartesian plot: the dragged rectangle becomes the axes' ranges. */
   zoomStart(e) {
-    if (!this.frame || this.frame.polar || e.button !== 0) return;
-    const r = this.area.getBoundingClientRect(), a = this.frame.area;
+    const a = this.plot?.area;
+    if (!a || this.plot.polar || e.button !== 0) return;
+    const r = this.area.getBoundingClientRect();
     const x0 = e.clientX - r.left, y0 = e.clientY - r.top;
     if (x0 < a.x || x0 > a.x + a.w || y0 < a.y || y0 > a.y + a.h) return;
     this.area.setPointerCapture(e.pointerId);
@@ -213,14 +269,14 @@ export class Chart {
       this.area.removeEventListener("pointermove", move);
       this.area.removeEventListener("pointerup", up);
       this.dragging = false;
-      this.box.hidden = true;
       const [x1, y1] = move(ev);
       this.box.hidden = true;
       if (Math.abs(x1 - x0) < ZOOM_MIN_PX || Math.abs(y1 - y0) < ZOOM_MIN_PX) return;
-      const { x, y } = this.frame;
-      const unit = (s, p) => (s.log ? Math.log10(s.value(p)) : s.value(p));
-      this.zoom = { x: [unit(x, Math.min(x0, x1)), unit(x, Math.max(x0, x1))], y: [unit(y, Math.max(y0, y1)), unit(y, Math.min(y0, y1))] };
-      this.paint();
+      this.zooming = this.port.ask("zoom", { box: [x0, y0, x1, y1] }).then((ranges) => {
+        if (!ranges) return null;
+        this.zoom = ranges;
+        return this.paint();
+      }).finally(() => { this.zooming = null; });
     };
     this.area.addEventListener("pointermove", move);
     this.area.addEventListener("pointerup", up);

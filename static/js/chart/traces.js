@@ -44,34 +44,50 @@ export function withAlpha(color, a) {
 
 const num = (v, d) => (Number.isFinite(v) ? v : d);
 
+/** A trace's style and roles, its arrays left as sent. */
+function styleOf(t, i, colorway) {
+  const polar = t.type === "scatterpolar";
+  const color = t.line?.color || t.marker?.color || colorway[i % colorway.length];
+  const mode = t.mode || "lines";
+  const width = num(t.line?.width, 2);
+  return {
+    index: i, t, polar,
+    axis: t.yaxis === "y2" ? "y2" : "y",
+    name: t.name ?? `trace ${i}`, group: t.legendgroup ?? null,
+    legend: t.showlegend !== false && t.name != null,
+    hidden: t.visible === "legendonly" || t.visible === false,
+    lines: mode.includes("lines") && width > 0, markers: mode.includes("markers"),
+    color, width, dash: t.line?.dash || "solid",
+    marker: { size: num(t.marker?.size, 6), symbol: t.marker?.symbol || "circle", color: t.marker?.color || color },
+    fill: t.fill || (t.stackgroup ? "tonexty" : "none"), fillcolor: t.fillcolor || withAlpha(color, t.stackgroup ? 0.5 : 0.25),
+    stack: t.stackgroup || null,
+    hover: t.hoverinfo !== "skip" && t.hoverinfo !== "none",
+    template: t.hovertemplate || null, customdata: t.customdata || null, text: t.text ?? null,
+  };
+}
+
 /** The figure's traces as the chart draws them. */
 export function readTraces(figure) {
   const colorway = figure.layout?.colorway || COLORWAY;
   const out = figure.data.map((t, i) => {
-    const polar = t.type === "scatterpolar";
-    const color = t.line?.color || t.marker?.color || colorway[i % colorway.length];
-    const mode = t.mode || "lines";
-    const width = num(t.line?.width, 2);
+    const style = styleOf(t, i, colorway);
     return {
-      index: i, t, polar,
-      x: numbers(polar ? t.theta : t.x) || [], y: numbers(polar ? t.r : t.y) || [],
-      axis: t.yaxis === "y2" ? "y2" : "y",
-      name: t.name ?? `trace ${i}`, group: t.legendgroup ?? null,
-      legend: t.showlegend !== false && t.name != null,
-      hidden: t.visible === "legendonly" || t.visible === false,
-      lines: mode.includes("lines") && width > 0, markers: mode.includes("markers"),
-      color, width, dash: t.line?.dash || "solid",
-      marker: { size: num(t.marker?.size, 6), symbol: t.marker?.symbol || "circle", color: t.marker?.color || color },
-      fill: t.fill || (t.stackgroup ? "tonexty" : "none"), fillcolor: t.fillcolor || withAlpha(color, t.stackgroup ? 0.5 : 0.25),
-      stack: t.stackgroup || null,
+      ...style,
+      x: numbers(style.polar ? t.theta : t.x) || [], y: numbers(style.polar ? t.r : t.y) || [],
       error: t.error_y && t.error_y.visible !== false ? { array: numbers(t.error_y.array) || [],
-        color: t.error_y.color || color, thickness: num(t.error_y.thickness, 1.5), width: num(t.error_y.width, 3) } : null,
-      hover: t.hoverinfo !== "skip" && t.hoverinfo !== "none",
-      template: t.hovertemplate || null, customdata: t.customdata || null, text: t.text ?? null,
+        color: t.error_y.color || style.color, thickness: num(t.error_y.thickness, 1.5), width: num(t.error_y.width, 3) } : null,
     };
   });
   stack(out);
   return out;
+}
+
+/** The legend's entries (named traces, each hidden where `hidden` holds its name or
+ * group), without reading the arrays. */
+export function legendEntries(figure, hidden = new Set()) {
+  const colorway = figure.layout?.colorway || COLORWAY;
+  return figure.data.map((t, i) => styleOf(t, i, colorway)).filter((tr) => tr.legend)
+    .map((tr) => ({ ...tr, hidden: tr.hidden || hidden.has(tr.group ?? tr.name) }));
 }
 
 /** Traces of one stackgroup are drawn summed, each filled down to the one before it

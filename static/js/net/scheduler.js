@@ -30,21 +30,11 @@ import { send } from "./batch.js";
 
 const FRAME_BUDGET_MS = 10;
 const MAX_IN_FLIGHT = 2;
-// Data-only redraws of answers that land close together are written in one frame: a
-// frame with DOM changes costs ~5 ms of style, layout, paint and compositing whatever
-// their number. The frame waits until the requests sent with it have landed, GATE_MS at most.
-const GATE_MS = 20;
-const SAME_CHANGE_MS = 2;
-// While a slider is held, data-only redraws come at most every HELD_FRAME_MS (30 a
-// second, all panels in the same frame): each frame that changes the plots costs ~8 ms
-// of style, layout, paint and commit, and at 60 a second the input events of the drag
-// would wait behind them. Requests go out no more often (the newest state when the
-// interval is up): at every input event, most answers would come to be dropped unseen,
-// each having cost the page ~2 ms to send and read and the server ~8 ms of its 2 cores.
+// While a slider is held, requests go out at most every HELD_FRAME_MS (the newest state
+// when the interval is up): at every input event, most answers would come to be dropped
+// unseen, each having cost the page ~2 ms to send and read and the server ~8 ms of its
+// 2 cores; 30 redraws a second is a smooth drag.
 const HELD_FRAME_MS = 33;
-// Animation frames come every ~16.7 ms with a millisecond or so of jitter: a held redraw
-// due at HELD_FRAME_MS takes the frame that arrives up to this much before it, not the next.
-const FRAME_JITTER_MS = 2;
 // Busy answers in a row before the server's message is shown as the panel's error, and
 // the longest wait taken from a Retry-After (a longer one is asked again sooner).
 const MAX_BUSY_TRIES = 8;
@@ -57,7 +47,6 @@ export class Scheduler {
     this.flying = new Set();     // panels with a request in flight
     this.onIdle = () => {};
     this.held = () => false;     // a slider held: answers kept in memory may serve (batch.js)
-    this.heldFrame = -Infinity;  // when the last data-only redraw of a held slider was written
     this.deferred = new Set();   // panels whose request waits for the held interval
     this.sentAt = -Infinity;     // when the last task's requests went out
     this.asking = false;         // a request went out in this task: others join it
@@ -197,37 +186,19 @@ export class Scheduler {
     panel.waiting = null;
   }
 
-  /** A curve panel's answer drawn by its chart in the next gated animation frame (the
-   * newest of those that land before it); false when the answer is drawn in our frame. */
+  /** A curve panel's answer drawn by its chart at once (chart.js: at most once an
+   * animation frame, the newest); false when the answer is drawn in our frame. */
   quick(panel, r) {
-    const p = panel.quick?.(r.drawable, () => this.gate(r.born ?? -Infinity));
+    const p = panel.quick?.(r.drawable);
     if (!p) return false;
     panel.drawnKey = r.key;
     const a = p.catch(() => {}).finally(() => {
-      if (panel.animating === a) panel.animating = null;
+      if (panel.framed === a) panel.framed = null;
       if (this.ready.size) this.requestFrame();
       this.checkIdle();
     });
-    panel.animating = a;
+    panel.framed = a;
     return true;
-  }
-
-  /** The animation frame to write a data-only redraw in: the first in which no request
-   * sent with its own (by one change: within SAME_CHANGE_MS) is still in flight, GATE_MS
-   * after the call at most. Newer requests (a drag's next move) are not waited for. */
-  gate(born) {
-    const t0 = performance.now();
-    const sibling = () => [...this.flying].some((p) => p.flights.some((f) => Math.abs(f.born - born) <= SAME_CHANGE_MS));
-    // frames by their time (the same for every callback of one frame)
-    const early = (ts) => this.held() && ts !== this.heldFrame && ts < this.heldFrame + HELD_FRAME_MS - FRAME_JITTER_MS;
-    return new Promise((resolve) => {
-      const tick = (ts) => {
-        if (early(ts) || (sibling() && performance.now() - t0 < GATE_MS)) return requestAnimationFrame(tick);
-        if (this.held()) this.heldFrame = ts;
-        resolve();
-      };
-      requestAnimationFrame(tick);
-    });
   }
 
   requestFrame() {
@@ -238,7 +209,7 @@ export class Scheduler {
     this.frame = 0;
     const t0 = performance.now();
     for (const [panel, r] of [...this.ready]) {
-      if (panel.drawing || panel.animating) continue;   // its last draw has not finished
+      if (panel.drawing || panel.framed) continue;   // its last draw has not finished
       if (performance.now() - t0 > FRAME_BUDGET_MS) break;
       this.ready.delete(panel);
       if (r.error) {
@@ -263,7 +234,7 @@ export class Scheduler {
 
   /** Requests in flight, answers waiting, draws under way (for tests and the bench). */
   pending(panels) {
-    return panels.filter((p) => p.inflight || p.dirty || p.drawing || p.animating || p.waiting || this.ready.has(p)).length;
+    return panels.filter((p) => p.inflight || p.dirty || p.drawing || p.framed || p.waiting || this.ready.has(p)).length;
   }
 
   checkIdle() {
