@@ -9,6 +9,7 @@ import { axisRange } from "./cartesian.js";
 
 const RAD = Math.PI / 180;
 const LABEL_ROOM = { x: 40, y: 26 };     // px beside and above the circle for the angle labels
+const OUTER_ROOM = 10;                   // px: a radial label this close to the circle would meet an angle's
 
 /** The sector's extent on the unit circle (centre included): [xmin, xmax, ymin, ymax], y up. */
 function sectorBox([a0, a1]) {
@@ -73,6 +74,7 @@ export function drawPolar(ctx, layout, traces, w, h, font) {
   ctx.textAlign = "left";
   for (const t of rTicks) {
     const p = r.px(t.v);
+    if (p > R - OUTER_ROOM) continue;       // the outer circle's angle label is there
     ctx.fillText(t.label, cx + p * Math.cos(ra) + 4, cy - p * Math.sin(ra));
   }
   ctx.strokeStyle = "#444";
