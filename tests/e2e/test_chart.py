@@ -217,3 +217,18 @@ def test_the_page_draws_the_curves_of_its_answer(page, page_log):
     after = curve()
     assert len(after ^ before) > len(before) / 4
     assert page_log.problems() == []
+
+
+def test_a_hidden_curve_stays_hidden_when_its_name_moves_with_a_slider(blank):
+    """A legend entry that carries a number ("E_avg = 0.049") is renamed at every move:
+    a curve the reader hid stays hidden, and the entry reads the new number."""
+    def fig(value):
+        return {"data": [line([0, 1], [0.2, 0.8], name="model"),
+                         line([0, 1], [value, value], color="#0000e6", name=f"E<sub>avg</sub> = {value}")],
+                "layout": {"xaxis": {"range": [0, 1]}, "yaxis": {"range": [0, 1]}}}
+    setup(blank, fig(0.25))
+    blank.locator("#chart-test .chart-legend-item").nth(1).click()
+    blank.wait_for_function("() => !window.__chart.painting")
+    setup(blank, fig(0.5))
+    assert blank.evaluate(FIND_JS, BLUE) == []
+    assert blank.locator("#chart-test .chart-legend-item").nth(1).inner_text() == "Eavg = 0.5"

@@ -11,9 +11,9 @@
  * legend's hidden curves stay while the figure's revision does. Exports draw the same
  * figure with Plotly (exports.js).
  */
-import { el, setIf } from "../base/dom.js";
+import { el, setIf, replaceText } from "../base/dom.js";
 import { markup } from "./text.js";
-import { legendEntries } from "./traces.js";
+import { legendEntries, toggleKey } from "./traces.js";
 import { Painter } from "./painter.js";
 
 const ZOOM_MIN_PX = 6;       // a drag shorter than this either way is a click, not a zoom
@@ -33,11 +33,16 @@ function place(node, x, y) {
   setIf(node.style, "top", `${Math.round(y)}px`);
 }
 
+// the text each title, note and legend entry shows (as markup): rewritten only on a change
+const shownText = new WeakMap();
+
+/** Shows Plotly's markup `text` in `node`, rewriting only the text that changed in place
+ * (a legend entry whose number moves with a slider: no new nodes to style and lay out). */
 function setText(node, text) {
-  if (node.dataset.text === text) return;
-  node.dataset.text = text;
-  node.replaceChildren(markup(text));
-  node.hidden = !text;
+  if (shownText.get(node) === text) return;
+  shownText.set(node, text);
+  replaceText(node, markup(text));
+  setIf(node, "hidden", !text);
 }
 
 /** The layout with the ranges its axes were drawn over (fitted to the data where it gave
@@ -187,11 +192,15 @@ export class Chart {
   pixels() { return this.port.ask("pixels"); }
 
   /** The legend: one entry per named curve (or group), its line's colour and dash; a
-   * click hides or shows the curve (its whole group). Rebuilt only when it changes. */
+   * click hides or shows the curve (its whole group). Built again only when its entries'
+   * kinds change; names that change (a number in one) are rewritten in place. */
   showLegend(named, layout) {
     const entries = layout.showlegend === false ? [] : named;
-    const key = JSON.stringify(entries.map((tr) => [tr.name, tr.color, tr.dash, tr.lines, tr.markers && tr.marker.symbol, tr.hidden, tr.fill]));
-    if (key === this.legendKey) return;
+    const key = JSON.stringify(entries.map((tr) => [toggleKey(tr), tr.color, tr.dash, tr.lines, tr.markers && tr.marker.symbol, tr.hidden, tr.fill]));
+    if (key === this.legendKey) {
+      [...this.legend.children].forEach((item, k) => setText(item.lastChild, entries[k].name));
+      return;
+    }
     this.legendKey = key;
     this.legend.replaceChildren(...entries.map((tr) => {
       const swatch = tr.lines ? el("span", { class: "chart-swatch" })
@@ -200,10 +209,12 @@ export class Chart {
         swatch.style.borderTopColor = tr.color;
         swatch.style.borderTopStyle = tr.dash === "solid" ? "solid" : tr.dash === "dot" ? "dotted" : "dashed";
       } else swatch.style.color = tr.fill !== "none" ? tr.fillcolor : tr.marker.color;
+      const text = el("span", { class: "chart-legend-text" });
+      setText(text, tr.name);
       const item = el("button", { type: "button", class: `chart-legend-item${tr.hidden ? " off" : ""}`,
-                                  title: tr.hidden ? "Show this curve" : "Hide this curve" }, swatch, el("span", { class: "chart-legend-text" }, markup(tr.name)));
+                                  title: tr.hidden ? "Show this curve" : "Hide this curve" }, swatch, text);
       item.addEventListener("click", () => {
-        const k = tr.group ?? tr.name;
+        const k = toggleKey(tr);
         if (this.hidden.has(k)) this.hidden.delete(k); else this.hidden.add(k);
         this.paint();
       });

@@ -4,7 +4,7 @@
  * the pixels. It touches no page element, so it runs in either place unchanged; every
  * request and answer is a plain object (worker.js passes them as messages).
  */
-import { readTraces } from "./traces.js";
+import { readTraces, toggleKey } from "./traces.js";
 import { drawTraces } from "./marks.js";
 import { drawCartesian } from "./cartesian.js";
 import { drawPolar } from "./polar.js";
@@ -16,14 +16,14 @@ export class Painter {
     this.frame = null;
   }
 
-  /** {figure, w, h, dpr, hidden: [names], zoom, font} → what the page shows beside the
+  /** {figure, w, h, dpr, hidden: [toggle keys], zoom, font} → what the page shows beside the
    * canvas: the plot area, the axes' titles and where, the ranges drawn, and when the
    * canvas was painted (paintedAt). */
   paint({ figure, w, h, dpr, hidden = [], zoom = null, font }) {
     const layout = figure.layout || {};
     const traces = readTraces({ data: figure.data, layout });
     const off = new Set(hidden);
-    for (const tr of traces) if (off.has(tr.group ?? tr.name)) tr.hidden = true;
+    for (const tr of traces) if (off.has(toggleKey(tr))) tr.hidden = true;
     const width = Math.round(w * dpr), height = Math.round(h * dpr);
     if (this.canvas.width !== width || this.canvas.height !== height) Object.assign(this.canvas, { width, height });
     const ctx = this.canvas.getContext("2d");

@@ -82,12 +82,16 @@ export function readTraces(figure) {
   return out;
 }
 
+/** What a legend click hides or shows: the trace's group, else the trace itself (by its
+ * place: its name may carry a number that moves with a slider, "E_avg = 0.0489"). */
+export const toggleKey = (tr) => tr.group ?? `#${tr.index}`;
+
 /** The legend's entries (named traces, each hidden where `hidden` holds its name or
  * group), without reading the arrays. */
 export function legendEntries(figure, hidden = new Set()) {
   const colorway = figure.layout?.colorway || COLORWAY;
   return figure.data.map((t, i) => styleOf(t, i, colorway)).filter((tr) => tr.legend)
-    .map((tr) => ({ ...tr, hidden: tr.hidden || hidden.has(tr.group ?? tr.name) }));
+    .map((tr) => ({ ...tr, hidden: tr.hidden || hidden.has(toggleKey(tr)) }));
 }
 
 /** Traces of one stackgroup are drawn summed, each filled down to the one before it
