@@ -180,7 +180,7 @@ export class Chart {
         setText(this.titles[k], t?.text || "");
         if (t?.text) place(this.titles[k], t.x, t.y);
       }
-      this.showNotes(layout, out.area);
+      if (out.area) this.showNotes(layout, out.area);       // none on a hidden (zero-size) plot
       setIf(this.tip, "hidden", true);
       return out;
     }).finally(() => { this.painting = null; });
