@@ -23,9 +23,6 @@ const GLYPHS = { circle: "●", square: "■", diamond: "◆", "triangle-up": "�
                  "circle-open": "○", "square-open": "□", "diamond-open": "◇", "triangle-up-open": "△", "triangle-down-open": "▽" };
 const glyph = (symbol) => GLYPHS[Array.isArray(symbol) ? symbol[0] : symbol] || "●";
 
-/** Plotly's title text of an axis or figure, or "". */
-const textOf = (t) => String((typeof t === "string" ? t : t?.text) || "");
-
 /** A text placed at (x, y) of the plot, its style written only when it moved: a style
  * set to what it holds is still a change to the browser (style and layout again). */
 function place(node, x, y) {
