@@ -87,7 +87,8 @@ def test_a_line_is_drawn_where_its_values_are_on_the_axes_given(blank):
 def test_a_log_axis_places_decades_evenly_and_labels_them_as_powers(blank):
     """On a log y axis over [10⁻², 10²] (range in decades, as the API sends it), 1 is
     half-way and 10 three quarters of the way up; the labels read 10⁻², 10⁻¹, 1, 10, 10²."""
-    fig = {"data": [line([0, 1], [1, 1]), line([0, 1], [10, 10], color="#0000e6")],
+    fig = {"data": [line([0, 1], [1, 1]), line([0, 1], [10, 10], color="#0000e6"),
+                    line([0, 1], [0.01, 0.01], color="#00aa00"), line([0, 1], [100, 100], color="#00aa00")],
            "layout": {"xaxis": {"range": [0, 1]}, "yaxis": {"type": "log", "range": [-2, 2], "dtick": 1}}}
     setup(blank, fig)
     red, _ = rows_and_cols(blank, RED)
@@ -101,6 +102,10 @@ def test_a_log_axis_places_decades_evenly_and_labels_them_as_powers(blank):
         const s = new Scale({ type: 'log', range: [-2, 2] }, [300, 0]); return [s.px(1), s.px(10), s.px(100)]; }""")
     assert span == [150, 75, 0]
     assert one - ten > 10, (one, ten)
+    green, _ = rows_and_cols(blank, [0, 170, 0])        # the lines at 10⁻² and 10² bound the area
+    top, bottom = min(green), max(green)
+    assert abs(one - (top + bottom) / 2) <= 2, (one, top, bottom)
+    assert abs(ten - (top + 0.25 * (bottom - top))) <= 2, (ten, top, bottom)
 
 
 def test_linear_ticks_are_round_and_angles_keep_their_step(blank):

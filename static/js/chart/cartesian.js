@@ -33,7 +33,7 @@ function dataRange(traces, pick, log, axis) {
 export function axisRange(axis, traces, pick, name) {
   if (Array.isArray(axis.range) && axis.range.every(Number.isFinite) && axis.range[0] !== axis.range[1]) return axis.range;
   const log = axis.type === "log";
-  let r = dataRange(traces, pick, log, name) || (log ? [0, 1] : [0, 1]);
+  let r = dataRange(traces, pick, log, name) || [0, 1];      // nothing to show: 0-1 (1-10 on a log axis)
   if (!log && axis.rangemode === "tozero") r = [Math.min(0, r[0]), Math.max(0, r[1])];
   const span = r[1] - r[0] || Math.abs(r[0]) || 1;
   const pad = name === "x" ? 0 : 0.05 * span;
@@ -54,17 +54,16 @@ export function drawCartesian(ctx, layout, traces, w, h, font) {
   ctx.font = font.tick;
   const top = 10, bottom = TICK + PAD + 12 + (xa.title?.text ? TITLE + 4 : 4);
   const ph = Math.max(10, h - top - bottom);
-  const yScale0 = new Scale({ ...ya, range: ranges.y }, [top + ph, top]);
-  const yTicks = yScale0.ticks(ph, Y_SPACING);
+  const y = new Scale({ ...ya, range: ranges.y }, [top + ph, top]);
+  const yTicks = y.ticks(ph, Y_SPACING);
   const labelW = (ticks) => Math.max(0, ...ticks.map((t) => ctx.measureText(t.label).width));
-  const y2Scale0 = two ? new Scale({ ...y2a, range: ranges.y2 }, [top + ph, top]) : null;
-  const y2Ticks = two ? y2Scale0.ticks(ph, Y_SPACING) : [];
+  const y2 = two ? new Scale({ ...y2a, range: ranges.y2 }, [top + ph, top]) : null;
+  const y2Ticks = two ? y2.ticks(ph, Y_SPACING) : [];
   const left = Math.ceil(TICK + PAD + labelW(yTicks) + (ya.title?.text ? TITLE + 6 : 4));
   const right = two ? Math.ceil(TICK + PAD + labelW(y2Ticks) + (y2a.title?.text ? TITLE + 6 : 4)) : 18;
   const pw = Math.max(10, w - left - right);
   const area = { x: left, y: top, w: pw, h: ph };
   const x = new Scale({ ...xa, range: ranges.x }, [left, left + pw]);
-  const y = yScale0, y2 = y2Scale0;
   const xTicks = x.ticks(pw, X_SPACING);
 
   // grid

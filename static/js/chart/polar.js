@@ -9,7 +9,8 @@ import { axisRange } from "./cartesian.js";
 
 const RAD = Math.PI / 180;
 const LABEL_ROOM = { x: 40, y: 26 };     // px beside and above the circle for the angle labels
-const OUTER_ROOM = 10;                   // px: a radial label this close to the circle would meet an angle's
+const OUTER_ROOM = 10;
+const RADIAL_SPACING = 26;               // px between radial labels, about (one line of 12 px text and a gap)                   // px: a radial label this close to the circle would meet an angle's
 
 /** The sector's extent on the unit circle (centre included): [xmin, xmax, ymin, ymax], y up. */
 function sectorBox([a0, a1]) {
@@ -44,7 +45,7 @@ export function drawPolar(ctx, layout, traces, w, h, font) {
   // background and grid
   ctx.fillStyle = polar.bgcolor || "#fff";
   ctx.beginPath(); ctx.moveTo(cx, cy); ctx.arc(cx, cy, R, a0, a1); ctx.closePath(); ctx.fill();
-  const rTicks = r.ticks(R, 26).filter((t) => r.px(t.v) > 0.5);
+  const rTicks = r.ticks(R, RADIAL_SPACING).filter((t) => r.px(t.v) > 0.5);
   ctx.lineWidth = 1;
   ctx.strokeStyle = rad.gridcolor || "#e5e5e5";
   ctx.beginPath();

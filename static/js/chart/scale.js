@@ -41,6 +41,13 @@ export function niceStep(span, count) {
 // a tick at the end of a range within this fraction of a step of it is on the axis
 // (the range's ends are computed values: 90 may arrive as 89.99999999999999)
 const END_SLACK = 1e-9;
+// A given step is kept down to labels this fraction of the spacing apart (a figure's
+// 15° steps on a narrow plot); below it the step doubles.
+const GIVEN_STEP_CROWDING = 0.6;
+// The 2 and 5 between decades are labelled when the gaps they leave (log 5 − log 2 ≈ 0.40
+// and 1 − log 5 ≈ 0.30 of a decade) are this fraction of the spacing wide: labels narrower
+// than a decade's ("2" against "10⁻²") may sit a little closer.
+const DIGIT_GAP = { twoToFive: 0.9, fiveToTen: 0.7 };
 
 export class Scale {
   /** axis: {type, range: [lo, hi] (decades on a log axis), dtick, nticks}; span: [p0, p1]
@@ -76,7 +83,7 @@ export class Scale {
     if (!(span > 0)) return [];
     const count = this.nticks ? Math.min(this.nticks, pixels / spacing) : pixels / spacing;
     let step = typeof this.dtick === "number" && this.dtick > 0 ? this.dtick : niceStep(span, count);
-    while (span / step > Math.max(2, pixels / (spacing * 0.6))) step *= 2;   // a given step too dense here
+    while (span / step > Math.max(2, pixels / (spacing * GIVEN_STEP_CROWDING))) step *= 2;
     const out = [];
     const slack = step * END_SLACK;
     for (let k = Math.ceil((this.lo - slack) / step); k * step <= this.hi + slack; k++) {
@@ -100,7 +107,8 @@ export class Scale {
     // the digits between decades where there is room ("D2": 2 and 5; "D1": every one)
     const digits = this.dtick === "D1" ? [2, 3, 4, 5, 6, 7, 8, 9] : [2, 5];
     if (every === 1 && (this.dtick === "D1" || this.dtick === "D2" || this.dtick === undefined)
-        && perDecade * (Math.log10(5) - Math.log10(2)) > spacing * 0.9 && perDecade * (1 - Math.log10(5)) > spacing * 0.7) {
+        && perDecade * (Math.log10(5) - Math.log10(2)) > spacing * DIGIT_GAP.twoToFive
+        && perDecade * (1 - Math.log10(5)) > spacing * DIGIT_GAP.fiveToTen) {
       for (let n = Math.floor(this.lo) - 1; n <= Math.ceil(this.hi); n++) {
         for (const d of digits) {
           const u = n + Math.log10(d);
