@@ -18,6 +18,9 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 #: `brdf-explorer serve`'s default port, never taken here (a developer's server may be on it)
 DEFAULT_PORT = 8000
+#: how often a starting server is asked whether it answers: a start takes 1-12 s, and a
+#: second's poll left each test waiting half a second on average past it
+POLL_SECONDS = 0.2
 
 
 def free_port() -> int:
@@ -49,7 +52,7 @@ def wait_until_up(url: str, proc: subprocess.Popen, seconds: float) -> None:
         except OSError:
             assert proc.poll() is None, proc.stderr.read().decode() if proc.stderr else "server exited"
             assert time.monotonic() < deadline, f"server did not answer {url} within {seconds} s"
-            time.sleep(1)
+            time.sleep(POLL_SECONDS)
 
 
 def stop(proc: subprocess.Popen, seconds: float = 30) -> None:
