@@ -11,8 +11,10 @@ threads, where the GIL let one of them starve every slider request of its worker
   - a job that does not fit *now* (queue full, or the wait ahead plus its cost past the
     budget): :class:`~app.errors.Busy` (503 + Retry-After);
 * an admitted job is cut at the request's budget (what is left of BRDF_MAX_SECONDS, or all
-  of it outside a request): its worker process is killed and replaced, the others keep
-  running; the caller gets Busy (503) saying it was stopped;
+  of it outside a request): the caller gets Busy (503) saying it was stopped, and the job
+  is left on its process to end by itself (it checks the same budget); the next job on
+  that process waits for it, and one still running RUNAWAY_SECONDS later is killed and
+  its process replaced, the others keep running;
 * :meth:`HeavyPool.close` kills every worker at once, so a graceful shutdown ends within
   its timeout whatever runs (concurrent.futures' own exit hook joins running jobs: that
   was the SIGTERM that hung until SIGKILL).
@@ -33,7 +35,7 @@ import os
 import threading
 import time
 import traceback
-from concurrent.futures import ProcessPoolExecutor
+from concurrent.futures import Future, ProcessPoolExecutor
 from concurrent.futures.process import BrokenProcessPool
 
 from pydantic import ValidationError
@@ -53,6 +55,15 @@ KILL_GRACE_SECONDS = 0.5
 #: probe needs ~0.1-0.3 s, which a kill at the budget itself took from a tiny budget);
 #: the rest of cost.GRACE_SECONDS is for sending the answer
 KILL_AFTER_SECONDS = 0.5
+#: seconds a job whose caller stopped waiting for it (its budget ran out) is left to end
+#: by itself before its process is killed. A job cuts itself at its budget (between
+#: tiles, rows, orders: integrate/budget.py), so it usually ends a moment later; killing
+#: it at once threw away a warmed process whose replacement costs ~3 s of CPU (an
+#: interpreter importing the application, numba and the default loops: jobs.warm_up)
+#: and left the pool without a worker meanwhile — on a loaded machine, where the niced
+#: job is late, at nearly every request with a small budget. A job that never checks its
+#: budget is still killed, this much later.
+RUNAWAY_SECONDS = 2.0
 #: scheduling niceness added to each worker (man 2 nice): on a machine with as many busy
 #: processes as cores, the kernel gives the server's own process (cheap requests) the CPU
 #: first; without it a heavy job took its core's share from the event loop (cheap p50
@@ -81,6 +92,10 @@ class _Worker:
         self.ready = self.executor.submit(int)
         self.start_seconds: float | None = None
         self.ready.add_done_callback(self._measure)
+        #: the job a caller left running (its budget ran out), and when it counts as a
+        #: runaway (perf_counter): the next job waits for it to end (HeavyPool._drained)
+        self.leftover: Future | None = None
+        self.runaway_at = math.inf
 
     def _measure(self, _future) -> None:
         self.start_seconds = time.perf_counter() - self.spawned
@@ -99,6 +114,15 @@ class _Worker:
         elif processes:
             threading.Thread(target=_reap, args=(processes,), daemon=True).start()
         self.executor.shutdown(wait=False, cancel_futures=True)
+
+
+def _observed(job: Future) -> asyncio.Future:
+    """``job`` as an awaitable of this loop whose end is always looked at: a job left
+    running and then killed ends in BrokenProcessPool after its waiter has gone, which
+    asyncio would log as an exception never retrieved."""
+    waited = asyncio.wrap_future(job)
+    waited.add_done_callback(lambda f: f.cancelled() or f.exception())
+    return waited
 
 
 def _reap(processes) -> None:
@@ -172,9 +196,19 @@ class HeavyPool:
         kill_at = start + seconds + KILL_AFTER_SECONDS
         worker = await self._take(kill_at)
         self._busy.add(worker)
-        started, healthy = time.perf_counter(), False
+        started, healthy, job = time.perf_counter(), False, None
         loop = asyncio.get_running_loop()
         try:
+            if worker.leftover is not None:
+                healthy = True    # kept while the job left on it ends by itself ...
+                try:
+                    await self._drained(worker, kill_at - KILL_AFTER_SECONDS - cost)
+                except Busy:      # ... unless it died or ran past RUNAWAY_SECONDS
+                    left = worker.leftover
+                    healthy = not (left.done() and left.exception() is not None) \
+                        and time.perf_counter() < worker.runaway_at
+                    raise
+                healthy = False
             if not worker.ready.done():
                 healthy = True    # a starting worker left (refused, a client gone) is kept
                 try:
@@ -186,9 +220,10 @@ class HeavyPool:
             if worker.start_seconds is not None:
                 self._start_seconds = worker.start_seconds
             try:      # a worker that died while idle refuses the job here, not in the await
-                future = loop.run_in_executor(worker.executor, _call, start, seconds,
-                                              cost_model.memory_limit(), fn, args)
-                outcome = await asyncio.wait_for(future, max(0.0, kill_at - time.perf_counter()))
+                job = worker.executor.submit(_call, start, seconds, cost_model.memory_limit(), fn, args)
+                # shielded: the wait ends at kill_at, the job may go on (left, below)
+                outcome = await asyncio.wait_for(asyncio.shield(_observed(job)),
+                                                 max(0.0, kill_at - time.perf_counter()))
             except TimeoutError:
                 raise Busy(f"this work ran past the time budget (BRDF_MAX_SECONDS="
                            f"{seconds:g}) and was stopped; ask for less, or retry "
@@ -199,11 +234,42 @@ class HeavyPool:
                            "retry with less", retry_after=self._retry_after(),
                            what="heavy work pool") from None
             healthy = True
-        finally:                  # a cut, a crash, a client gone or a shutdown: a new worker
+        finally:
             self._busy.discard(worker)
-            self._give(worker) if healthy else self._renew(worker)
+            if not healthy and job is not None and not job.done() and not self._closed:
+                # its budget ran out (or its client went) while the job runs: it will
+                # likely cut itself in a moment, so the process is kept, the job left on it
+                worker.leftover, worker.runaway_at = job, kill_at + RUNAWAY_SECONDS
+                loop.call_later(kill_at + RUNAWAY_SECONDS - time.perf_counter(), self._end_runaway, worker, job)
+                self._give(worker)
+            else:                 # a crash or a shutdown: a new worker
+                self._give(worker) if healthy else self._renew(worker)
         self._mean_seconds += MEAN_WEIGHT * (time.perf_counter() - started - self._mean_seconds)
         return _unpack(outcome, request_budget)
+
+    async def _drained(self, worker: _Worker, until: float) -> None:
+        """Wait for the job left on ``worker`` to end, until ``until`` (the latest moment
+        the new job could start and still end within its budget) or the left job's
+        runaway time, whichever comes first; Busy after."""
+        left = worker.leftover
+        try:
+            await asyncio.wait_for(asyncio.shield(_observed(left)),
+                                   max(0.0, min(until, worker.runaway_at) - time.perf_counter()))
+        except TimeoutError:
+            raise Busy("the previous heavy job is still ending; retry in a moment",
+                       retry_after=1, what="heavy work pool") from None
+        except BrokenProcessPool:
+            raise Busy("the heavy-work process ended; retry", retry_after=START_RETRY_SECONDS,
+                       what="heavy work pool") from None
+        worker.leftover, worker.runaway_at = None, math.inf
+
+    def _end_runaway(self, worker: _Worker, job: Future) -> None:
+        """RUNAWAY_SECONDS after its caller left: the job still running on an idle worker
+        is killed, and the worker replaced (a worker taken meanwhile is the taker's)."""
+        if worker.leftover is job and not job.done() and worker in self._idle:
+            self._idle.remove(worker)
+            self._running += 1
+            self._renew(worker)
 
     async def _started(self, worker: _Worker, until: float) -> None:
         """Wait for ``worker``'s start (spawned at startup or after a cut: ~1-8 s, an

@@ -66,3 +66,15 @@ def resident_step_of_compiled_work() -> float:
     l = np.tile([0.0, 0.6, 0.8], (10_000, 1))
     kernels.f(brdf, l, l)
     return rss() - before
+
+
+def nap(seconds: float) -> float:
+    """A job that ends by itself after ``seconds`` (sleeping, not checking any budget)."""
+    time.sleep(seconds)
+    return seconds
+
+
+def pid() -> int:
+    """The process that ran this job."""
+    import os
+    return os.getpid()

@@ -9,6 +9,7 @@ nothing else as they start (warm=None), so a worker starts in ~1 s.
 from __future__ import annotations
 
 import asyncio
+import os
 import statistics
 import sys
 import time
@@ -18,9 +19,9 @@ import pytest
 from pydantic import BaseModel, Field
 
 from app.errors import Busy, ParameterError, TooLarge
-from app.work.pool import WORKER_NICENESS, HeavyPool, WorkerError
-from tests.robustness.pool_jobs import (cheap, resident_growth_after_large_arrays, resident_step_of_compiled_work,
-                                         spin, square)
+from app.work.pool import KILL_AFTER_SECONDS, RUNAWAY_SECONDS, WORKER_NICENESS, HeavyPool, WorkerError
+from tests.robustness.pool_jobs import (cheap, nap, pid, resident_growth_after_large_arrays,
+                                         resident_step_of_compiled_work, spin, square)
 
 
 class Alpha(BaseModel):
@@ -136,6 +137,47 @@ def test_an_overrun_is_cut_and_its_worker_replaced():
         pool.close()
 
 
+def test_a_job_that_ends_soon_after_its_budget_keeps_its_process():
+    """The caller of a job past its budget gets its 503 at the budget (+ KILL_AFTER_SECONDS),
+    but a job that ends by itself a moment later is not killed: the next job waits for it
+    and runs in the same, already started, process (a replacement costs seconds of CPU)."""
+    pool = HeavyPool(workers=1, queue=1, max_seconds=0.5, warm=None)
+    try:
+        async def main():
+            await pool.started()
+            before = await pool.run(pid)
+            t0 = time.perf_counter()
+            with pytest.raises(Busy, match="BRDF_MAX_SECONDS"):
+                await pool.run(nap, 0.5 + KILL_AFTER_SECONDS + 0.4)
+            answered_in = time.perf_counter() - t0
+            return before, answered_in, await pool.run(pid)
+        before, answered_in, after = run(main())
+        assert answered_in <= 0.5 + KILL_AFTER_SECONDS + 0.3, answered_in
+        assert after == before
+    finally:
+        pool.close()
+
+
+def test_a_job_left_running_past_runaway_seconds_is_killed_with_nobody_asking():
+    """A job that never checks its budget, left on an idle pool, is killed RUNAWAY_SECONDS
+    after its caller's 503, and a new process takes its place."""
+    pool = HeavyPool(workers=1, queue=1, max_seconds=0.5, warm=None)
+    try:
+        async def main():
+            await pool.started()
+            before = await pool.run(pid)
+            with pytest.raises(Busy, match="BRDF_MAX_SECONDS"):
+                await pool.run(spin, 60)
+            await asyncio.sleep(RUNAWAY_SECONDS + 0.5)
+            gone = not os.path.exists(f"/proc/{before}") or "Z" in open(f"/proc/{before}/stat").read().split()[2]
+            await pool.started()
+            return before, gone, await pool.run(pid)
+        before, gone, after = run(main())
+        assert gone and after != before
+    finally:
+        pool.close()
+
+
 def test_a_full_queue_is_busy_with_retry_after_and_never_fits_is_413():
     pool = HeavyPool(workers=1, queue=1, max_seconds=30, warm=None)
     try:
@@ -241,7 +283,10 @@ def test_a_job_behind_a_worker_slower_to_start_than_its_budget_is_busy_at_once()
             await pool.started()
             assert await pool.run(square, 3) == 9          # the start is measured
             with pytest.raises(Busy, match="BRDF_MAX_SECONDS"):
-                await pool.run(spin, 60)                   # cut: a new worker starts
+                await pool.run(spin, 60)                   # cut: the job is left running
+            # ... and killed RUNAWAY_SECONDS later (it never checks its budget): a new
+            # worker starts
+            await asyncio.sleep(RUNAWAY_SECONDS + KILL_AFTER_SECONDS + 0.3)
             t0 = time.perf_counter()
             with pytest.raises(Busy, match="starting") as busy:
                 await pool.run(square, 2)
