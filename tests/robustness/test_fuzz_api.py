@@ -44,6 +44,7 @@ from __future__ import annotations
 
 from pydantic import BaseModel, ValidationError
 
+import asyncio
 import importlib
 import json
 import pkgutil
@@ -51,12 +52,14 @@ import re
 import time
 import typing
 
+import pytest
 import schemathesis
 from fastapi import APIRouter
 from fastapi.routing import APIRoute
 from schemathesis.config import SchemathesisConfig
 
 import app.api
+from app import work
 from app.model import DEFAULT as DEFAULT_FAMILY, families
 import app.api.routes
 from app.views import schemas
@@ -138,6 +141,21 @@ CONFIG = SchemathesisConfig.from_dict({
 
 APP = create_app(Settings(max_seconds=FUZZ_SECONDS))
 schema = schemathesis.openapi.from_asgi("/openapi.json", APP, config=CONFIG)
+
+
+@pytest.fixture(scope="module", autouse=True)
+def one_heavy_pool():
+    """One heavy-work pool for the whole run, started before it, as a server has. Each
+    operation's test runs the app's lifespan, whose shutdown kills the pool: the next
+    heavy operation spawned a new worker (~3 s of CPU, an interpreter importing the
+    application) and, with a quarter second of budget, was refused while it started —
+    so the heavy routes' own work was barely fuzzed. The lifespan's shutdown is tested
+    where it matters (tests/robustness/test_sigterm.py)."""
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(work, "close", lambda: None)
+        asyncio.run(work.pool().started(120))
+        yield
+    work.close()
 
 #: filled by the test, reported by conftest.py at the end of the run
 CALLS: dict[str, int] = {}
