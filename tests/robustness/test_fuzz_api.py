@@ -44,7 +44,6 @@ from __future__ import annotations
 
 from pydantic import BaseModel, ValidationError
 
-import asyncio
 import importlib
 import json
 import pkgutil
@@ -60,6 +59,7 @@ from schemathesis.config import SchemathesisConfig
 
 import app.api
 from app import work
+from tests import heavy_pool
 from app.model import DEFAULT as DEFAULT_FAMILY, families
 import app.api.routes
 from app.views import schemas
@@ -153,7 +153,7 @@ def one_heavy_pool():
     where it matters (tests/robustness/test_sigterm.py)."""
     with pytest.MonkeyPatch.context() as mp:
         mp.setattr(work, "close", lambda: None)
-        asyncio.run(work.pool().started(120))
+        heavy_pool.started()
         yield
     work.close()
 

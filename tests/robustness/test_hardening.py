@@ -4,7 +4,6 @@ duplicated and body-only parameters, very long query strings and bodies; and the
 limits on work: sizes, the albedo's worst-case cost, and the time budget."""
 from __future__ import annotations
 
-import asyncio
 import json
 import warnings
 
@@ -15,10 +14,10 @@ with warnings.catch_warnings():
     warnings.simplefilter("ignore", DeprecationWarning)
     from fastapi.testclient import TestClient
 
-from app import work
 from app.views import VIEWS
 from app.views.schemas import ModelQuery
 from app.config import Settings
+from tests import heavy_pool
 from tests.budget import settings_for_tests
 from app.integrate.albedo import albedo, albedo_average, max_evaluations
 from app.main import create_app
@@ -197,7 +196,7 @@ def _heavy_pool_started():
     quarter second is meant to cut the refinement, not the worker's start (an earlier
     cut in this process replaced it; under load its start takes seconds and the request
     is rightly refused with a 503, test_heavy_pool.py)."""
-    asyncio.run(work.pool().started(120))
+    heavy_pool.started()
 
 
 def test_time_budget_cuts_refinement_with_a_message():
