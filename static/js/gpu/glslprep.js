@@ -8,6 +8,10 @@
  *   `#define` whose name is used in one of those places. (Not covered: an int variable
  *   compared with a literal outside those places; a literal `1/2`, which desktop GLSL
  *   computes as integer 0, becomes 0.5.)
+ * - a shader's own definition of a built-in function's name (`vec3 reflect(vec3 I, vec3 N)`,
+ *   `float smoothstep(float a, float b, float x)`: Disney's Phong and anisotropic files):
+ *   desktop GLSL 1.10 lets it hide the built-in (its §6.1), ES 3.00 refuses any
+ *   redefinition (its §6.1), so that name becomes NAME_user everywhere in the shader;
  * - `#version` and `#extension` lines blanked (the page writes its own `#version 300 es`);
  * - precision: the page's head declares highp;
  * - parameters as uniforms (float, bool, vec3), all on one line before the shader.
@@ -88,6 +92,35 @@ function nextWord(src, from) {
   return m ? m[1] : "";
 }
 
+/** GLSL ES 3.00's built-in functions (its §8), which a shader may not redefine. */
+const BUILTINS = new Set(("radians degrees sin cos tan asin acos atan sinh cosh tanh asinh acosh atanh pow exp log "
+  + "exp2 log2 sqrt inversesqrt abs sign floor trunc round roundEven ceil fract mod modf min max clamp mix step "
+  + "smoothstep isnan isinf floatBitsToInt floatBitsToUint intBitsToFloat uintBitsToFloat packSnorm2x16 "
+  + "unpackSnorm2x16 packUnorm2x16 unpackUnorm2x16 packHalf2x16 unpackHalf2x16 length distance dot cross "
+  + "normalize faceforward reflect refract matrixCompMult outerProduct transpose determinant inverse lessThan "
+  + "lessThanEqual greaterThan greaterThanEqual equal notEqual any all not dFdx dFdy fwidth").split(" "));
+const RETURN_TYPES = new Set(["void", "bool", "int", "uint", "float", "vec2", "vec3", "vec4", "bvec2", "bvec3", "bvec4",
+  "ivec2", "ivec3", "ivec4", "uvec2", "uvec3", "uvec4", "mat2", "mat3", "mat4"]);
+/** What a renamed built-in's name gets (said back as the file's own name in errors). */
+const OWN = "_user";
+
+/** Built-in names the shader defines as functions of its own (`vec3 reflect(`). */
+export function ownBuiltins(src) {
+  const words = [...src.matchAll(TOKEN)].map((m) => m[0]).filter((t) => !/^\s+$/.test(t) && !/^\/[/*]/.test(t));
+  const out = new Set();
+  for (let i = 0; i + 2 < words.length; i++) {
+    if (RETURN_TYPES.has(words[i]) && BUILTINS.has(words[i + 1]) && words[i + 2] === "(") out.add(words[i + 1]);
+  }
+  return out;
+}
+
+/** Each built-in name the shader defines for itself renamed NAME_user at every use (as
+ * desktop GLSL's hiding would resolve them; comments untouched, lines kept). */
+export function renameBuiltins(src) {
+  const own = ownBuiltins(src);
+  return own.size ? src.replace(TOKEN, (t) => (own.has(t) ? t + OWN : t)) : src;
+}
+
 /** `#version`/`#extension` lines blanked (line count kept). */
 export const dropDirectives = (src) => src.replace(/^[ \t]*#[ \t]*(version|extension)\b[^\n]*/gm, "");
 
@@ -112,7 +145,7 @@ vec3 brdf(vec3 n, vec3 l, vec3 v) {
  * sit in it: {glsl, offset (glsl line − file line), limit (the file's last line)}. */
 export function userGlsl(file, fileLines) {
   const uniforms = uniformLine(file.params);
-  const body = floatLiterals(dropDirectives(file.shader));
+  const body = floatLiterals(renameBuiltins(dropDirectives(file.shader)));
   return { glsl: uniforms + body + WRAPPER, offset: 1 - (file.shaderLine - 1), limit: fileLines };
 }
 
@@ -120,7 +153,8 @@ export function userGlsl(file, fileLines) {
 export function explain(lines) {
   return lines.map((x) => {
     const m = x.text.match(/'([A-Za-z_]\w*)'\s*:\s*undeclared identifier/);
-    const text = m ? `${m[1]} is used but not declared (declare it under ::begin parameters, or in the shader)` : x.text;
+    const own = x.text.replace(new RegExp(`\\b(\\w+)${OWN}\\b`, "g"), (w, name) => (BUILTINS.has(name) ? name : w));
+    const text = m ? `${m[1]} is used but not declared (declare it under ::begin parameters, or in the shader)` : own;
     return x.line ? `line ${x.line}: ${text}` : text;
   }).join("\n");
 }
