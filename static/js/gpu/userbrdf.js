@@ -275,6 +275,22 @@ export class UserBrdf {
       get measured() { return self.measured; },
       get measureCount() { return self.measureCount; },
       setValue(name, v) { self.values[name] = v; self.changed(); },
+      /** f at direction pairs (flat arrays of 3·count, n = +z): RGBA per pair. */
+      evaluate: (l, v) => Array.from(self.evaluator.run(self.prog, self.values, l, v)),
+      /** The sphere's radiance frame counted: pixels on the disk, lit (> 0), NaN/∞. */
+      sphere() {
+        self.renderer.render();
+        const px = self.renderer.read();
+        const out = { disk: 0, lit: 0, nonFinite: 0 };
+        for (let i = 0; i < px.length; i += 4) {
+          if (px[i + 3] === 0) continue;
+          const c = [px[i], px[i + 1], px[i + 2]];
+          out.disk++;
+          if (!c.every(Number.isFinite)) out.nonFinite++;
+          else if (c.some((x) => x > 0)) out.lit++;
+        }
+        return out;
+      },
     };
   }
 }
