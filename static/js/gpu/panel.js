@@ -94,7 +94,8 @@ export class GpuPanel {
       this.message, this.truthText, this.sliceTruthText, this.envText, this.user.section,
       el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
         + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
-      + "Open a Disney BRDF Explorer .brdf file to see yours beside it, measured." }));
+      + "Open a Disney BRDF Explorer .brdf file, or write one below, to see yours beside it, measured." }),
+      this.user.editor.section);
     this.user.acceptDrops(this.section);
     this.user.onOtherFile = (f) => /\.hdr$/i.test(f.name) && (this.openHdr(f), true);
     Object.assign(this, { renderer: null, ok: false, modelKey: null, codeRequest: null, model: null, dragging: false,

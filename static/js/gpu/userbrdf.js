@@ -4,6 +4,8 @@
  * page's current registry model. Every failure — a file too large or not one, a shader
  * that does not compile (with the file's line numbers), an undeclared parameter, a shader
  * that stalls the GPU (context lost) — is a message here; the rest of the page works.
+ * Its editor (editor.js; the panel places editor.section) holds the text: what is typed
+ * there is opened as a file is.
  */
 import { el, saveBlob } from "../base/dom.js";
 import { makeContext, ShaderError } from "./gl.js";
@@ -12,6 +14,7 @@ import { parseBrdf, defaults, BrdfFileError, MAX_BYTES } from "./brdffile.js";
 import { userGlsl, explain } from "./glslprep.js";
 import { PairEvaluator, measure, probe, MU, ALBEDO_NODES, FLOOR, FLOAT32_REL, PROBE_LIMIT_MS } from "./measure.js";
 import { encodeLink, decodeLink, MAX_LINK_CHARS } from "./link.js";
+import { BrdfEditor } from "./editor.js";
 
 /** URL parameter holding the user's BRDF (compressed source and values). */
 export const LINK_KEY = "ubrdf";
@@ -36,12 +39,13 @@ export class UserBrdf {
     this.results = el("div", { class: "gpu-measure", id: "gpu-brdf-measure", "aria-live": "polite" });
     this.exportButton = el("button", { type: "button", class: "export", id: "gpu-brdf-export", text: "Export with its numbers", disabled: true });
     this.measureButton = el("button", { type: "button", class: "export", id: "gpu-brdf-measure-now", text: "Measure", disabled: true });
+    this.editor = new BrdfEditor({ apply: (text) => this.open(text, this.values, this.editedName(), { edited: true }) });
     this.section = el("div", { class: "gpu-user" },
       el("div", { class: "panel-tools" },
         el("label", {}, "Your BRDF (.brdf, or drop it here) ", this.fileInput), this.measureButton, this.exportButton),
       this.messageLine, this.sliders, this.results);
     Object.assign(this, { file: null, values: {}, source: null, renderer: null, evaluator: null, measured: null,
-                          measureTimer: 0, linkTimer: 0, lost: false, measureCount: 0 });
+                          measureTimer: 0, linkTimer: 0, lost: false, measureCount: 0, opening: 0 });
     this.fileInput.addEventListener("change", () => this.fileInput.files[0] && this.openFile(this.fileInput.files[0]));
     this.measureButton.addEventListener("click", () => this.measureNow());
     this.exportButton.addEventListener("click", () => this.export());
@@ -69,37 +73,56 @@ export class UserBrdf {
     this.open(await file.text(), null, file.name);
   }
 
-  /** A .brdf text (and values, from a link): parsed, compiled, timed on one pixel (a
-   * shader that would stall the GPU is refused before it draws 65 536), drawn, measured. */
-  async open(text, values = null, name = "your BRDF") {
+  /** The editor's text's name: the opened file's, edited. */
+  editedName() {
+    const base = (this.name || "").replace(/ \(edited\)$/, "");
+    return base && base !== "the BRDF in the link" ? `${base} (edited)` : "your BRDF";
+  }
+
+  /** A .brdf text (and values, from a link or kept across edits): parsed, compiled, timed
+   * on one pixel (a shader that would stall the GPU is refused before it draws 65 536),
+   * drawn, measured. Answers {ok} or {ok: false, message, lines} (the editor's; an edit's
+   * failure is said there only, the last good BRDF staying drawn), {stale} when a newer
+   * text was opened meanwhile. */
+  async open(text, values = null, name = "your BRDF", { edited = false } = {}) {
+    const turn = ++this.opening;
+    const fail = (message, lines = []) => {
+      if (!edited) this.say(`${name}: ${message}`, "error");
+      return { ok: false, message, lines };
+    };
     let parsed;
     try {
       parsed = parseBrdf(text);
     } catch (e) {
-      return this.say(`${name}: ${e instanceof BrdfFileError ? e.message : String(e)}`, "error");
+      return e instanceof BrdfFileError ? fail(e.message, e.line ? [e.line] : []) : fail(String(e));
     }
-    if (!this.context()) return;
+    if (!this.context()) return fail("WebGL2 is not available here");
     const { glsl, offset, limit } = userGlsl(parsed, text.split("\n").length);
     let prog;
     try {
       prog = this.evaluator.compile(glsl, { offset, limit });
     } catch (e) {
-      this.say(`${name}: ${e instanceof ShaderError ? `the shader does not compile:\n${explain(e.lines)}` : String(e)}`, "error");
-      return;
+      return e instanceof ShaderError ? fail(`the shader does not compile:\n${explain(e.lines)}`, e.lines.map((x) => x.line).filter(Boolean))
+        : fail(String(e));
     }
-    this.say(`${name}: compiled; timing one pixel…`);
+    if (!edited) this.say(`${name}: compiled; timing one pixel…`);
     const gl = this.renderer.gl;
-    const ms = await probe(gl, prog, { ...defaults(parsed.params), ...(values || {}) });
+    const given = values || {};
+    const kept = Object.fromEntries(parsed.params.filter((p) => p.name in given && typeof given[p.name] === typeof p.default
+      && Array.isArray(given[p.name]) === Array.isArray(p.default)).map((p) => [p.name, given[p.name]]));
+    const ms = await probe(gl, prog, { ...defaults(parsed.params), ...kept });
+    if (turn !== this.opening) { gl.deleteProgram(prog); return { stale: true }; }
     if (ms === null) {
       this.say(`${name}: one pixel of its shader was still running after ${PROBE_LIMIT_MS} ms (an endless or very long loop?): `
         + "refused before it could stall the GPU; the GPU context is reset. Fix the shader and open it again.", "error");
       this.stalled = true;
       gl.getExtension("WEBGL_lose_context")?.loseContext();
-      return;
+      return { ok: false, message: this.messageLine.textContent, lines: [] };
     }
     this.renderer.setSource(glsl, { offset, limit });
     if (this.prog) this.renderer.gl.deleteProgram(this.prog);
-    Object.assign(this, { file: parsed, source: text, name, prog, values: { ...defaults(parsed.params), ...(values || {}) } });
+    Object.assign(this, { file: parsed, source: text, name, prog, values: { ...defaults(parsed.params), ...kept } });
+    if (!edited) this.editor.show(text);
     this.buildSliders();
     this.canvas.hidden = false;
     this.measureButton.disabled = this.exportButton.disabled = false;
@@ -107,6 +130,7 @@ export class UserBrdf {
     this.draw();
     this.scheduleMeasure();
     this.scheduleLink();
+    return { ok: true };
   }
 
   /** The BRDF's own WebGL2 context (its stalls and losses are its own). */
@@ -274,20 +298,24 @@ export class UserBrdf {
       get values() { return { ...self.values }; },
       get measured() { return self.measured; },
       get measureCount() { return self.measureCount; },
+      get source() { return self.source; },
+      get edits() { return self.editor.applied; },
       setValue(name, v) { self.values[name] = v; self.changed(); },
       /** f at direction pairs (flat arrays of 3·count, n = +z): RGBA per pair. */
       evaluate: (l, v) => Array.from(self.evaluator.run(self.prog, self.values, l, v)),
-      /** The sphere's radiance frame counted: pixels on the disk, lit (> 0), NaN/∞. */
+      /** The sphere's radiance frame counted: pixels on the disk, lit (> 0), NaN/∞, and
+       * the sum of its finite radiance. */
       sphere() {
         self.renderer.render();
         const px = self.renderer.read();
-        const out = { disk: 0, lit: 0, nonFinite: 0 };
+        const out = { disk: 0, lit: 0, nonFinite: 0, total: 0 };
         for (let i = 0; i < px.length; i += 4) {
           if (px[i + 3] === 0) continue;
           const c = [px[i], px[i + 1], px[i + 2]];
           out.disk++;
           if (!c.every(Number.isFinite)) out.nonFinite++;
           else if (c.some((x) => x > 0)) out.lit++;
+          if (c.every(Number.isFinite)) out.total += c[0] + c[1] + c[2];
         }
         return out;
       },

@@ -1,0 +1,84 @@
+"""The .brdf editor (static/js/gpu/editor.js): an opened file's text in a textarea,
+recompiled and redrawn as the user types; a broken text names its line and leaves the
+last good BRDF drawn; the edited BRDF is what is measured and what the link keeps.
+
+References: scaling f by 2 (an exact float operation) doubles the sphere's radiance
+and the albedo exactly; the error's line is counted here in the text typed.
+"""
+from __future__ import annotations
+
+import pytest
+
+from tests.e2e.test_gpu_brdf import LOADED, WALTER, _load, _open_page
+
+pytestmark = pytest.mark.e2e
+
+EDITOR = "#gpu-brdf-editor"
+
+
+def _caret_at(page, needle: str):
+    """The caret placed where `needle` (once in the text) starts, as a click there would."""
+    assert page.input_value(EDITOR).count(needle) == 1, needle
+    page.evaluate("""(n) => { const a = document.getElementById('gpu-brdf-editor');
+                     const i = a.value.indexOf(n); a.focus(); a.setSelectionRange(i, i); }""", needle)
+
+
+def _settled(page, edits: int):
+    """Waits for the editor's next compile after `edits` (the debounce, then the apply)."""
+    page.wait_for_function("(e) => window.__userBrdf.edits > e", arg=edits, timeout=30_000)
+    return page.evaluate("() => window.__userBrdf.edits")
+
+
+def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page, page_log, context, shots):
+    _open_page(page)
+    page.click("#gpu-editor > summary")
+    assert "::begin shader" in page.input_value(EDITOR)           # the template before any file
+    _load(page, WALTER, name="walter.brdf")
+    page.wait_for_function(LOADED, timeout=60_000)
+    assert page.input_value(EDITOR) == WALTER.read_text()          # the opened file's text
+    page.wait_for_function("() => /[?&]ubrdf=/.test(location.search)", timeout=30_000)
+    first = page.evaluate("() => new URLSearchParams(location.search).get('ubrdf')")
+    before = page.evaluate("() => window.__userBrdf.sphere()")
+    measured = page.evaluate("() => window.__userBrdf.measure()")
+    edits = page.evaluate("() => window.__userBrdf.edits")
+
+    # scale f by 2, typed
+    _caret_at(page, "vec3(D * G * F")
+    page.keyboard.type("2 * ")
+    edits = _settled(page, edits)
+    assert "return 2 * vec3(" in page.evaluate("() => window.__userBrdf.source")
+    doubled = page.evaluate("() => window.__userBrdf.sphere()")
+    assert doubled["total"] == pytest.approx(2 * before["total"], rel=1e-12)
+    again = page.evaluate("() => window.__userBrdf.measure()")
+    for a, b in zip(again["albedo"], measured["albedo"]):
+        assert a["E"][0] == pytest.approx(2 * b["E"][0], rel=1e-12)
+    assert page.is_hidden("#gpu-editor-message")
+    assert "walter.brdf (edited)" in page.text_content("#gpu-brdf-message")
+
+    # a syntax error: its line, counted in the text typed, in the message and the gutter
+    _caret_at(page, ";\n}\n::end shader")
+    page.keyboard.type(" +")
+    edits = _settled(page, edits)
+    typed = page.input_value(EDITOR).split("\n")
+    line = next(i for i, x in enumerate(typed, 1) if "NdotV)) +;" in x)
+    message = page.text_content("#gpu-editor-message")
+    assert f"line {line}:" in message and "does not compile" in message, message
+    assert page.text_content(".gpu-editor-bad") == str(line)
+    assert page.evaluate("() => window.__userBrdf.sphere()")["total"] == doubled["total"]   # still drawn
+    assert "return 2 * vec3(" in page.evaluate("() => window.__userBrdf.source")
+    page.locator("#panel-gpu").screenshot(path=str(shots / "gpu-brdf-editor-error.png"))
+
+    # fixed: the message and the mark go
+    page.keyboard.press("Backspace")
+    page.keyboard.press("Backspace")
+    _settled(page, edits)
+    assert page.is_hidden("#gpu-editor-message") and page.locator(".gpu-editor-bad").count() == 0
+
+    # the link keeps the edited text: another page opens it
+    page.wait_for_function("(f) => new URLSearchParams(location.search).get('ubrdf') !== f", arg=first, timeout=30_000)
+    other = context.new_page()
+    other.goto(page.url)
+    other.wait_for_function(LOADED, timeout=60_000)
+    assert "return 2 * vec3(" in other.evaluate("() => window.__userBrdf.source")
+    assert "return 2 * vec3(" in other.input_value(EDITOR)
+    assert not page_log.problems()
