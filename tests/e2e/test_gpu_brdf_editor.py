@@ -71,8 +71,19 @@ def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page,
     # fixed: the message and the mark go
     page.keyboard.press("Backspace")
     page.keyboard.press("Backspace")
-    _settled(page, edits)
+    edits = _settled(page, edits)
     assert page.is_hidden("#gpu-editor-message") and page.locator(".gpu-editor-bad").count() == 0
+
+    # a parameter line that does not parse: its line too, then fixed
+    _caret_at(page, "float eta ")
+    page.keyboard.type("x")
+    edits = _settled(page, edits)
+    line = next(i for i, x in enumerate(page.input_value(EDITOR).split("\n"), 1) if x.startswith("xfloat eta"))
+    assert f"line {line}:" in page.text_content("#gpu-editor-message")
+    assert page.text_content(".gpu-editor-bad") == str(line)
+    page.keyboard.press("Backspace")
+    _settled(page, edits)
+    assert page.is_hidden("#gpu-editor-message")
 
     # the link keeps the edited text: another page opens it
     page.wait_for_function("(f) => new URLSearchParams(location.search).get('ubrdf') !== f", arg=first, timeout=30_000)
