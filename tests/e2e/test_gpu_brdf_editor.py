@@ -23,10 +23,10 @@ def _caret_at(page, needle: str):
                      const i = a.value.indexOf(n); a.focus(); a.setSelectionRange(i, i); }""", needle)
 
 
-def _settled(page, edits: int):
-    """Waits for the editor's next compile after `edits` (the debounce, then the apply)."""
-    page.wait_for_function("(e) => window.__userBrdf.edits > e", arg=edits, timeout=30_000)
-    return page.evaluate("() => window.__userBrdf.edits")
+def _settled(page):
+    """Waits until what the editor shows answers its text as typed (the debounce after the
+    last keystroke, then the compile): a half-typed state compiled on the way is passed."""
+    page.wait_for_function("() => window.__userBrdf.settled", timeout=30_000)
 
 
 def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page, page_log, context, shots):
@@ -40,12 +40,11 @@ def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page,
     first = page.evaluate("() => new URLSearchParams(location.search).get('ubrdf')")
     before = page.evaluate("() => window.__userBrdf.sphere()")
     measured = page.evaluate("() => window.__userBrdf.measure()")
-    edits = page.evaluate("() => window.__userBrdf.edits")
 
     # scale f by 2, typed
     _caret_at(page, "vec3(D * G * F")
     page.keyboard.type("2 * ")
-    edits = _settled(page, edits)
+    _settled(page)
     assert "return 2 * vec3(" in page.evaluate("() => window.__userBrdf.source")
     doubled = page.evaluate("() => window.__userBrdf.sphere()")
     assert doubled["total"] == pytest.approx(2 * before["total"], rel=1e-12)
@@ -58,7 +57,7 @@ def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page,
     # a syntax error: its line, counted in the text typed, in the message and the gutter
     _caret_at(page, ";\n}\n::end shader")
     page.keyboard.type(" +")
-    edits = _settled(page, edits)
+    _settled(page)
     typed = page.input_value(EDITOR).split("\n")
     line = next(i for i, x in enumerate(typed, 1) if "NdotV)) +;" in x)
     message = page.text_content("#gpu-editor-message")
@@ -71,19 +70,34 @@ def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page,
     # fixed: the message and the mark go
     page.keyboard.press("Backspace")
     page.keyboard.press("Backspace")
-    edits = _settled(page, edits)
+    _settled(page)
     assert page.is_hidden("#gpu-editor-message") and page.locator(".gpu-editor-bad").count() == 0
 
     # a parameter line that does not parse: its line too, then fixed
     _caret_at(page, "float eta ")
     page.keyboard.type("x")
-    edits = _settled(page, edits)
+    _settled(page)
     line = next(i for i, x in enumerate(page.input_value(EDITOR).split("\n"), 1) if x.startswith("xfloat eta"))
     assert f"line {line}:" in page.text_content("#gpu-editor-message")
     assert page.text_content(".gpu-editor-bad") == str(line)
     page.keyboard.press("Backspace")
-    _settled(page, edits)
+    _settled(page)
     assert page.is_hidden("#gpu-editor-message")
+
+    # a slider's value survives an edit of the shader, not one of its own declaration
+    page.evaluate("() => window.__userBrdf.setValue('alpha', 0.45)")
+    _caret_at(page, "float D = GGX_D")
+    page.keyboard.type(" ")
+    _settled(page)
+    assert page.evaluate("() => window.__userBrdf.values.alpha") == pytest.approx(0.45)
+    _caret_at(page, " 0.3\n")
+    page.keyboard.press("Delete")
+    page.keyboard.press("Delete")
+    page.keyboard.press("Delete")
+    page.keyboard.press("Delete")
+    page.keyboard.type(" 0.2")
+    _settled(page)
+    assert page.evaluate("() => window.__userBrdf.values.alpha") == pytest.approx(0.2)
 
     # the link keeps the edited text: another page opens it
     page.wait_for_function("(f) => new URLSearchParams(location.search).get('ubrdf') !== f", arg=first, timeout=30_000)

@@ -46,18 +46,21 @@ export class BrdfEditor {
     this.section = el("details", { class: "gpu-editor", id: "gpu-editor" },
       el("summary", { text: "Write or edit the .brdf — it redraws as you type" }),
       el("div", { class: "gpu-editor-body" }, this.gutter, this.area), this.status);
-    Object.assign(this, { timer: 0, turn: 0, marked: new Set(), shownLines: -1, applied: 0 });
+    Object.assign(this, { timer: 0, turn: 0, marked: new Set(), shownLines: -1, appliedText: null });
     this.area.value = TEMPLATE;
     this.number();
     this.area.addEventListener("input", () => this.changed());
     this.area.addEventListener("scroll", () => { this.gutter.scrollTop = this.area.scrollTop; });
   }
 
+  /** Whether what is shown (drawing or error) answers the text as it is now. */
+  get settled() { return this.appliedText === this.area.value; }
+
   /** A text opened elsewhere (a file, the link): shown, nothing compiled again. */
   show(text) {
     clearTimeout(this.timer);
     this.turn++;
-    this.area.value = text;
+    this.area.value = this.appliedText = text;
     this.tell(null, []);
   }
 
@@ -69,9 +72,10 @@ export class BrdfEditor {
 
   async run() {
     const turn = ++this.turn;
-    const answer = await this.apply(this.area.value);
+    const text = this.area.value;
+    const answer = await this.apply(text);
     if (turn !== this.turn || answer.stale) return;        // the user typed on meanwhile
-    this.applied++;
+    this.appliedText = text;
     this.tell(answer.ok ? null : answer.message, answer.ok ? [] : answer.lines);
   }
 

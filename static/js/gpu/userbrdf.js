@@ -107,9 +107,14 @@ export class UserBrdf {
     }
     if (!edited) this.say(`${name}: compiled; timing one pixel…`);
     const gl = this.renderer.gl;
+    // values given (a link's, or the sliders' across an edit) are kept for the parameters
+    // they fit; an edit keeps a slider's value only where its declaration line is unchanged
+    // (a default typed anew is the value wanted)
     const given = values || {};
+    const before = new Map((edited && this.file ? this.file.params : []).map((p) => [p.name, JSON.stringify(p)]));
     const kept = Object.fromEntries(parsed.params.filter((p) => p.name in given && typeof given[p.name] === typeof p.default
-      && Array.isArray(given[p.name]) === Array.isArray(p.default)).map((p) => [p.name, given[p.name]]));
+      && Array.isArray(given[p.name]) === Array.isArray(p.default) && (!edited || before.get(p.name) === JSON.stringify(p)))
+      .map((p) => [p.name, given[p.name]]));
     const ms = await probe(gl, prog, { ...defaults(parsed.params), ...kept });
     if (turn !== this.opening) { gl.deleteProgram(prog); return { stale: true }; }
     if (ms === null) {
@@ -299,7 +304,7 @@ export class UserBrdf {
       get measured() { return self.measured; },
       get measureCount() { return self.measureCount; },
       get source() { return self.source; },
-      get edits() { return self.editor.applied; },
+      get settled() { return self.editor.settled; },
       setValue(name, v) { self.values[name] = v; self.changed(); },
       /** f at direction pairs (flat arrays of 3·count, n = +z): RGBA per pair. */
       evaluate: (l, v) => Array.from(self.evaluator.run(self.prog, self.values, l, v)),
