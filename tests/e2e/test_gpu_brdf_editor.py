@@ -106,4 +106,19 @@ def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page,
     other.wait_for_function(LOADED, timeout=60_000)
     assert "return 2 * vec3(" in other.evaluate("() => window.__userBrdf.source")
     assert "return 2 * vec3(" in other.input_value(EDITOR)
+
+    # a file that does not compile opens in the editor with its line marked, to be fixed
+    broken = WALTER.read_text().replace("float D = GGX_D(dot(N, H), alpha);", "float D = GGX_D(dot(N, H), alpha)")
+    _load(page, name="broken.brdf", text=broken)
+    page.wait_for_function("() => /broken\\.brdf: the shader does not compile/.test(window.__userBrdf.message)", timeout=30_000)
+    assert page.input_value(EDITOR) == broken
+    line = next(i for i, x in enumerate(broken.split("\n"), 1) if x.endswith("GGX_D(dot(N, H), alpha)")) + 1
+    assert f"line {line}:" in page.text_content("#gpu-editor-message")            # the missing ';' is seen on the next line
+    assert page.text_content(".gpu-editor-bad") == str(line)
+    _caret_at(page, "alpha)\n    float G")
+    page.keyboard.press("End")
+    page.keyboard.type(";")
+    _settled(page)
+    assert page.is_hidden("#gpu-editor-message")
+    assert page.text_content("#gpu-brdf-message").startswith("broken.brdf (edited): 3 parameters")
     assert not page_log.problems()

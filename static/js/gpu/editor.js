@@ -56,12 +56,13 @@ export class BrdfEditor {
   /** Whether what is shown (drawing or error) answers the text as it is now. */
   get settled() { return this.appliedText === this.area.value; }
 
-  /** A text opened elsewhere (a file, the link): shown, nothing compiled again. */
-  show(text) {
+  /** A text opened elsewhere (a file, the link): shown, not compiled again; with the
+   * error it failed with, if it did (a file to be fixed here). */
+  show(text, message = null, lines = []) {
     clearTimeout(this.timer);
     this.turn++;
     this.area.value = this.appliedText = text;
-    this.tell(null, []);
+    this.tell(message, lines);
   }
 
   changed() {

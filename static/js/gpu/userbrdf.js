@@ -73,9 +73,9 @@ export class UserBrdf {
     this.open(await file.text(), null, file.name);
   }
 
-  /** The editor's text's name: the opened file's, edited. */
+  /** The editor's text's name: that of the file it came from, edited. */
   editedName() {
-    const base = (this.name || "").replace(/ \(edited\)$/, "");
+    const base = (this.textName || "").replace(/ \(edited\)$/, "");
     return base && base !== "the BRDF in the link" ? `${base} (edited)` : "your BRDF";
   }
 
@@ -88,6 +88,10 @@ export class UserBrdf {
     const turn = ++this.opening;
     const fail = (message, lines = []) => {
       if (!edited) this.say(`${name}: ${message}`, "error");
+      if (!edited && lines.length) {                    // to be fixed in the editor
+        this.editor.show(text, message, lines);
+        this.textName = name;
+      }
       return { ok: false, message, lines };
     };
     let parsed;
@@ -127,7 +131,10 @@ export class UserBrdf {
     this.renderer.setSource(glsl, { offset, limit });
     if (this.prog) this.renderer.gl.deleteProgram(this.prog);
     Object.assign(this, { file: parsed, source: text, name, prog, values: { ...defaults(parsed.params), ...kept } });
-    if (!edited) this.editor.show(text);
+    if (!edited) {
+      this.editor.show(text);
+      this.textName = name;
+    }
     this.buildSliders();
     this.canvas.hidden = false;
     this.measureButton.disabled = this.exportButton.disabled = false;
