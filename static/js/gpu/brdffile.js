@@ -97,3 +97,13 @@ export function parseBrdf(text) {
 
 /** The default value of every parameter, by name. */
 export const defaults = (params) => Object.fromEntries(params.map((p) => [p.name, p.default]));
+
+/** Of `values` (a link's, or the sliders' before an edit), those that fit `params` (same
+ * name and type), by name. With `before` (the parameters they were set under), only those
+ * whose declaration is unchanged: a default typed anew in the editor is the value wanted. */
+export function carried(params, values, before = null) {
+  const was = new Map((before || []).map((p) => [p.name, JSON.stringify(p)]));
+  const fits = (p, v) => v !== undefined && typeof v === typeof p.default && Array.isArray(v) === Array.isArray(p.default);
+  return Object.fromEntries(params.filter((p) => fits(p, values?.[p.name]) && (!before || was.get(p.name) === JSON.stringify(p)))
+    .map((p) => [p.name, values[p.name]]));
+}

@@ -10,7 +10,7 @@
 import { el, saveBlob } from "../base/dom.js";
 import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
-import { parseBrdf, defaults, BrdfFileError, MAX_BYTES } from "./brdffile.js";
+import { parseBrdf, defaults, carried, BrdfFileError, MAX_BYTES } from "./brdffile.js";
 import { userGlsl, explain } from "./glslprep.js";
 import { PairEvaluator, measure, probe, MU, ALBEDO_NODES, FLOOR, FLOAT32_REL, PROBE_LIMIT_MS } from "./measure.js";
 import { encodeLink, decodeLink, MAX_LINK_CHARS } from "./link.js";
@@ -111,14 +111,7 @@ export class UserBrdf {
     }
     if (!edited) this.say(`${name}: compiled; timing one pixel…`);
     const gl = this.renderer.gl;
-    // values given (a link's, or the sliders' across an edit) are kept for the parameters
-    // they fit; an edit keeps a slider's value only where its declaration line is unchanged
-    // (a default typed anew is the value wanted)
-    const given = values || {};
-    const before = new Map((edited && this.file ? this.file.params : []).map((p) => [p.name, JSON.stringify(p)]));
-    const kept = Object.fromEntries(parsed.params.filter((p) => p.name in given && typeof given[p.name] === typeof p.default
-      && Array.isArray(given[p.name]) === Array.isArray(p.default) && (!edited || before.get(p.name) === JSON.stringify(p)))
-      .map((p) => [p.name, given[p.name]]));
+    const kept = carried(parsed.params, values, edited ? this.file?.params ?? [] : null);
     const ms = await probe(gl, prog, { ...defaults(parsed.params), ...kept });
     if (turn !== this.opening) { gl.deleteProgram(prog); return { stale: true }; }
     if (ms === null) {
@@ -325,9 +318,9 @@ export class UserBrdf {
           if (px[i + 3] === 0) continue;
           const c = [px[i], px[i + 1], px[i + 2]];
           out.disk++;
-          if (!c.every(Number.isFinite)) out.nonFinite++;
-          else if (c.some((x) => x > 0)) out.lit++;
-          if (c.every(Number.isFinite)) out.total += c[0] + c[1] + c[2];
+          if (!c.every(Number.isFinite)) { out.nonFinite++; continue; }
+          if (c.some((x) => x > 0)) out.lit++;
+          out.total += c[0] + c[1] + c[2];
         }
         return out;
       },
