@@ -31,7 +31,8 @@ def _settled(page):
 
 def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page, page_log, context, shots):
     _open_page(page)
-    page.click("#gpu-editor > summary")
+    page.click("#gpu-brdf-write")
+    assert page.is_visible(EDITOR) and page.evaluate("() => document.activeElement.id") == "gpu-brdf-editor"
     assert "::begin shader" in page.input_value(EDITOR)           # the template before any file
     _load(page, WALTER, name="walter.brdf")
     page.wait_for_function(LOADED, timeout=60_000)

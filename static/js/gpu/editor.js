@@ -13,9 +13,9 @@ export const DEBOUNCE_MS = 300;
 
 /** What the editor holds before any file is opened: the format in a dozen lines. */
 export const TEMPLATE = `analytic
-# A Disney BRDF Explorer .brdf: edit it, the sphere redraws as you type.
-# Lambert's diffuse plus a Blinn-Phong lobe normalised as in Real-Time Rendering
-# (3rd ed., eq. 7.49); BRDF returns f, without the cosine.
+# A Disney BRDF Explorer .brdf: edit it and the sphere redraws.
+# Lambert plus a Blinn-Phong lobe, normalised as in Real-Time
+# Rendering 3rd ed., eq. 7.49. BRDF returns f, no cosine.
 ::begin parameters
 color albedo 0.7 0.45 0.3
 float n 1 500 50
@@ -44,13 +44,20 @@ export class BrdfEditor {
     this.gutter = el("pre", { class: "gpu-editor-lines", "aria-hidden": "true" });
     this.status = el("p", { class: "gpu-message error", id: "gpu-editor-message", role: "status", "aria-live": "polite", hidden: true });
     this.section = el("details", { class: "gpu-editor", id: "gpu-editor" },
-      el("summary", { text: "Write or edit the .brdf — it redraws as you type" }),
+      el("summary", { text: "Your .brdf's text — it redraws as you type" }),
       el("div", { class: "gpu-editor-body" }, this.gutter, this.area), this.status);
     Object.assign(this, { timer: 0, turn: 0, marked: new Set(), shownLines: -1, appliedText: null });
     this.area.value = TEMPLATE;
     this.number();
     this.area.addEventListener("input", () => this.changed());
     this.area.addEventListener("scroll", () => { this.gutter.scrollTop = this.area.scrollTop; });
+  }
+
+  /** Opened, the text in view and focused (the panel's "Write or edit" button). */
+  reveal() {
+    this.section.open = true;
+    this.area.focus({ preventScroll: true });
+    this.section.scrollIntoView({ block: "nearest" });
   }
 
   /** Whether what is shown (drawing or error) answers the text as it is now. */

@@ -90,12 +90,13 @@ export class GpuPanel {
       el("label", {}, this.sliceInput, " θ_h–θ_d slice"), this.truthButton);
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
-      el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceCanvas, this.diffCanvas),
+      el("div", { class: "gpu-main" },          // the spheres, and under them the .brdf being edited
+        el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceCanvas, this.diffCanvas),
+        this.user.editor.section),
       this.message, this.truthText, this.sliceTruthText, this.envText, this.user.section,
       el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
         + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
-      + "Open a Disney BRDF Explorer .brdf file, or write one below, to see yours beside it, measured." }),
-      this.user.editor.section);
+      + "Open a Disney BRDF Explorer .brdf file, or write one under the spheres, to see yours beside it, measured." }));
     this.user.acceptDrops(this.section);
     this.user.onOtherFile = (f) => /\.hdr$/i.test(f.name) && (this.openHdr(f), true);
     Object.assign(this, { renderer: null, ok: false, modelKey: null, codeRequest: null, model: null, dragging: false,

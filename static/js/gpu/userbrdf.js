@@ -40,9 +40,12 @@ export class UserBrdf {
     this.exportButton = el("button", { type: "button", class: "export", id: "gpu-brdf-export", text: "Export with its numbers", disabled: true });
     this.measureButton = el("button", { type: "button", class: "export", id: "gpu-brdf-measure-now", text: "Measure", disabled: true });
     this.editor = new BrdfEditor({ apply: (text) => this.open(text, this.values, this.editedName(), { edited: true }) });
+    const write = el("button", { type: "button", class: "export", id: "gpu-brdf-write", text: "Write or edit…",
+                                 title: "The .brdf's text under the spheres: it redraws as you type" });
+    write.addEventListener("click", () => this.editor.reveal());
     this.section = el("div", { class: "gpu-user" },
       el("div", { class: "panel-tools" },
-        el("label", {}, "Your BRDF (.brdf, or drop it here) ", this.fileInput), this.measureButton, this.exportButton),
+        el("label", {}, "Your BRDF (.brdf, or drop it here) ", this.fileInput), write, this.measureButton, this.exportButton),
       this.messageLine, this.sliders, this.results);
     Object.assign(this, { file: null, values: {}, source: null, renderer: null, evaluator: null, measured: null,
                           measureTimer: 0, linkTimer: 0, lost: false, measureCount: 0, opening: 0 });
