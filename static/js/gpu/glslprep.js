@@ -10,8 +10,10 @@
  *   computes as integer 0, becomes 0.5.)
  * - a shader's own definition of a built-in function's name (`vec3 reflect(vec3 I, vec3 N)`,
  *   `float smoothstep(float a, float b, float x)`: Disney's Phong and anisotropic files):
- *   desktop GLSL 1.10 lets it hide the built-in (its §6.1), ES 3.00 refuses any
- *   redefinition (its §6.1), so that name becomes NAME_user everywhere in the shader;
+ *   desktop GLSL (the explorer compiles `#version 410`) lets a shader redefine a built-in,
+ *   GLSL ES 3.00 forbids redefining or overloading one, so that name becomes NAME_user
+ *   everywhere in the shader. (Not covered: a call to another of the built-in's overloads
+ *   under that name, say smoothstep of vec3s beside a float one of the file's own.)
  * - `#version` and `#extension` lines blanked (the page writes its own `#version 300 es`);
  * - precision: the page's head declares highp;
  * - parameters as uniforms (float, bool, vec3), all on one line before the shader.
