@@ -109,7 +109,7 @@ def oren_nayar(L, V, p):
 
 
 def disney(L, V, p):
-    """Burley 2012: diffuse §5.3, subsurface, GTR2 anisotropic (eq. 13, app. B.2) with Smith
+    """Burley 2012: diffuse §5.3, subsurface, GTR2 anisotropic (app. B.2) with Smith
     G1 (Heitz 2014 eq. 86), sheen, GTR1 clearcoat (eq. 4)."""
     H, d = _frame(L, V)
     nl, nv, nh, lh = d(L, N), d(V, N), d(H, N), d(L, H)
