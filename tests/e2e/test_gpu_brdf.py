@@ -16,28 +16,12 @@ from urllib.parse import urlencode
 
 import pytest
 
+from tests.e2e.user_brdf_page import LOADED, TWIN, WALTER, load_brdf, open_gpu_page
+
 pytestmark = pytest.mark.e2e
 
-HERE = Path(__file__).resolve().parent / "brdf"
-WALTER = HERE / "walter_ggx_dielectric.brdf"
-#: the registry model Walter's file writes (GGX, separable Smith, dielectric Fresnel)
-TWIN = {"ndf": "ggx", "masking": "smith", "g2": "separable", "fresnel": "dielectric", "ior": 1.5, "alpha": 0.3}
+#: issue 33: a .brdf file within 1e-4 relative of its registry twin (float32 GPU)
 REL = 1e-4
-READY = "() => window.__gpu && window.__gpu.ok"
-LOADED = "() => window.__userBrdf.loaded && window.__userBrdf.measureCount > 0"
-
-
-def _open_page(page, model=TWIN):
-    page.goto("/?" + urlencode({**model, "show": "gpu"}))
-    page.wait_for_function(READY, timeout=60_000)
-
-
-def _load(page, path: Path | None = None, *, name="x.brdf", text: str | None = None):
-    """Through the page's file input, as a user picks a file."""
-    payload = {"name": name, "mimeType": "text/plain",
-               "buffer": (text.encode() if text is not None else path.read_bytes())}
-    page.set_input_files("#gpu-brdf-file", files=[payload])
-
 
 def _albedo(base: str, params: dict, mu: list[float]) -> dict:
     q = urlencode({**params, "mu": ",".join(str(m) for m in mu), "tol": 1e-7})
@@ -46,8 +30,8 @@ def _albedo(base: str, params: dict, mu: list[float]) -> dict:
 
 
 def test_walter_file_against_its_registry_twin(page, page_log, live_server, shots):
-    _open_page(page)
-    _load(page, WALTER, name="walter_ggx_dielectric.brdf")
+    open_gpu_page(page)
+    load_brdf(page, WALTER, name="walter_ggx_dielectric.brdf")
     page.wait_for_function(LOADED, timeout=60_000)
     m = page.evaluate("() => window.__userBrdf.measured")
     # its parameters as sliders with the file's ranges and defaults
@@ -99,8 +83,8 @@ def test_desktop_idioms_and_a_closed_form(page, page_log):
     int literals in float expressions, pow(x, 2): compiled as written. A Lambertian ρ/π:
     its albedo is ρ at every μ (closed form), reciprocal, and 0 from any registry model
     with kd = 0 only where that model's f is 0 (so the difference is stated, not tested)."""
-    _open_page(page)
-    _load(page, text=LAMBERT_IDIOMS, name="lambert.brdf")
+    open_gpu_page(page)
+    load_brdf(page, text=LAMBERT_IDIOMS, name="lambert.brdf")
     page.wait_for_function(LOADED, timeout=60_000)
     m = page.evaluate("() => window.__userBrdf.measured")
     for a in m["albedo"]:
@@ -133,9 +117,9 @@ BAD = {
 @pytest.mark.parametrize("kind", list(BAD))
 def test_bad_files_say_why_and_the_page_keeps_working(page, page_log, kind):
     text, words = BAD[kind]
-    _open_page(page, {"ndf": "ggx", "alpha": 0.3})
+    open_gpu_page(page, {"ndf": "ggx", "alpha": 0.3})
     draws = page.evaluate("() => window.__gpu.draws")
-    _load(page, text=text, name="bad.brdf")
+    load_brdf(page, text=text, name="bad.brdf")
     page.wait_for_function("() => /bad\\.brdf/.test(window.__userBrdf.message)", timeout=30_000)
     message = page.text_content("#gpu-brdf-message")
     for w in words:
@@ -164,11 +148,11 @@ vec3 BRDF(vec3 L, vec3 V, vec3 N, vec3 X, vec3 Y) {
 def test_a_shader_that_would_stall_the_gpu_is_refused(page, page_log):
     """One pixel runs ~3·10⁸ iterations (seconds on a CPU GPU): refused after the one-pixel
     probe, its context dropped; then a good file opens and the live sphere still draws."""
-    _open_page(page)
-    _load(page, text=SLOW, name="slow.brdf")
+    open_gpu_page(page)
+    load_brdf(page, text=SLOW, name="slow.brdf")
     page.wait_for_function("() => /still running/.test(window.__userBrdf.message)", timeout=120_000)
     assert not page.evaluate("() => window.__userBrdf.loaded")
-    _load(page, WALTER, name="walter.brdf")
+    load_brdf(page, WALTER, name="walter.brdf")
     page.wait_for_function(LOADED, timeout=120_000)
     assert page.evaluate("() => window.__userBrdf.measured.difference.max") <= REL
     assert page.evaluate("() => window.__gpu.ok")
@@ -176,8 +160,8 @@ def test_a_shader_that_would_stall_the_gpu_is_refused(page, page_log):
 
 
 def test_kept_in_the_link(page, page_log, context):
-    _open_page(page)
-    _load(page, WALTER, name="walter.brdf")
+    open_gpu_page(page)
+    load_brdf(page, WALTER, name="walter.brdf")
     page.wait_for_function(LOADED, timeout=60_000)
     page.wait_for_function("() => /[?&]ubrdf=/.test(location.search)", timeout=30_000)
     first = page.evaluate("() => new URLSearchParams(location.search).get('ubrdf')")
@@ -197,8 +181,8 @@ def test_kept_in_the_link(page, page_log, context):
 
 
 def test_export_with_its_numbers(page, page_log):
-    _open_page(page)
-    _load(page, WALTER, name="walter.brdf")
+    open_gpu_page(page)
+    load_brdf(page, WALTER, name="walter.brdf")
     page.wait_for_function(LOADED, timeout=60_000)
     with page.expect_download() as dl:
         page.click("#gpu-brdf-export")

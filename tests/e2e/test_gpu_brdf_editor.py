@@ -9,7 +9,7 @@ from __future__ import annotations
 
 import pytest
 
-from tests.e2e.test_gpu_brdf import LOADED, WALTER, _load, _open_page
+from tests.e2e.user_brdf_page import LOADED, WALTER, load_brdf, open_gpu_page
 
 pytestmark = pytest.mark.e2e
 
@@ -30,11 +30,11 @@ def _settled(page):
 
 
 def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page, page_log, context, shots):
-    _open_page(page)
+    open_gpu_page(page)
     page.click("#gpu-brdf-write")
     assert page.is_visible(EDITOR) and page.evaluate("() => document.activeElement.id") == "gpu-brdf-editor"
     assert "::begin shader" in page.input_value(EDITOR)           # the template before any file
-    _load(page, WALTER, name="walter.brdf")
+    load_brdf(page, WALTER, name="walter.brdf")
     page.wait_for_function(LOADED, timeout=60_000)
     assert page.input_value(EDITOR) == WALTER.read_text()          # the opened file's text
     page.wait_for_function("() => /[?&]ubrdf=/.test(location.search)", timeout=30_000)
@@ -110,7 +110,7 @@ def test_typing_redraws_errors_name_their_line_and_the_link_keeps_the_edit(page,
 
     # a file that does not compile opens in the editor with its line marked, to be fixed
     broken = WALTER.read_text().replace("float D = GGX_D(dot(N, H), alpha);", "float D = GGX_D(dot(N, H), alpha)")
-    _load(page, name="broken.brdf", text=broken)
+    load_brdf(page, name="broken.brdf", text=broken)
     page.wait_for_function("() => /broken\\.brdf: the shader does not compile/.test(window.__userBrdf.message)", timeout=30_000)
     assert page.input_value(EDITOR) == broken
     line = next(i for i, x in enumerate(broken.split("\n"), 1) if x.endswith("GGX_D(dot(N, H), alpha)")) + 1

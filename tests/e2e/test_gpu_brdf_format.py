@@ -7,16 +7,14 @@ NaN/∞, measured with no NaN/∞ or negative value, and their f read back from 
 """
 from __future__ import annotations
 
-from pathlib import Path
-
 import numpy as np
 import pytest
 
-from tests.e2e.test_gpu_brdf import LOADED, _load, _open_page
+from tests.e2e.user_brdf_page import BRDF_DIR, LOADED, load_brdf, open_gpu_page
 
 pytestmark = pytest.mark.e2e
 
-HERE = Path(__file__).resolve().parent / "brdf"
+HERE = BRDF_DIR
 FILES = sorted(HERE.glob("*.brdf"))
 #: float32 GPU against float64 numpy (the issue's bound for a BRDF against its twin)
 REL = 1e-4
@@ -175,14 +173,14 @@ def test_every_file_has_its_reference():
 
 def test_disney_format_files_open_draw_and_equal_their_papers(page, page_log, shots):
     """All files in one page, picked one after another through the file input."""
-    _open_page(page, {"ndf": "ggx", "alpha": 0.3})
+    open_gpu_page(page, {"ndf": "ggx", "alpha": 0.3})
     rng = np.random.default_rng(33)
     L, V = _dirs(rng, PAIRS), _dirs(rng, PAIRS)
     # Oren-Nayar's reference goes through arccos (its θ); SwiftShader's acos is off by up to
     # ~1e-4, but the file itself uses no acos (it writes sin α, tan β from the cosines)
     failures = []
     for path in FILES:
-        _load(page, path, name=path.name)
+        load_brdf(page, path, name=path.name)
         page.wait_for_function("(n) => window.__userBrdf.message.startsWith(n + ': ') && / parameters?;/.test(window.__userBrdf.message)",
                                arg=path.name, timeout=60_000)
         page.wait_for_function(LOADED, timeout=60_000)
