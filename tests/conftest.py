@@ -9,6 +9,7 @@ import os
 import shutil
 import tempfile
 
+import pytest
 from hypothesis.configuration import set_hypothesis_home_dir
 
 #: One directory for the whole run, made by the first process (xdist's controller, whose
@@ -25,6 +26,22 @@ os.environ.pop("BRDF_CACHE_DIR", None)
 # Hypothesis (under schemathesis) keeps its example database and caches in ./.hypothesis by
 # default: the checkout. Tests write nothing there, so it goes with the run's cache.
 set_hypothesis_home_dir(os.path.join(_CACHE, "hypothesis"))
+
+
+@pytest.fixture(scope="session", autouse=True)
+def one_heavy_pool_per_process():
+    """One heavy-work pool (app/work) for each test process, as a server has one for its
+    life. Each in-process app's lifespan (a TestClient) spawns the pool's worker a second
+    after it starts and kills it at its shutdown: ~15 spawns in tests/api alone, ~2.5 CPU-s
+    each (an interpreter importing the application), most for modules that never run heavy
+    work, on a CPU-bound suite. The lifespan's own shutdown is tested where it matters:
+    a real server under SIGTERM (tests/robustness/test_sigterm.py) and HeavyPool.close
+    (tests/robustness/test_heavy_pool.py)."""
+    from app import work
+    with pytest.MonkeyPatch.context() as mp:
+        mp.setattr(work, "close", lambda: None)
+        yield
+    work.close()
 
 
 def pytest_unconfigure(config):

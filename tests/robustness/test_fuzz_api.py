@@ -58,7 +58,6 @@ from fastapi.routing import APIRoute
 from schemathesis.config import SchemathesisConfig
 
 import app.api
-from app import work
 from tests import heavy_pool
 from app.model import DEFAULT as DEFAULT_FAMILY, families
 import app.api.routes
@@ -144,18 +143,12 @@ schema = schemathesis.openapi.from_asgi("/openapi.json", APP, config=CONFIG)
 
 
 @pytest.fixture(scope="module", autouse=True)
-def one_heavy_pool():
-    """One heavy-work pool for the whole run, started before it, as a server has. Each
-    operation's test runs the app's lifespan, whose shutdown kills the pool: the next
-    heavy operation spawned a new worker (~3 s of CPU, an interpreter importing the
-    application) and, with a quarter second of budget, was refused while it started —
-    so the heavy routes' own work was barely fuzzed. The lifespan's shutdown is tested
-    where it matters (tests/robustness/test_sigterm.py)."""
-    with pytest.MonkeyPatch.context() as mp:
-        mp.setattr(work, "close", lambda: None)
-        heavy_pool.started()
-        yield
-    work.close()
+def heavy_pool_started():
+    """The process's heavy-work pool (one for the run: tests/conftest.py) started before
+    the first operation, as a server's is: with a quarter second of budget, a heavy
+    operation met while its worker starts is refused, and its own work goes unfuzzed."""
+    heavy_pool.started()
+
 
 #: filled by the test, reported by conftest.py at the end of the run
 CALLS: dict[str, int] = {}
