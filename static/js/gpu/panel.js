@@ -11,6 +11,7 @@ import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
 import { referenceFrame, referenceSlice, compare, compareSlice, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
 import { SliceRenderer } from "./slice.js";
+import { UserSlice } from "./userslice.js";
 import { lightAt } from "../panels/spheredrag.js";
 import { UserBrdf, LINK_KEY } from "./userbrdf.js";
 import { EnvSphere, ENVIRONMENTS, MAP, PREVIEW_SIZE } from "./env.js";
@@ -80,6 +81,8 @@ export class GpuPanel {
     this.sliceInput = el("input", { type: "checkbox", id: "gpu-slice-toggle" });
     this.sliceCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-slice-canvas", hidden: true,
                                       "aria-label": "f over θ_h (right) and θ_d (up) at φ_d = 90°, log scale, drawn on the GPU" });
+    this.userSlice = new UserSlice(SIZE);
+    this.user.listen(() => this.userSliceDraw());
     this.sliceTruthText = el("p", { class: "gpu-truth", id: "gpu-slice-truth", role: "status", hidden: true });
     this.envCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-env-canvas", hidden: true,
                                     "aria-label": "The sphere under the environment, drawn on the GPU" });
@@ -91,7 +94,8 @@ export class GpuPanel {
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
       el("div", { class: "gpu-main" },          // the spheres, and under them the .brdf being edited
-        el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceCanvas, this.diffCanvas),
+        el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceCanvas,
+                        this.userSlice.canvas, this.diffCanvas),
         this.user.editor.section),
       this.message, this.truthText, this.sliceTruthText, this.envText, this.user.section,
       el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
@@ -453,7 +457,7 @@ export class GpuPanel {
     this.sliceOn = on;
     this.sliceCanvas.hidden = !on;
     this.sliceTruthText.hidden = !(on && this.truthOn);
-    if (!on) return;
+    if (!on) return this.userSliceDraw();
     if (!this.slice) {
       const { gl, why } = makeContext(this.sliceCanvas);
       if (!gl) { this.say(`No GPU slice: ${why}.`, "error"); return; }
@@ -465,20 +469,28 @@ export class GpuPanel {
     this.truthStale();
   }
 
-  /** Drawn when the model or its values changed (the light does not enter the slice). */
+  /** Drawn when the model or its values changed (the light does not enter the slice);
+   * then the user's BRDF's slice on its scale (userslice.js). */
   sliceDraw() {
     if (!this.sliceOn || !this.slice || !this.code || !this.model || this.slice.gl.isContextLost()) return;
     const key = `${this.code.code}\n${JSON.stringify(this.code.uniforms)}`;
-    if (key === this.sliceKey) return;
-    try {
-      this.slice.setSource(structure(this.code.code));
-    } catch (err) {
-      this.say(`The slice cannot compile this model: ${err.message}`, "error");
-      return;
+    if (key !== this.sliceKey) {
+      try {
+        this.slice.setSource(structure(this.code.code));
+      } catch (err) {
+        this.say(`The slice cannot compile this model: ${err.message}`, "error");
+        return;
+      }
+      this.slice.uniforms = this.code.uniforms;
+      this.slice.draw();
+      this.sliceKey = key;
     }
-    this.slice.uniforms = this.code.uniforms;
-    this.slice.draw();
-    this.sliceKey = key;
+    this.userSliceDraw();
+  }
+
+  userSliceDraw() {
+    const why = this.userSlice.draw(this.user, !!this.sliceOn, SLICE_PHI_H, SLICE_PHI_D, this.slice?.logRange ?? null);
+    if (why) this.say(why, "error");
   }
 
   async checkSliceTruth(model) {
@@ -566,6 +578,14 @@ export class GpuPanel {
       get truth() { return self.truth; },
       get sliceTruth() { return self.sliceTruth; },
       setSlice: (on) => { self.sliceInput.checked = on; self.setSlice(on); },
+      /** The user's BRDF's slice as drawn: f (RGB per pixel, rows θ_d from 0) and n·l, n·v
+       * of its float32 directions; null when it is not drawn. */
+      userSlice() {
+        const r = self.userSlice.read();
+        if (!r) return null;
+        const pick = (a, k0, step) => Array.from({ length: a.length / step }, (_, p) => a[step * p + k0]);
+        return { rgb: [0, 1, 2].map((c) => pick(r.f, c, 4)), nl: pick(r.l, 2, 4), nv: pick(r.v, 2, 4) };
+      },
       get message() { return self.message.textContent; },
       get model() { return self.model; },
       get env() { return self.envStats ? { ...self.envStats, reference: self.envReference?.noise ?? null } : null; },

@@ -5,8 +5,8 @@
  * that does not compile (with the file's line numbers), an undeclared parameter, a shader
  * that stalls the GPU (context lost) — is a message here; the rest of the page works.
  * Its editor (editor.js; the panel places editor.section) holds the text: what is typed
- * there is opened as a file is. `onChange()` (set by its owner) is told whenever what it
- * draws changes: opened, a value or the text changed, closed, lost (usercurves.js).
+ * there is opened as a file is. `listen(fn)`: fn() is called whenever what it draws
+ * changes — opened, a value or the text changed, closed, lost (usercurves.js, the slice).
  */
 import { el, saveBlob } from "../base/dom.js";
 import { makeContext, ShaderError } from "./gl.js";
@@ -50,13 +50,17 @@ export class UserBrdf {
       el("div", { class: "panel-tools" },
         el("label", {}, "Your BRDF (.brdf, or drop it here) ", this.fileInput), write, this.measureButton, this.exportButton, this.closeButton),
       this.messageLine, this.sliders, this.results);
-    Object.assign(this, { file: null, values: {}, source: null, renderer: null, evaluator: null, measured: null,
+    this.listeners = [];
+    Object.assign(this, { file: null, values: {}, source: null, glsl: null, renderer: null, evaluator: null, measured: null,
                           measureTimer: 0, linkTimer: 0, lost: false, measureCount: 0, opening: 0 });
     this.fileInput.addEventListener("change", () => this.fileInput.files[0] && this.openFile(this.fileInput.files[0]));
     this.measureButton.addEventListener("click", () => this.measureNow());
     this.exportButton.addEventListener("click", () => this.export());
     this.closeButton.addEventListener("click", () => this.close());
   }
+
+  listen(fn) { this.listeners.push(fn); }
+  onChange() { for (const fn of this.listeners) fn(); }
 
   say(text, kind = "") {
     this.messageLine.textContent = text;
@@ -130,7 +134,8 @@ export class UserBrdf {
     }
     this.renderer.setSource(glsl, { offset, limit });
     if (this.prog) this.renderer.gl.deleteProgram(this.prog);
-    Object.assign(this, { file: parsed, source: text, name, prog, values: { ...defaults(parsed.params), ...kept } });
+    Object.assign(this, { file: parsed, source: text, name, prog, glsl: { glsl, offset, limit },
+                          values: { ...defaults(parsed.params), ...kept } });
     if (!edited) {
       this.editor.show(text);
       this.textName = name;
@@ -143,7 +148,7 @@ export class UserBrdf {
     this.draw();
     this.scheduleMeasure();
     this.scheduleLink();
-    this.onChange?.();
+    this.onChange();
     return { ok: true };
   }
 
@@ -174,7 +179,7 @@ export class UserBrdf {
       this.file = null;
       this.closeButton.hidden = true;
       this.link(null);
-      this.onChange?.();
+      this.onChange();
     });
     this.renderer = new SphereRenderer(gl, 256);
     this.evaluator = new PairEvaluator(gl);
@@ -210,7 +215,7 @@ export class UserBrdf {
     this.draw();
     this.scheduleMeasure();
     this.scheduleLink();
-    this.onChange?.();
+    this.onChange();
   }
 
   /** Taken off the page: its sphere, sliders, numbers, link and curves; the editor keeps
@@ -226,7 +231,7 @@ export class UserBrdf {
     this.sliders.textContent = this.results.textContent = "";
     this.link(null);
     this.say(`${this.name} closed.`);
-    this.onChange?.();
+    this.onChange();
   }
 
   /** f (RGBA float32 per pair) at direction pairs (flat arrays of 3·count, n = +z), or

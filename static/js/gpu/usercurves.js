@@ -67,7 +67,7 @@ export class UserCurves {
    * — the panel's last figure, its query, its view's field defaults, and its overlay. */
   constructor(user, page, root = document) {
     Object.assign(this, { user, page, base: new Map(), drawn: new Map(), timers: new Map(), count: 0 });
-    user.onChange = () => this.changed();
+    user.listen(() => this.changed());
     const drawn = (e) => {
       const name = e.target?.closest?.("[data-panel]")?.dataset.panel;
       if (VIEWS.includes(name)) this.apply(name);

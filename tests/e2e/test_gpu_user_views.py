@@ -1,10 +1,11 @@
-"""Your BRDF on the curve panels (static/js/gpu/usercurves.js): its lobe in the plane of
-incidence and its albedo E(μ), evaluated on the GPU by read-back and added as a trace
-"your BRDF: <name>" to the panels' own figures.
+"""Your BRDF in the views beside the registry model: on the curve panels
+(static/js/gpu/usercurves.js: its lobe in the plane of incidence and its albedo E(μ),
+evaluated on the GPU by read-back, a trace "your BRDF: <name>" on the panels' own
+figures) and in the GPU θ_h–θ_d slice (static/js/gpu/userslice.js).
 
-References are the server's float64 figures and quadrature for the registry twin of
-Walter's file, and closed forms for a Lambertian file (f = ρ/π: the lobe ρ/π, or
-ρ/π·cos θ_o with the panel's f·cos θ_o toggle; E(μ) = ρ). One page session.
+References are the server's float64 figures, quadrature and reference slice for the
+registry twin of Walter's file, and closed forms for a Lambertian file (f = ρ/π: the lobe
+ρ/π, or ρ/π·cos θ_o with the panel's f·cos θ_o toggle; E(μ) = ρ). One page a test.
 """
 from __future__ import annotations
 
@@ -16,7 +17,7 @@ from urllib.parse import urlencode
 import numpy as np
 import pytest
 
-from tests.e2e.user_brdf_page import LOADED, READY, TWIN, WALTER, load_brdf
+from tests.e2e.user_brdf_page import LOADED, READY, TWIN, WALTER, load_brdf, open_gpu_page
 
 pytestmark = pytest.mark.e2e
 
@@ -45,10 +46,10 @@ def _array(a):
     return np.array([np.nan if x is None else x for x in a], dtype=float)
 
 
-def _get(base: str, path: str) -> dict:
-    req = urllib.request.Request(base + path, headers={"Accept": "application/json"})
+def _get(base: str, path: str, *, raw=False):
+    req = urllib.request.Request(base + path, headers={"Accept": "*/*" if raw else "application/json"})
     with urllib.request.urlopen(req, timeout=120) as res:
-        return json.loads(res.read())
+        return res.read() if raw else json.loads(res.read())
 
 
 def _user(page, name: str, label: str):
@@ -118,4 +119,33 @@ def test_user_brdf_lobe_and_albedo_beside_the_model(page, page_log, live_server,
     page.click("#gpu-brdf-close")
     page.wait_for_function(f"() => !({USER})('lobe') && !({USER})('albedo')", timeout=60_000)
     assert not page.evaluate("() => window.__userBrdf.loaded")
+    assert not page_log.problems()
+
+
+#: the slice's well-conditioned band (truth.js GRAZING_DEG): θ_l, θ_v ≤ 88°
+MU_BAND = np.cos(np.deg2rad(88.0))
+
+
+def test_user_brdf_slice_beside_the_model(page, page_log, live_server, shots):
+    """Walter's file's slice against the server's float64 f of its registry twin at the
+    very float32 directions drawn (GET /api/v1/reference/slice)."""
+    open_gpu_page(page)
+    load_brdf(page, WALTER, name="walter_ggx_dielectric.brdf")
+    page.wait_for_function(LOADED, timeout=60_000)
+    page.evaluate("() => window.__gpu.setSlice(true)")
+    page.wait_for_function("() => !document.getElementById('gpu-user-slice-canvas').hidden", timeout=60_000)
+    s = page.evaluate("() => window.__gpu.userSlice()")
+    gpu = np.array(s["rgb"], dtype=float).T
+    q = urlencode({**TWIN, "phi_h_deg": 0, "phi_d_deg": 90, "n": 256})
+    ref = np.frombuffer(_get(live_server, f"/api/v1/reference/slice?{q}", raw=True), dtype="<f8").reshape(-1, 3)
+    band = (np.array(s["nl"]) >= MU_BAND) & (np.array(s["nv"]) >= MU_BAND) & np.isfinite(ref).all(axis=1)
+    peak = np.nanmax(np.abs(ref))
+    err = np.abs(gpu - ref)[band] / np.maximum(np.abs(ref[band]), FLOOR * peak)
+    print(f"slice: {band.sum()} pixels in the band, largest relative difference {err.max():.2e}, mean {err.mean():.1e}")
+    assert band.sum() >= 0.5 * len(ref) and err.max() <= REL         # most of the image is in the band
+    page.locator("#panel-gpu").screenshot(path=str(shots / "user-slice-walter.png"))
+    # closed: the slice of yours goes, the registry's stays
+    page.click("#gpu-brdf-close")
+    page.wait_for_function("() => document.getElementById('gpu-user-slice-canvas').hidden", timeout=30_000)
+    assert page.is_visible("#gpu-slice-canvas")
     assert not page_log.problems()
