@@ -149,3 +149,48 @@ def test_user_brdf_slice_beside_the_model(page, page_log, live_server, shots):
     page.wait_for_function("() => document.getElementById('gpu-user-slice-canvas').hidden", timeout=30_000)
     assert page.is_visible("#gpu-slice-canvas")
     assert not page_log.problems()
+
+
+#: directions of the 3-D lobe's read-back: θ_o up to 88° (the band of the slice and truth)
+LOBE_ANGLES = [[t, p] for t in (0.0, 10.0, 30.0, 45.0, 60.0, 80.0, 88.0) for p in (0.0, 45.0, 90.0, 180.0, 300.0)]
+
+
+def test_lobe3d_radius_matches_eval(page, page_log, live_server, shots):
+    """The GPU 3-D lobe (static/js/gpu/lobe3d.js): the radius f·cos θ_o its vertex shader
+    computes, read back, against the server's float64 /eval for the registry model, and for
+    Walter's file beside it (its twin); turned by a drag with no request to the server."""
+    open_gpu_page(page)
+    load_brdf(page, WALTER, name="walter_ggx_dielectric.brdf")
+    page.wait_for_function(LOADED, timeout=60_000)
+    page.evaluate("() => window.__gpu.setLobe3d(true)")
+    page.wait_for_function("() => window.__gpu.lobe3dDraws > 0 && !document.getElementById('gpu-user-lobe3d-canvas').hidden",
+                           timeout=60_000)
+    state = page.evaluate("() => ({t: window.__brdf.state.theta_i_deg, p: window.__brdf.state.phi_i_deg})")
+    radii = page.evaluate("(a) => window.__gpu.lobe3d(a)", LOBE_ANGLES)
+    angles = np.array(LOBE_ANGLES)
+    body = {**TWIN, "theta_i_deg": [state["t"]] * len(angles), "phi_i_deg": [state["p"]] * len(angles),
+            "theta_o_deg": angles[:, 0].tolist(), "phi_o_deg": angles[:, 1].tolist(), "quantities": ["f"]}
+    req = urllib.request.Request(f"{live_server}/api/v1/eval", data=json.dumps(body).encode(),
+                                 headers={"Content-Type": "application/json"})
+    with urllib.request.urlopen(req, timeout=60) as res:
+        f = np.array(json.loads(res.read())["f"], dtype=float)
+    ref = f * np.cos(np.deg2rad(angles[:, 0]))
+    floor = FLOOR * ref.max()
+    for who in ("registry", "user"):
+        err = _close(np.array(radii[who], dtype=float), ref, REL, floor)
+        print(f"3-D lobe, {who}: {len(ref)} directions, largest relative difference {err:.2e}")
+        assert err <= REL
+    # the orbit: a drag turns both lobes, and asks the server nothing
+    canvas = "document.getElementById('gpu-lobe3d-canvas').toDataURL()"
+    before, draws = page.evaluate(f"() => [{canvas}, window.__gpu.lobe3dDraws]")
+    asked = []
+    page.on("request", lambda r: asked.append(r.url))
+    box = page.locator("#gpu-lobe3d-canvas").bounding_box()
+    page.mouse.move(box["x"] + 100, box["y"] + 100)
+    page.mouse.down()
+    page.mouse.move(box["x"] + 160, box["y"] + 130, steps=5)
+    page.mouse.up()
+    after, draws_after = page.evaluate(f"() => [{canvas}, window.__gpu.lobe3dDraws]")
+    assert draws_after >= draws + 5 and after != before and not asked
+    page.locator("#panel-gpu").screenshot(path=str(shots / "gpu-lobe3d-walter.png"))
+    assert not page_log.problems()

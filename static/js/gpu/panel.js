@@ -12,6 +12,7 @@ import { SphereRenderer } from "./sphere.js";
 import { referenceFrame, referenceSlice, compare, compareSlice, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
 import { SliceRenderer } from "./slice.js";
 import { UserSlice } from "./userslice.js";
+import { Lobe3dView } from "./lobe3dview.js";
 import { lightAt } from "../panels/spheredrag.js";
 import { UserBrdf, LINK_KEY } from "./userbrdf.js";
 import { EnvSphere, ENVIRONMENTS, MAP, PREVIEW_SIZE } from "./env.js";
@@ -83,6 +84,8 @@ export class GpuPanel {
                                       "aria-label": "f over θ_h (right) and θ_d (up) at φ_d = 90°, log scale, drawn on the GPU" });
     this.userSlice = new UserSlice(SIZE);
     this.user.listen(() => this.userSliceDraw());
+    this.lobe3d = new Lobe3dView(SIZE);
+    this.user.listen(() => this.lobe3dDraw());
     this.sliceTruthText = el("p", { class: "gpu-truth", id: "gpu-slice-truth", role: "status", hidden: true });
     this.envCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-env-canvas", hidden: true,
                                     "aria-label": "The sphere under the environment, drawn on the GPU" });
@@ -90,12 +93,12 @@ export class GpuPanel {
     const tools = el("div", { class: "panel-tools gpu-tools" },
       el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText),
       el("label", {}, "environment ", this.envSelect), el("label", {}, ".hdr ", this.mapInput),
-      el("label", {}, this.sliceInput, " θ_h–θ_d slice"), this.truthButton);
+      el("label", {}, this.sliceInput, " θ_h–θ_d slice"), el("label", {}, this.lobe3d.input, " 3-D lobe"), this.truthButton);
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
       el("div", { class: "gpu-main" },          // the spheres, and under them the .brdf being edited
         el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceCanvas,
-                        this.userSlice.canvas, this.diffCanvas),
+                        this.userSlice.canvas, this.lobe3d.canvas, this.lobe3d.userCanvas, this.diffCanvas),
         this.user.editor.section),
       this.message, this.truthText, this.sliceTruthText, this.envText, this.user.section,
       el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
@@ -117,6 +120,7 @@ export class GpuPanel {
     this.truthButton.addEventListener("click", () => this.setTruth(!this.truthOn));
     this.envSelect.addEventListener("change", () => this.setEnvironment(this.envSelect.value));
     this.sliceInput.addEventListener("change", () => this.setSlice(this.sliceInput.checked));
+    this.lobe3d.input.addEventListener("change", () => { this.lobe3d.setOn(this.lobe3d.input.checked); this.lobe3dDraw(); });
     this.mapInput.addEventListener("change", () => this.mapInput.files[0] && this.openHdr(this.mapInput.files[0]));
     this.start();
   }
@@ -247,6 +251,7 @@ export class GpuPanel {
     this.user.draw();
     this.envRestart();
     this.sliceDraw();
+    this.lobe3dDraw();
     this.draws++;
     if (this.inputTime !== null) {
       // one pixel read back: the frame is finished, not merely queued
@@ -488,6 +493,13 @@ export class GpuPanel {
     this.userSliceDraw();
   }
 
+  /** The 3-D lobes (lobe3dview.js) for the model, the user's BRDF and the light. */
+  lobe3dDraw() {
+    if (!this.code || !this.model || !this.renderer) return;
+    const why = this.lobe3d.update({ glsl: structure(this.code.code), uniforms: this.code.uniforms }, this.user, this.renderer.light);
+    if (why) this.say(why, "error");
+  }
+
   userSliceDraw() {
     const why = this.userSlice.draw(this.user, !!this.sliceOn, SLICE_PHI_H, SLICE_PHI_D, this.slice?.logRange ?? null);
     if (why) this.say(why, "error");
@@ -578,6 +590,12 @@ export class GpuPanel {
       get truth() { return self.truth; },
       get sliceTruth() { return self.sliceTruth; },
       setSlice: (on) => { self.sliceInput.checked = on; self.setSlice(on); },
+      setLobe3d: (on) => { self.lobe3d.setOn(on); self.lobe3dDraw(); },
+      /** The 3-D lobes' radii f·cos θ_o at [[θ_o, φ_o], …] (degrees), read back from the
+       * vertex shader: {registry, user}; the orbit turned by a drag of (dx, dy) pixels. */
+      lobe3d: (angles) => self.lobe3d.radii(angles),
+      turnLobe3d: (dx, dy) => self.lobe3d.turn(dx, dy),
+      get lobe3dDraws() { return self.lobe3d.draws; },
       /** The user's BRDF's slice as drawn: f (RGB per pixel, rows θ_d from 0) and n·l, n·v
        * of its float32 directions; null when it is not drawn. */
       userSlice() {
