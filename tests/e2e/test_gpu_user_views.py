@@ -113,6 +113,16 @@ def test_user_brdf_lobe_and_albedo_beside_the_model(page, page_log, live_server,
     expect = rho_pi * np.cos(np.deg2rad(np.abs(theta)))
     assert _close(_array(lobe["r"]), expect, F32, FLOOR * rho_pi) <= F32
 
+    # -- a slider of the page's model redraws the panels: the trace is drawn again, the
+    # albedo's not computed again (its inputs are the user's), the lobe's at the new nodes
+    n0, e0 = page.evaluate("() => [window.__userCurves.count, window.__userCurves.evaluations]")
+    page.evaluate("""() => { const s = document.getElementById('alpha-slider'); s.value = '500';
+                     s.dispatchEvent(new Event('input', {bubbles: true})); }""")
+    page.wait_for_function(f"(n) => window.__userCurves.count >= n + 2 && window.__brdf.pending() === 0"
+                           f" && ({USER})('lobe') && ({USER})('albedo')", arg=n0, timeout=60_000)
+    e1 = page.evaluate("() => window.__userCurves.evaluations")
+    assert 0 < e1 - e0 < 1000, (e0, e1)                # θ_o nodes only; one μ of the albedo is 32 768
+
     # -- a slider redraws the traces; closing the BRDF takes them off
     page.evaluate("() => window.__userBrdf.setValue('rho', 0.25)")
     page.wait_for_function(f"() => Math.abs(({USER})('albedo').y[3] - 0.25) < 1e-5", timeout=60_000)

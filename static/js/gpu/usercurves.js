@@ -66,7 +66,8 @@ export class UserCurves {
   /** user: the UserBrdf; page: { figure(name), params(name), defaults(name), overlay(name, figure) }
    * — the panel's last figure, its query, its view's field defaults, and its overlay. */
   constructor(user, page, root = document) {
-    Object.assign(this, { user, page, base: new Map(), drawn: new Map(), timers: new Map(), count: 0 });
+    Object.assign(this, { user, page, base: new Map(), drawn: new Map(), timers: new Map(), kept: new Map(),
+                          count: 0, evaluations: 0 });
     user.listen(() => this.changed());
     const drawn = (e) => {
       const name = e.target?.closest?.("[data-panel]")?.dataset.panel;
@@ -102,16 +103,29 @@ export class UserCurves {
     this.page.overlay(name, { data: trace ? [...base.data, trace] : base.data, layout });
   }
 
+  /** The trace for this figure, computed again only when its inputs changed: a panel
+   * redrawn for the registry model (a slider of the page) reuses the user's values. */
   trace(name, base) {
     const q = { ...this.page.defaults(name), ...this.page.params(name) };
+    const nodes = name === "lobe" ? numbers(base.data.find((t) => t.type === "scatterpolar" && t.meta?.role !== "guide")?.theta) : null;
+    const key = JSON.stringify([this.user.source, this.user.values, this.user.name, q.theta_i_deg, q.phi_i_deg, q.cosine,
+                                q.log, q.n, q.mu, q.phi_deg, nodes && Array.from(nodes)]);
+    const kept = this.kept.get(name);
+    if (kept && kept.key === key) return kept.trace;
+    const trace = this.compute(name, q, nodes);
+    this.kept.set(name, { key, trace });
+    return trace;
+  }
+
+  /** thetaO: the lobe figure's θ_o nodes (degrees). */
+  compute(name, q, thetaO) {
     const label = `${LABEL}: ${this.user.name}`;
     if (name === "lobe") {
-      const model = base.data.find((t) => t.type === "scatterpolar" && t.meta?.role !== "guide");
-      const thetaO = numbers(model?.theta);
       if (!thetaO) return null;
       const { l, v } = lobePairs(thetaO, Number(q.theta_i_deg), Number(q.phi_i_deg));
       const f = this.user.evaluate(l, v);
       if (!f) return null;
+      this.evaluations += thetaO.length;
       const r = lobeValues(f, thetaO, { cosine: q.cosine === true || q.cosine === "true", log: q.log === true || q.log === "true" });
       return { type: "scatterpolar", mode: "lines", name: label, theta: Array.from(thetaO), r,
                line: { color: COLOR, width: 2, dash: "dot" }, meta: { role: MARK },
@@ -125,6 +139,7 @@ export class UserCurves {
     const pairs = albedoPairs(CURVE_NODES.mu, CURVE_NODES.phi, inside, Number(q.phi_deg || 0) * DEG);
     const f = this.user.evaluate(pairs.l, pairs.v);
     if (!f) return null;
+    this.evaluations += pairs.l.length / 3;
     const E = albedoOf(f, pairs.weights, pairs.per, inside.length).map((e) => LUMA[0] * e[0] + LUMA[1] * e[1] + LUMA[2] * e[2]);
     const y = mus.map((mu) => (mu > 0 && mu <= 1 ? E[inside.indexOf(mu)] : NaN));
     return { type: "scatter", mode: "lines+markers", name: label,
@@ -137,6 +152,8 @@ export class UserCurves {
     const self = this;
     return {
       get count() { return self.count; },
+      /** GPU evaluations of f made for the traces so far. */
+      get evaluations() { return self.evaluations; },
       /** The trace last added to a panel (null: none), as drawn. */
       trace: (name) => self.drawn.get(name) ?? null,
     };
