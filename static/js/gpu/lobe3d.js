@@ -1,5 +1,7 @@
 /* The 3-D lobe on the GPU: the surface r(ω_o) = f(ω_i, ω_o)·cos θ_o over the hemisphere
- * of outgoing directions, for the light ω_i, as a mesh whose vertices are displaced in the
+ * of outgoing directions (the radiance leaving towards ω_o per unit irradiance from ω_i:
+ * the lobe panel's f·cos θ_o, app/quantities.py lobe_curve, over every azimuth; the
+ * server's 3-D lobe draws f), for the light ω_i, as a mesh whose vertices are displaced in the
  * vertex shader by evaluating the BRDF there (its GLSL compiled into the vertex stage:
  * a new light or value moves every vertex with no upload). The luminance of f (Rec. 709,
  * as the server's "f" of a coloured model). Seen from an orbit (azimuth, elevation).
@@ -17,7 +19,7 @@ export const MESH = { theta: 65, phi: 129 };
 /** Texels per row of the read-back target. */
 const PROBE_WIDTH = 256;
 /** The lobe's largest radius is drawn at this share of the half-width. */
-const FILL = 0.9;
+export const FILL = 0.9;
 
 const LOBE_VS = `
 in vec3 a_dir;             // ω_o, unit, formed in float64

@@ -5,14 +5,12 @@
  */
 import { el } from "../base/dom.js";
 import { makeContext } from "./gl.js";
-import { LobeRenderer, orbit } from "./lobe3d.js";
+import { LobeRenderer, orbit, FILL } from "./lobe3d.js";
 
 /** Degrees turned per pixel dragged. */
 const TURN_PER_PX = 0.5;
 /** The elevation stays within these (degrees): from just below the horizon to the top. */
 const ELEVATION = [-10, 90];
-/** The lobes' largest radius is drawn at this share of the half-width (lobe3d.js FILL). */
-const FILL = 0.9;
 
 export class Lobe3dView {
   constructor(size) {

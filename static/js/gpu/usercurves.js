@@ -4,7 +4,8 @@
  * the panel's own overlay (Panel.overlay: the data module's path; no second renderer).
  *
  * Each time a panel draws (its "brdf-drawn", or the data module's "brdf-data-drawn" over
- * it) the trace is computed again at that figure's own angles; when the BRDF changes
+ * it) the trace is added again at that figure's own angles (computed again only when its
+ * inputs changed); when the BRDF changes
  * (opened, a value or the text changed, closed) the panels' last figures are redrawn with
  * the new trace, or without one. Values: Rec. 709 luminance of the RGB f, as the server's
  * "f" of a coloured model (app/environment/render.py LUMINANCE).
@@ -27,6 +28,7 @@ export const CURVE_NODES = { mu: 64, phi: 512 };
 /** A BRDF change redraws the lobe at the next frame and the albedo (≈ 0.5 M GPU
  * evaluations at the panel's 16 μ > 0) this long after the last of a burst (a slider). */
 const ALBEDO_DELAY_MS = 200;
+/** Luminance of linear RGB, ITU-R BT.709. */
 const LUMA = [0.2126, 0.7152, 0.0722];
 const DEG = Math.PI / 180;
 /** Set on the trace (and kept through the chart): how it is found again and replaced. */
@@ -131,7 +133,9 @@ export class UserCurves {
                line: { color: COLOR, width: 2, dash: "dot" }, meta: { role: MARK },
                hovertemplate: "θ_o=%{theta:.1f}°<br>%{r:.4g}<extra></extra>" };
     }
-    // the albedo: the grazing node μ = 0 is left out (a gap): f(l, v) there divides by
+    // the albedo E(μ_v) = ∫ f(l, v) (n·l) dl, the server's (app/integrate/albedo.py; the
+    // directional-hemispherical reflectance of Nicodemus et al. 1977, NBS Monograph 160).
+    // The grazing node μ = 0 is left out (a gap): f(l, v) there divides by
     // n·v = 0 in most files, and E(0) is the server's limit, not a value to evaluate
     const mus = albedoNodes(q, Number(q.n));
     const inside = mus.filter((mu) => mu > 0 && mu <= 1);
