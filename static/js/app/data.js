@@ -1,14 +1,17 @@
 /* Your data beside the model: open (or drop) a MERL .binary or CSV file, see it on every
  * panel that can show it, one toggle for (data − model)/model, and fit the model to it.
  *
- * Self-contained: it talks to the page only through window.__brdf (the state, each
- * panel's request URL) and the "brdf-drawn" event each panel fires after a draw. After a
+ * Self-contained (but for panels/layout.js's rangeOverAll, shared with the user BRDF's
+ * curves): it talks to the page only through window.__brdf (the state, each panel's
+ * request URL) and the "brdf-drawn" event each panel fires after a draw. After a
  * panel draws the model, the same query goes to /api/v1/datasets/{id}/figures/{view},
  * which answers the model's figure with the data added (or the relative error); that
  * figure replaces the panel's until its next draw. The data set's id is kept in
  * sessionStorage (not the URL, whose parameters are the model's); a link may hand one
  * over as ?data=<id> (the gallery's data cards do), read once and taken out of the URL.
  */
+import { rangeOverAll } from "../panels/layout.js";
+
 const API = "/api/v1";
 //: views the API overlays, and what they need of the data set
 const OVERLAID = ["lobe", "lobe3d", "slice", "sphere", "albedo", "ndf", "g1", "fresnel"];
@@ -232,22 +235,6 @@ async function overlay(name, div) {
   largestList.set(name, largest);
   showLargest();
   div.dispatchEvent(new CustomEvent("brdf-data-drawn", { detail: { largest } }));
-}
-
-/** The page fixed its value axes to the model's curves; with the data beside them they
- * range over both (Plotly's autorange over every trace): a measured peak far above the
- * model is drawn, not cut off at the model's top. */
-function rangeOverAll(layout) {
-  for (const k of Object.keys(layout)) {
-    if (!/^yaxis\d*$/.test(k)) continue;
-    const { range, ...axis } = layout[k];
-    layout[k] = { ...axis, autorange: true };
-  }
-  if (layout.polar) {
-    const { range, ...radial } = layout.polar.radialaxis || {};
-    layout.polar = { ...layout.polar, radialaxis: { ...radial, autorange: true } };
-  }
-  return layout;
 }
 
 const channelLabel = () => `(${data.summary.channels.length === 3 ? data.channel : data.summary.channels[0]})`;

@@ -16,6 +16,7 @@ import { Scheduler } from "../net/scheduler.js";
 import { fam, setFamilies, allFamilyDefaults, familyRoughness } from "../state/families.js";
 import { GpuPanel } from "../gpu/panel.js";
 import { LINK_KEY as USER_BRDF_KEY } from "../gpu/userbrdf.js";
+import { UserCurves } from "../gpu/usercurves.js";
 
 const state = ctx.state;
 const scheduler = new Scheduler();
@@ -290,6 +291,14 @@ function mountGpu(box, before) {
   window.__gpu = g.hook();
   window.__gpuPanel = g;
   window.__userBrdf = g.user.hook();
+  // the user's BRDF on the curve panels, through each panel's own overlay (usercurves.js)
+  const panelOf = (name) => panels.find((x) => x.name === name);
+  window.__userCurves = new UserCurves(g.user, {
+    figure: (name) => panelOf(name)?.figure ?? null,
+    params: (name) => panelOf(name)?.params(state) ?? {},
+    defaults: (name) => Object.fromEntries((panelOf(name)?.view.fields ?? []).map((f) => [f.name, f.default])),
+    overlay: (name, figure) => panelOf(name)?.overlay(figure),
+  }).hook();
   return g;
 }
 function showServerSphere() {

@@ -138,23 +138,25 @@ export function probe(gl, prog, uniforms) {
 
 const dir = (theta, phi) => [Math.sin(theta) * Math.cos(phi), Math.sin(theta) * Math.sin(phi), Math.cos(theta)];
 
-/** The albedo's pairs: for each μ_v of MU (v at φ = 0), l over Gauss-Legendre μ_l × φ. */
-function albedoPairs(nMu, nPhi) {
+/** The albedo's pairs: for each μ_v of `mus` (v at azimuth `phiV`, radians), l over
+ * Gauss-Legendre μ_l × the midpoint rule in φ; weights dω cos θ_l = dμ dφ μ. */
+export function albedoPairs(nMu, nPhi, mus = MU, phiV = 0) {
   const { x, w } = gaussLegendre(nMu);
   const l = [], v = [], weights = [];
-  for (const muV of MU) {
-    const vv = [Math.sqrt(1 - muV * muV), 0, muV];
+  for (const muV of mus) {
+    const sv = Math.sqrt(1 - muV * muV);
+    const vv = [sv * Math.cos(phiV), sv * Math.sin(phiV), muV];
     for (let i = 0; i < nMu; i++) {
       const s = Math.sqrt(1 - x[i] * x[i]);
       for (let j = 0; j < nPhi; j++) {
         const phi = (2 * Math.PI * (j + 0.5)) / nPhi;
         l.push(s * Math.cos(phi), s * Math.sin(phi), x[i]);
         v.push(...vv);
-        weights.push((w[i] * x[i] * 2 * Math.PI) / nPhi);     // dω cos θ_l = dμ dφ μ
+        weights.push((w[i] * x[i] * 2 * Math.PI) / nPhi);
       }
     }
   }
-  return { l, v, weights, per: nMu * nPhi };
+  return { l, v, weights, per: nMu * nPhi, count: mus.length };
 }
 
 /** Seeded pairs in the closed-off upper hemisphere, θ ≤ 88° (mulberry32: reproducible). */
@@ -193,9 +195,9 @@ function scan(f, l, v, found) {
   }
 }
 
-/** E(μ_v) per channel from one quadrature's evaluations. */
-function albedoOf(f, weights, per) {
-  return MU.map((_, k) => {
+/** E(μ_v) per channel from one quadrature's evaluations (count μ_v of `per` pairs each). */
+export function albedoOf(f, weights, per, count = MU.length) {
+  return Array.from({ length: count }, (_, k) => {
     const e = [0, 0, 0];
     for (let i = k * per; i < (k + 1) * per; i++) for (let c = 0; c < 3; c++) e[c] += weights[i] * f[4 * i + c];
     return e;

@@ -3,14 +3,18 @@
  * the light dragged with the pointer (no server round trip), an exposure, and the truth
  * toggle (truth.js). Where WebGL2 or float targets are missing, or the server has no
  * shader for the model, the panel says so and the server's sphere panel is the view.
+ * Its other views are modules of their own: the environment sphere (env.js), the
+ * θ_h–θ_d slice (sliceview.js) and the 3-D lobe (lobe3dview.js); the user's BRDF
+ * (userbrdf.js) is drawn in each of them beside the model.
  */
 import { API, el, apiMessage, query } from "../base/dom.js";
 import { modelQuery } from "../state/model.js";
 import { fam } from "../state/families.js";
 import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
-import { referenceFrame, referenceSlice, compare, compareSlice, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
-import { SliceRenderer } from "./slice.js";
+import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
+import { SliceView } from "./sliceview.js";
+import { Lobe3dView } from "./lobe3dview.js";
 import { lightAt } from "../panels/spheredrag.js";
 import { UserBrdf, LINK_KEY } from "./userbrdf.js";
 import { EnvSphere, ENVIRONMENTS, MAP, PREVIEW_SIZE } from "./env.js";
@@ -34,8 +38,6 @@ const ENV_REPORT_FRAMES = 4;
  * /api/v1/environments/hdr?format=f32 averages it over solid angle): 256 × 128 cells of
  * ~1.4°, finer than the 1.8° a pixel of the 256² sphere spans near its centre. */
 const MAP_WIDTH = 256;
-/** The GPU slice's azimuths: φ_h = 0, φ_d = 90° (the Disney explorer's default image slice). */
-const SLICE_PHI_H = 0, SLICE_PHI_D = 90;
 /** Input-to-frame times kept for the benchmark hook. */
 const TIMINGS_KEPT = 2000;
 
@@ -77,23 +79,24 @@ export class GpuPanel {
     this.envSelect.append(this.mapOption);
     this.mapInput = el("input", { type: "file", accept: ".hdr,image/vnd.radiance", id: "gpu-hdr",
                                   "aria-label": "Open a Radiance .hdr environment (equirectangular)" });
-    this.sliceInput = el("input", { type: "checkbox", id: "gpu-slice-toggle" });
-    this.sliceCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-slice-canvas", hidden: true,
-                                      "aria-label": "f over θ_h (right) and θ_d (up) at φ_d = 90°, log scale, drawn on the GPU" });
-    this.sliceTruthText = el("p", { class: "gpu-truth", id: "gpu-slice-truth", role: "status", hidden: true });
+    this.sliceView = new SliceView(SIZE, { say: (text, kind) => this.say(text, kind) });
+    this.user.listen(() => this.sliceView.drawUser(this.user));
+    this.lobe3d = new Lobe3dView(SIZE);
+    this.user.listen(() => this.lobe3dDraw());
     this.envCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-env-canvas", hidden: true,
                                     "aria-label": "The sphere under the environment, drawn on the GPU" });
     this.envText = el("p", { class: "gpu-message", id: "gpu-env-text", role: "status", hidden: true });
     const tools = el("div", { class: "panel-tools gpu-tools" },
       el("label", {}, "exposure ", this.exposureInput, " ", this.exposureText),
       el("label", {}, "environment ", this.envSelect), el("label", {}, ".hdr ", this.mapInput),
-      el("label", {}, this.sliceInput, " θ_h–θ_d slice"), this.truthButton);
+      el("label", {}, this.sliceView.input, " θ_h–θ_d slice"), el("label", {}, this.lobe3d.input, " 3-D lobe"), this.truthButton);
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
       el("div", { class: "gpu-main" },          // the spheres, and under them the .brdf being edited
-        el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceCanvas, this.diffCanvas),
+        el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceView.canvas,
+                        this.sliceView.user.canvas, this.lobe3d.canvas, this.lobe3d.userCanvas, this.diffCanvas),
         this.user.editor.section),
-      this.message, this.truthText, this.sliceTruthText, this.envText, this.user.section,
+      this.message, this.truthText, this.sliceView.truthText, this.envText, this.user.section,
       el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
         + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
       + "Open a Disney BRDF Explorer .brdf file, or write one under the spheres, to see yours beside it, measured." }));
@@ -112,7 +115,8 @@ export class GpuPanel {
     });
     this.truthButton.addEventListener("click", () => this.setTruth(!this.truthOn));
     this.envSelect.addEventListener("change", () => this.setEnvironment(this.envSelect.value));
-    this.sliceInput.addEventListener("change", () => this.setSlice(this.sliceInput.checked));
+    this.sliceView.input.addEventListener("change", () => this.setSlice(this.sliceView.input.checked));
+    this.lobe3d.input.addEventListener("change", () => { this.lobe3d.setOn(this.lobe3d.input.checked); this.lobe3dDraw(); });
     this.mapInput.addEventListener("change", () => this.mapInput.files[0] && this.openHdr(this.mapInput.files[0]));
     this.start();
   }
@@ -243,6 +247,7 @@ export class GpuPanel {
     this.user.draw();
     this.envRestart();
     this.sliceDraw();
+    this.lobe3dDraw();
     this.draws++;
     if (this.inputTime !== null) {
       // one pixel read back: the frame is finished, not merely queued
@@ -447,60 +452,23 @@ export class GpuPanel {
     this.envAsked = false;
   }
 
-  // ---------------------------------------------------------------- slice ----
-  /** The θ_h–θ_d slice beside the spheres (its own context), or not. */
+  // ------------------------------------------------- slice and 3-D lobe ----
+  /** The θ_h–θ_d slice beside the spheres (sliceview.js), or not. */
   setSlice(on) {
-    this.sliceOn = on;
-    this.sliceCanvas.hidden = !on;
-    this.sliceTruthText.hidden = !(on && this.truthOn);
-    if (!on) return;
-    if (!this.slice) {
-      const { gl, why } = makeContext(this.sliceCanvas);
-      if (!gl) { this.say(`No GPU slice: ${why}.`, "error"); return; }
-      this.slice = new SliceRenderer(gl, SIZE);
-      this.slice.setAzimuths(SLICE_PHI_H, SLICE_PHI_D);
-    }
-    this.sliceKey = null;
+    this.sliceView.setOn(on, this.truthOn);
     this.sliceDraw();
-    this.truthStale();
+    if (on) this.truthStale();
   }
 
-  /** Drawn when the model or its values changed (the light does not enter the slice). */
   sliceDraw() {
-    if (!this.sliceOn || !this.slice || !this.code || !this.model || this.slice.gl.isContextLost()) return;
-    const key = `${this.code.code}\n${JSON.stringify(this.code.uniforms)}`;
-    if (key === this.sliceKey) return;
-    try {
-      this.slice.setSource(structure(this.code.code));
-    } catch (err) {
-      this.say(`The slice cannot compile this model: ${err.message}`, "error");
-      return;
-    }
-    this.slice.uniforms = this.code.uniforms;
-    this.slice.draw();
-    this.sliceKey = key;
+    if (this.model) this.sliceView.draw(this.code, this.code && structure(this.code.code), this.user);
   }
 
-  async checkSliceTruth(model) {
-    if (!this.sliceOn || !this.slice) { this.sliceTruth = null; return; }
-    this.sliceDraw();
-    this.slice.render();
-    const gpu = this.slice.read(), { l, v } = this.slice.dirs;
-    const token = this.truthToken;
-    let ref;
-    try {
-      ref = await referenceSlice(model, SLICE_PHI_H, SLICE_PHI_D, SIZE);
-    } catch (e) {
-      if (token === this.truthToken) this.sliceTruthText.textContent = `No reference slice: ${e.message}`;
-      return;
-    }
-    if (token !== this.truthToken) return;
-    const r = compareSlice(gpu, ref, SIZE, l, v);
-    this.sliceTruth = { max: r.max, mean: r.mean, at: r.at, pixels: r.pixels, absPeak: r.absPeak, nonFinite: r.nonFinite };
-    this.sliceTruthText.textContent = `Slice (φ_d = ${SLICE_PHI_D}°), GPU against the server's float64 at the same float32 `
-      + `directions: largest relative difference ${fmt(r.max)}, mean ${fmt(r.mean)} over the ${r.pixels} pixels with `
-      + `θ_l, θ_v ≤ ${GRAZING_DEG}°; largest difference over all ${r.disk} pixels ${fmt(r.absPeak)} of the peak`
-      + (r.nonFinite ? `; ${r.nonFinite} pixels NaN/∞` : "") + ".";
+  /** The 3-D lobes (lobe3dview.js) for the model, the user's BRDF and the light. */
+  lobe3dDraw() {
+    if (!this.code || !this.model || !this.renderer) return;
+    const why = this.lobe3d.update({ glsl: structure(this.code.code), uniforms: this.code.uniforms }, this.user, this.renderer.light);
+    if (why) this.say(why, "error");
   }
 
   // ---------------------------------------------------------------- truth ----
@@ -510,7 +478,7 @@ export class GpuPanel {
     this.truthButton.setAttribute("aria-pressed", String(on));
     this.diffCanvas.hidden = !on;
     this.truthText.hidden = !on;
-    this.sliceTruthText.hidden = !(on && this.sliceOn);
+    this.sliceView.showTruth(on);
     if (on) this.truthStale();
     else this.truthToken++;
   }
@@ -518,7 +486,7 @@ export class GpuPanel {
   truthStale() {
     if (!this.truthOn) return;
     this.truth = null;
-    this.sliceTruth = null;
+    this.sliceView.truth = null;
     clearTimeout(this.truthTimer);
     this.truthToken++;
     this.truthText.textContent = "Comparing with the server's float64 frame…";
@@ -531,7 +499,8 @@ export class GpuPanel {
     const gpu = this.renderer.read();
     const light = this.renderer.light, model = this.model;
     const token = ++this.truthToken;           // a later change makes this answer stale
-    const sliceDone = this.checkSliceTruth(model);
+    this.sliceDraw();                          // the slice of this model, drawn before it is read
+    const sliceDone = this.sliceView.checkTruth(model, () => token === this.truthToken);
     let ref;
     try {
       ref = await referenceFrame(model, light, SIZE);
@@ -564,8 +533,22 @@ export class GpuPanel {
       get draws() { return self.draws; },
       get timings() { return self.timings.slice(); },
       get truth() { return self.truth; },
-      get sliceTruth() { return self.sliceTruth; },
-      setSlice: (on) => { self.sliceInput.checked = on; self.setSlice(on); },
+      get sliceTruth() { return self.sliceView.truth; },
+      setSlice: (on) => { self.sliceView.input.checked = on; self.setSlice(on); },
+      setLobe3d: (on) => { self.lobe3d.setOn(on); self.lobe3dDraw(); },
+      /** The 3-D lobes' radii f·cos θ_o at [[θ_o, φ_o], …] (degrees), read back from the
+       * vertex shader: {registry, user}; the orbit turned by a drag of (dx, dy) pixels. */
+      lobe3d: (angles) => self.lobe3d.radii(angles),
+      turnLobe3d: (dx, dy) => self.lobe3d.turn(dx, dy),
+      get lobe3dDraws() { return self.lobe3d.draws; },
+      /** The user's BRDF's slice as drawn: f (RGB per pixel, rows θ_d from 0) and n·l, n·v
+       * of its float32 directions; null when it is not drawn. */
+      userSlice() {
+        const r = self.sliceView.user.read();
+        if (!r) return null;
+        const pick = (a, k0, step) => Array.from({ length: a.length / step }, (_, p) => a[step * p + k0]);
+        return { rgb: [0, 1, 2].map((c) => pick(r.f, c, 4)), nl: pick(r.l, 2, 4), nv: pick(r.v, 2, 4) };
+      },
       get message() { return self.message.textContent; },
       get model() { return self.model; },
       get env() { return self.envStats ? { ...self.envStats, reference: self.envReference?.noise ?? null } : null; },

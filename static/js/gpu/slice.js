@@ -66,10 +66,12 @@ export class SliceRenderer {
     this.target = floatTarget(gl, n, n);
   }
 
-  /** The BRDF's GLSL (brdf(n, l, v)); compiles when it differs. Throws ShaderError. */
-  setSource(glsl) {
+  /** The BRDF's GLSL (brdf(n, l, v)); compiles when it differs. Throws ShaderError.
+   * offset, limit: a user's file's line numbering (gl.js program). */
+  setSource(glsl, { offset = 0, limit = Infinity } = {}) {
     if (glsl === this.source && this.prog) return false;
-    const prog = program(this.gl, FULLSCREEN_VS, HEAD + glsl + SLICE_MAIN);
+    const head = HEAD.split("\n").length - 1;
+    const prog = program(this.gl, FULLSCREEN_VS, HEAD + glsl + SLICE_MAIN, { offset: offset + head, limit });
     if (this.prog) this.gl.deleteProgram(this.prog);
     Object.assign(this, { prog, source: glsl });
     return true;
@@ -109,9 +111,14 @@ export class SliceRenderer {
   /** f into the float target, the colour range taken from its finite positive values
    * where θ_l, θ_v ≤ COLOUR_BAND_DEG (at θ_h = 0, θ_d → 90° f grows as 1/cos² θ_d, a
    * divergence that would set the top and leave the rest one colour; brighter pixels
-   * clip), at most COLOUR_DECADES below the top; then drawn. */
-  draw() {
+   * clip), at most COLOUR_DECADES below the top; then drawn. `logRange` given: drawn on
+   * that scale instead (another slice's, to be compared with it by eye). */
+  draw(logRange = null) {
     this.render();
+    if (logRange) {
+      this.logRange = logRange;
+      return this.pass(true);
+    }
     const f = this.read(), { l, v } = this.dirs;
     let lo = Infinity, hi = -Infinity;
     for (let p = 0; p < f.length; p += 4) {

@@ -5,7 +5,8 @@
  * that does not compile (with the file's line numbers), an undeclared parameter, a shader
  * that stalls the GPU (context lost) — is a message here; the rest of the page works.
  * Its editor (editor.js; the panel places editor.section) holds the text: what is typed
- * there is opened as a file is.
+ * there is opened as a file is. `listen(fn)`: fn() is called whenever what it draws
+ * changes — opened, a value or the text changed, closed, lost (usercurves.js, the slice).
  */
 import { el, saveBlob } from "../base/dom.js";
 import { makeContext, ShaderError } from "./gl.js";
@@ -39,20 +40,27 @@ export class UserBrdf {
     this.results = el("div", { class: "gpu-measure", id: "gpu-brdf-measure", "aria-live": "polite" });
     this.exportButton = el("button", { type: "button", class: "export", id: "gpu-brdf-export", text: "Export with its numbers", disabled: true });
     this.measureButton = el("button", { type: "button", class: "export", id: "gpu-brdf-measure-now", text: "Measure", disabled: true });
+    this.closeButton = el("button", { type: "button", class: "export", id: "gpu-brdf-close", text: "Close", hidden: true,
+                                      title: "Take your BRDF off the page (its sphere, sliders, numbers and curves)" });
     this.editor = new BrdfEditor({ apply: (text) => this.open(text, this.values, this.editedName(), { edited: true }) });
     const write = el("button", { type: "button", class: "export", id: "gpu-brdf-write", text: "Write or edit…",
                                  title: "The .brdf's text under the spheres: it redraws as you type" });
     write.addEventListener("click", () => this.editor.reveal());
     this.section = el("div", { class: "gpu-user" },
       el("div", { class: "panel-tools" },
-        el("label", {}, "Your BRDF (.brdf, or drop it here) ", this.fileInput), write, this.measureButton, this.exportButton),
+        el("label", {}, "Your BRDF (.brdf, or drop it here) ", this.fileInput), write, this.measureButton, this.exportButton, this.closeButton),
       this.messageLine, this.sliders, this.results);
-    Object.assign(this, { file: null, values: {}, source: null, renderer: null, evaluator: null, measured: null,
+    this.listeners = [];
+    Object.assign(this, { file: null, values: {}, source: null, glsl: null, renderer: null, evaluator: null, measured: null,
                           measureTimer: 0, linkTimer: 0, lost: false, measureCount: 0, opening: 0 });
     this.fileInput.addEventListener("change", () => this.fileInput.files[0] && this.openFile(this.fileInput.files[0]));
     this.measureButton.addEventListener("click", () => this.measureNow());
     this.exportButton.addEventListener("click", () => this.export());
+    this.closeButton.addEventListener("click", () => this.close());
   }
+
+  listen(fn) { this.listeners.push(fn); }
+  onChange() { for (const fn of this.listeners) fn(); }
 
   say(text, kind = "") {
     this.messageLine.textContent = text;
@@ -126,7 +134,8 @@ export class UserBrdf {
     }
     this.renderer.setSource(glsl, { offset, limit });
     if (this.prog) this.renderer.gl.deleteProgram(this.prog);
-    Object.assign(this, { file: parsed, source: text, name, prog, values: { ...defaults(parsed.params), ...kept } });
+    Object.assign(this, { file: parsed, source: text, name, prog, glsl: { glsl, offset, limit },
+                          values: { ...defaults(parsed.params), ...kept } });
     if (!edited) {
       this.editor.show(text);
       this.textName = name;
@@ -134,10 +143,12 @@ export class UserBrdf {
     this.buildSliders();
     this.canvas.hidden = false;
     this.measureButton.disabled = this.exportButton.disabled = false;
+    this.closeButton.hidden = false;
     this.say(`${name}: ${parsed.params.length} parameter${parsed.params.length === 1 ? "" : "s"}; drawn beside the registry model (same light and exposure).`);
     this.draw();
     this.scheduleMeasure();
     this.scheduleLink();
+    this.onChange();
     return { ok: true };
   }
 
@@ -166,7 +177,9 @@ export class UserBrdf {
       }
       this.stalled = false;
       this.file = null;
+      this.closeButton.hidden = true;
       this.link(null);
+      this.onChange();
     });
     this.renderer = new SphereRenderer(gl, 256);
     this.evaluator = new PairEvaluator(gl);
@@ -202,6 +215,30 @@ export class UserBrdf {
     this.draw();
     this.scheduleMeasure();
     this.scheduleLink();
+    this.onChange();
+  }
+
+  /** Taken off the page: its sphere, sliders, numbers, link and curves; the editor keeps
+   * the text (typing there opens it again). */
+  close() {
+    if (!this.file) return;
+    clearTimeout(this.measureTimer);
+    clearTimeout(this.linkTimer);
+    this.opening++;                                    // an open still under way is stale
+    Object.assign(this, { file: null, measured: null });
+    this.canvas.hidden = this.closeButton.hidden = true;
+    this.measureButton.disabled = this.exportButton.disabled = true;
+    this.sliders.textContent = this.results.textContent = "";
+    this.link(null);
+    this.say(`${this.name} closed.`);
+    this.onChange();
+  }
+
+  /** f (RGBA float32 per pair) at direction pairs (flat arrays of 3·count, n = +z), or
+   * null when no BRDF is open. */
+  evaluate(l, v) {
+    if (!this.file || !this.prog || this.lost) return null;
+    return this.evaluator.run(this.prog, this.values, l, v);
   }
 
   /** The registry sphere's light and exposure, kept for a renderer made later. */
@@ -310,7 +347,8 @@ export class UserBrdf {
       get settled() { return self.editor.settled; },
       setValue(name, v) { self.values[name] = v; self.changed(); },
       /** f at direction pairs (flat arrays of 3·count, n = +z): RGBA per pair. */
-      evaluate: (l, v) => Array.from(self.evaluator.run(self.prog, self.values, l, v)),
+      evaluate: (l, v) => Array.from(self.evaluate(l, v)),
+      close: () => self.close(),
       /** The sphere's radiance frame counted: pixels on the disk, lit (> 0), NaN/∞, and
        * the sum of its finite radiance. */
       sphere() {

@@ -94,3 +94,20 @@ export function compactLegend(data) {
     else { named.add(model); t.name = model; }
   }
 }
+
+/** The page fixed a figure's value axes to the model's curves; with other curves beside
+ * them (a data set's, the user's BRDF's) they range over all (autorange over every trace):
+ * a peak far above the model is drawn, not cut off at the model's top. */
+export function rangeOverAll(given) {
+  const layout = { ...given };
+  for (const k of Object.keys(layout)) {
+    if (!/^yaxis\d*$/.test(k)) continue;
+    const { range, ...axis } = layout[k];
+    layout[k] = { ...axis, autorange: true };
+  }
+  if (layout.polar) {
+    const { range, ...radial } = layout.polar.radialaxis || {};
+    layout.polar = { ...layout.polar, radialaxis: { ...radial, autorange: true } };
+  }
+  return layout;
+}
