@@ -82,7 +82,8 @@ export class GpuPanel {
     this.sliceView = new SliceView(SIZE, { say: (text, kind) => this.say(text, kind) });
     this.user.listen(() => this.sliceView.drawUser(this.user));
     this.lobe3d = new Lobe3dView(SIZE);
-    this.user.listen(() => this.lobe3dDraw());
+    this.legendLine = el("p", { class: "gpu-legend", id: "gpu-legend", hidden: true });
+    this.user.listen(() => { this.lobe3dDraw(); this.legend(); });
     this.envCanvas = el("canvas", { class: "gpu-canvas", width: SIZE, height: SIZE, id: "gpu-env-canvas", hidden: true,
                                     "aria-label": "The sphere under the environment, drawn on the GPU" });
     this.envText = el("p", { class: "gpu-message", id: "gpu-env-text", role: "status", hidden: true });
@@ -93,6 +94,7 @@ export class GpuPanel {
     this.section = el("section", { class: "panel gpu-panel", id: "panel-gpu", "aria-labelledby": "h-gpu" },
       el("div", { class: "panel-head" }, el("h2", { id: "h-gpu", text: "Live sphere (GPU)" }), tools),
       el("div", { class: "gpu-main" },          // the spheres, and under them the .brdf being edited
+        this.legendLine,
         el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceView.canvas,
                         this.sliceView.user.canvas, this.lobe3d.canvas, this.lobe3d.userCanvas, this.diffCanvas),
         this.user.editor.section),
@@ -248,6 +250,7 @@ export class GpuPanel {
     this.envRestart();
     this.sliceDraw();
     this.lobe3dDraw();
+    this.legend();
     this.draws++;
     if (this.inputTime !== null) {
       // one pixel read back: the frame is finished, not merely queued
@@ -454,9 +457,21 @@ export class GpuPanel {
 
   // ------------------------------------------------- slice and 3-D lobe ----
   /** The θ_h–θ_d slice beside the spheres (sliceview.js), or not. */
+  /** Which column is which once there are two (the page's model, the user's BRDF), and
+   * how to read the slice: said above the views, only while it has something to say. */
+  legend() {
+    const parts = [];
+    if (this.user.name && !this.user.canvas.hidden) parts.push(`Left: the page's model · right: your BRDF (${this.user.name}).`);
+    if (this.sliceView.input.checked) parts.push("Slice: θ_h 0→90° left to right, θ_d 0→90° bottom to top, colour log₁₀ f.");
+    const text = parts.join(" ");
+    if (this.legendLine.textContent !== text) this.legendLine.textContent = text;
+    this.legendLine.hidden = !text;
+  }
+
   setSlice(on) {
     this.sliceView.setOn(on, this.truthOn);
     this.sliceDraw();
+    this.legend();
     if (on) this.truthStale();
   }
 
