@@ -63,9 +63,11 @@ class Fn:
 @dataclass
 class Program:
     """``texture``: the shaders read the tables from one R32F data texture (DATA_TEXTURE,
-    texture.py) instead of embedding them as arrays; the Python form embeds them always."""
+    texture.py) instead of embedding them as arrays; ``block``: from one uniform block
+    (block.py); the Python form embeds them always."""
     header: list[str]
     consts: list[Const]
     tables: list[Table]
     functions: list[Fn]
     texture: bool = False
+    block: bool = False

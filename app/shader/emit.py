@@ -8,7 +8,7 @@ from __future__ import annotations
 import functools
 import textwrap
 
-from . import texture
+from . import block, texture
 from .dsl import LANGS, TYPES, Fn, Program, literal
 from .dsl import translate as _translate
 
@@ -93,13 +93,18 @@ def write(program: Program, lang: str) -> str:
             prefix = "const float" if lang == "glsl" else "static const float"
             out.append(f"{prefix} {k.name} = {value};  {c} {k.comment}")
     in_texture = program.texture and lang != "python" and program.tables
-    parts = texture.layout(program.tables) if in_texture else {}
+    in_block = program.block and not in_texture and lang != "python" and program.tables
+    parts = texture.layout(program.tables) if in_texture or in_block else {}
     if in_texture:
         out.append("")
         comment, sampler = texture.declaration(lang, program.tables)
         out += [f"{c} {line}" for line in textwrap.wrap(comment, 96)] + [sampler]
         out += texture.reader(lang, texture.describe(program.tables)["width"])
-    for t in ([] if in_texture else program.tables):
+    elif in_block:
+        out.append("")
+        comment, lines = block.declaration(lang, program.tables)
+        out += [f"{c} {line}" for line in textwrap.wrap(comment, 96)] + lines
+    for t in ([] if in_texture or in_block else program.tables):
         out.append("")
         out += [f"{c} {line}" for line in textwrap.wrap(t.comment, 96)]
         items = [_number(x, lang, t.kind) for x in t.values]
@@ -124,7 +129,8 @@ def write(program: Program, lang: str) -> str:
 
 
 def _function(fn: Fn, lang: str, parts: dict | None = None) -> list[str]:
-    """The function in ``lang``; ``parts``: tables read from the data texture (texture.py)."""
+    """The function in ``lang``; ``parts``: tables read through ``data_at`` (the data
+    texture, texture.py, or the uniform block, block.py)."""
     if parts:
         fn = Fn(fn.name, fn.ret, fn.params, [(t, n, texture.rewrite(e, parts)) for t, n, e in fn.body],
                 texture.rewrite(fn.result, parts), fn.doc, fn.notes)

@@ -20,7 +20,7 @@ from ..model import ModelSpec
 from ..physics.diffuse.lambert import Lambert
 from ..physics.formula import tokens
 from ..physics.g2 import lambda_phi_entry
-from . import embed, principled, terms, texture
+from . import block, embed, principled, terms, texture
 from .dsl import Const, Fn, Program, Table
 from .emit import write
 from .library import ERFCX_MAX_RELATIVE_ERROR, LIBRARY
@@ -137,7 +137,9 @@ def _assemble_microfacet(spec: ModelSpec, form: str):
     info = {"uniforms": {c.name: c.value for c in consts if c.uniform},
             "baked": {k: v for k, v in sorted(baked.items())} if form == "uniform" else {},
             "tabulated": t.tabulated, "precision": precision_notes(brdf)}
-    return Program(_header(spec, brdf, ms), consts, _merged(t.tables), unique_fns(fns), texture=ms is not None), info
+    tables = _merged(t.tables)
+    return Program(_header(spec, brdf, ms), consts, tables, unique_fns(fns), texture=ms is not None,
+                   block=ms is None and form == "uniform" and block.fits(tables)), info
 
 
 def _library(fns: list[Fn]) -> list[Fn]:
@@ -269,6 +271,8 @@ def describe(spec: ModelSpec, lang: str, form: str = "const") -> dict:
             "approximations": approximations(info["tabulated"], prog),
             "textures": ({texture.NAME: texture.describe(prog.tables)}
                          if prog.texture and prog.tables and lang != "python" else {}),
+            "blocks": ({block.NAME: block.describe(prog.tables)}
+                       if prog.block and not prog.texture and prog.tables and lang != "python" else {}),
             "precision": info["precision"]}
 
 

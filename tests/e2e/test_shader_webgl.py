@@ -81,7 +81,7 @@ def test_glsl_in_webgl2_agrees_with_eval(page, live_server, pairs, params):
     body = json.loads(_get(f"{live_server}/api/v1/code?{urlencode({**params, 'lang': 'glsl', 'format': 'json'})}"))
     page.goto(live_server + "/")
     out = page.evaluate(RUN_JS, [VERTEX, FRAGMENT_HEAD + body["code"] + FRAGMENT_MAIN, SIDE, SIDE,
-                                 l_rgba, v_rgba, [0.0, 0.0, 1.0], body["textures"]])
+                                 l_rgba, v_rgba, [0.0, 0.0, 1.0], {**body["textures"], **body["blocks"]}])
     assert "error" not in out, out.get("error")
     got = np.array(out["f"], dtype=float).reshape(-1, 4)[:, :3]
     ref = _eval(live_server, params, angles)

@@ -30,7 +30,8 @@ void main() {
 
 #: (vertex, fragment, width, height, l as flat RGBA, v as flat RGBA, n[, textures]) → {f: flat
 #: RGBA} or {error}; textures: /code's JSON "textures" (a Kulla-Conty shader's data), bound from unit 3
-#: binds one of /code's JSON "textures" (R32F, unfiltered) to a sampler: shared by both runners
+#: binds one of /code's JSON "textures" (R32F, unfiltered) to a sampler, or one of its "blocks"
+#: (std140) to a uniform buffer: shared by both runners
 DATA_TEXTURE_JS = """const dataTexture = (prog, name, v, unit) => {
     const t = gl.createTexture();
     gl.activeTexture(gl.TEXTURE0 + unit); gl.bindTexture(gl.TEXTURE_2D, t);
@@ -39,7 +40,18 @@ DATA_TEXTURE_JS = """const dataTexture = (prog, name, v, unit) => {
     gl.texImage2D(gl.TEXTURE_2D, 0, gl.R32F, v.width, v.height, 0, gl.RED, gl.FLOAT, new Float32Array(v.data));
     gl.uniform1i(gl.getUniformLocation(prog, name), unit);
     gl.activeTexture(gl.TEXTURE0);
-  };"""
+  };
+  const uniformBlock = (prog, name, v, binding) => {
+    const index = gl.getUniformBlockIndex(prog, name);
+    if (index === gl.INVALID_INDEX) return;
+    const b = gl.createBuffer();
+    gl.bindBuffer(gl.UNIFORM_BUFFER, b);
+    gl.bufferData(gl.UNIFORM_BUFFER, new Float32Array(v.data), gl.STATIC_DRAW);
+    gl.uniformBlockBinding(prog, index, binding);
+    gl.bindBufferBase(gl.UNIFORM_BUFFER, binding, b);
+  };
+  const bindData = (prog, name, v, unit, binding) => (v.layout === 'std140'
+    ? uniformBlock(prog, name, v, binding) : dataTexture(prog, name, v, unit));"""
 
 RUN_JS = """async ([vs, fs, w, h, L, V, n, textures]) => {
   const canvas = document.createElement('canvas');
@@ -72,7 +84,7 @@ RUN_JS = """async ([vs, fs, w, h, L, V, n, textures]) => {
   ${DATA_TEXTURE}
   gl.useProgram(prog);
   texture(0, L); texture(1, V);
-  Object.entries(textures || {}).forEach(([name, v], k) => dataTexture(prog, name, v, 3 + k));
+  Object.entries(textures || {}).forEach(([name, v], k) => bindData(prog, name, v, 3 + k, k));
   gl.uniform1i(gl.getUniformLocation(prog, 'u_l'), 0);
   gl.uniform1i(gl.getUniformLocation(prog, 'u_v'), 1);
   gl.uniform3f(gl.getUniformLocation(prog, 'u_n'), n[0], n[1], n[2]);
@@ -139,8 +151,12 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
     gl.uniform3f(gl.getUniformLocation(prog, 'u_n'), n[0], n[1], n[2]);
     const outs = [];
     for (const set of p.uniforms) {
-      let unit = 3;
+      let unit = 3, binding = 0;
       for (const [name, value] of Object.entries(set)) {
+        if (typeof value === 'object' && value.layout === 'std140') {      // a uniform block
+          uniformBlock(prog, name, value, binding++);
+          continue;
+        }
         const loc = gl.getUniformLocation(prog, name);
         if (loc === null) continue;                    // optimised away (unused)
         if (typeof value === 'object') dataTexture(prog, name, value, unit++);   // a data texture
@@ -160,6 +176,7 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
 
 def batch_entry(body: dict, sets=({},)) -> dict:
     """RUN_BATCH_JS's entry for a /code JSON body (app.shader.generate.describe): its GLSL
-    in the fragment shader, and each uniform set with the body's data textures."""
+    in the fragment shader, and each uniform set with the body's data textures and uniform
+    blocks."""
     return {"fs": FRAGMENT_HEAD + body["code"] + FRAGMENT_MAIN,
-            "uniforms": [{**s, **body.get("textures", {})} for s in sets]}
+            "uniforms": [{**s, **body.get("textures", {}), **body.get("blocks", {})} for s in sets]}

@@ -110,7 +110,8 @@ export function readTarget(gl, target) {
 
 /** Sets each named float uniform whose location exists (one the compiler removed as
  * unused has none); numbers → float, arrays of 2–4 → vecN, a data texture ({width,
- * height, data}) → a sampler (bindData). Locations are looked up once per program
+ * height, data}) → a sampler (bindData), a uniform block ({layout "std140", data}) → a
+ * buffer (bindBlock). Locations are looked up once per program
  * (uniformLocation). */
 const locations = new WeakMap();
 export function uniformLocation(gl, prog, name) {
@@ -143,9 +144,33 @@ function bindData(gl, loc, v, unit) {
   gl.activeTexture(active);
 }
 
+/** Uniform blocks (/code's JSON "blocks": {layout "std140", data}: a parameterised
+ * shader's tables, app/shader/block.py), one buffer per context and value, bound to
+ * binding points from 0 up. */
+const blockBuffers = new WeakMap();
+function bindBlock(gl, prog, name, v, binding) {
+  const index = gl.getUniformBlockIndex(prog, name);
+  if (index === gl.INVALID_INDEX) return false;          // optimised away (unused)
+  let m = blockBuffers.get(gl);
+  if (!m) blockBuffers.set(gl, (m = new WeakMap()));
+  let buffer = m.get(v);
+  if (!buffer) {
+    m.set(v, (buffer = gl.createBuffer()));
+    gl.bindBuffer(gl.UNIFORM_BUFFER, buffer);
+    gl.bufferData(gl.UNIFORM_BUFFER, new Float32Array(v.data), gl.STATIC_DRAW);
+  }
+  gl.uniformBlockBinding(prog, index, binding);
+  gl.bindBufferBase(gl.UNIFORM_BUFFER, binding, buffer);
+  return true;
+}
+
 export function setUniforms(gl, prog, values) {
-  let unit = DATA_UNIT;
+  let unit = DATA_UNIT, binding = 0;
   for (const [name, v] of Object.entries(values)) {
+    if (v && typeof v === "object" && v.layout === "std140") {
+      if (bindBlock(gl, prog, name, v, binding)) binding++;
+      continue;
+    }
     const loc = uniformLocation(gl, prog, name);
     if (loc === null) continue;
     if (v && typeof v === "object" && Array.isArray(v.data)) bindData(gl, loc, v, unit++);

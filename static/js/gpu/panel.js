@@ -223,8 +223,9 @@ export class GpuPanel {
       return;
     }
     this.model = model;
-    // a Kulla-Conty shader's data texture (BRDF_DATA) is bound like a uniform (gl.js setUniforms)
-    body.uniforms = { ...body.uniforms, ...(body.textures || {}) };
+    // a Kulla-Conty shader's data texture (BRDF_DATA) and a fit's uniform block (BRDF_TABLES)
+    // are bound like uniforms (gl.js setUniforms)
+    body.uniforms = { ...body.uniforms, ...(body.textures || {}), ...(body.blocks || {}) };
     this.code = body;
     this.renderer.uniforms = body.uniforms;
     this.say(`Generated GLSL, ${body.lines} lines; ${this.compiles} compile${this.compiles === 1 ? "" : "s"} so far.`);
