@@ -40,7 +40,8 @@ class CodeQuery(schemas.ModelQuery):
     format: Annotated[Literal["text", "json"], Field(
         description="text: the code alone; json: the code with its uniforms and their values, "
                     "what stays baked and why, each approximation with its stated maximum "
-                    "error, the data texture a Kulla-Conty shader reads (textures), the "
+                    "error, the data texture a Kulla-Conty shader reads (textures), the uniform "
+                    "block a parameterised shader reads its Smith fits from (blocks), the "
                     "precision notes and the line count")] = "text"
 
 
@@ -50,7 +51,8 @@ class CodeQuery(schemas.ModelQuery):
                         "Smith's Λ has no closed form, a Chebyshev fit with its stated maximum error; "
                         "Kulla-Conty's E as the cubic pieces of the lobe's E(μ) at its α — in GLSL and "
                         "HLSL read, with the Smith fit, from one R32F data texture BRDF_DATA "
-                        "(unfiltered; its values in the JSON's textures). A model "
+                        "(unfiltered; its values in the JSON's textures); in form=uniform without "
+                        "Kulla-Conty, from one std140 uniform block BRDF_TABLES (the JSON's blocks). A model "
                         "entry without a shader form is a 422 naming it. Plain text, or JSON with "
                         "format=json.",
             responses={200: {"content": {"text/plain": {"example": "vec3 brdf(vec3 n, vec3 l, vec3 v) {…}"}}}})
