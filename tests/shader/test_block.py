@@ -1,0 +1,54 @@
+"""The parameterised form's uniform block (app/shader/block.py): the tables the const form
+embeds, the same numbers in the same order, read at the same index; none embedded."""
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+
+from app.model import make_spec
+from app.shader import block
+from app.shader.generate import describe
+
+#: models whose Smith Λ is a fit (one lobe; two lobes of two shapes)
+FITTED = [{"ndf": "gtr", "gamma": 1.2, "alpha": 0.3},
+          {"ndf": "gtr", "gamma": 1.2, "alpha": 0.3, "alpha2": 0.7, "lobe_mix": 0.5},
+          {"ndf": "exp_power", "p": 0.6, "alpha": 0.4}]
+
+
+def _embedded(code: str) -> dict[str, list[float]]:
+    """The const form's arrays, read from its text."""
+    return {name: [float(x) for x in body.replace("\n", " ").split(",")]
+            for name, body in re.findall(r"const float (\w+)\[\d+\] = float\[\d+\]\((.*?)\);", code, re.S)}
+
+
+@pytest.mark.parametrize("lang", ["glsl", "hlsl"])
+@pytest.mark.parametrize("params", FITTED, ids=lambda p: "-".join(f"{k}={v}" for k, v in p.items()))
+def test_the_block_holds_what_the_const_form_embeds(params, lang):
+    spec = make_spec(**params)
+    uniform, const = describe(spec, lang, "uniform"), describe(spec, "glsl", "const")
+    arrays = _embedded(const["code"])
+    assert arrays, "the const form embeds its fit"
+    assert not re.search(r"\bLAM_C\[\d+\]\s*=", uniform["code"]), "no embedded array in the uniform form"
+    assert f"{block.NAME}" in uniform["code"] and uniform["textures"] == {}
+    b = uniform["blocks"][block.NAME]
+    assert b["layout"] == "std140" and len(b["data"]) % 4 == 0
+    for name, values in arrays.items():
+        part = b["parts"][name]
+        assert part["length"] == len(values)
+        got = np.array(b["data"][part["offset"]:part["offset"] + part["length"]])
+        # the shader's text rounds to float32 (9 significant digits); the block carries float64
+        np.testing.assert_allclose(got, values, rtol=1e-8, atol=1e-30)
+    assert uniform["lines"] < const["lines"]
+
+
+def test_kulla_conty_keeps_its_data_texture_and_large_tables_stay_arrays():
+    kc = describe(make_spec(ndf="gtr", gamma=1.2, alpha=0.3, multiscatter="kulla_conty"), "glsl", "uniform")
+    assert kc["blocks"] == {} and "BRDF_DATA" in kc["textures"]
+    assert block.fits([]) is False
+
+
+def test_the_python_form_embeds_its_tables():
+    py = describe(make_spec(**FITTED[0]), "python", "uniform")
+    assert py["blocks"] == {} and "LAM_C = np.array([" in py["code"]
