@@ -8,6 +8,8 @@ from urllib.parse import urlencode
 #: our own .brdf files, in the format of Disney's BRDF Explorer
 BRDF_DIR = Path(__file__).resolve().parent / "brdf"
 WALTER = BRDF_DIR / "walter_ggx_dielectric.brdf"
+#: a D term file: GGX D(h) alone (its α the parameter `alpha`, default TWIN's 0.3)
+D_GGX = BRDF_DIR / "d_ggx.brdf"
 #: the registry model Walter's file writes (GGX, separable Smith, dielectric Fresnel)
 TWIN = {"ndf": "ggx", "masking": "smith", "g2": "separable", "fresnel": "dielectric", "ior": 1.5, "alpha": 0.3}
 READY = "() => window.__gpu && window.__gpu.ok"

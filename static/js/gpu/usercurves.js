@@ -1,5 +1,5 @@
-/* Your BRDF on the curve panels: its lobe in the plane of incidence and its albedo E(μ),
- * evaluated on the GPU (the user BRDF's PairEvaluator, read back from float targets) and
+/* Your BRDF on the curve panels: its lobe in the plane of incidence, its albedo E(μ) and
+ * its D-like slice on the NDF panel (f at l = v, Disney's BRDF Explorer's θ_h plot), evaluated on the GPU (the user BRDF's PairEvaluator, read back from float targets) and
  * added as one labelled trace ("your BRDF: <name>") to the figure each panel drew, through
  * the panel's own overlay (Panel.overlay: the data module's path; no second renderer).
  *
@@ -15,9 +15,15 @@ import { numbers } from "../chart/traces.js";
 import { rangeOverAll } from "../panels/layout.js";
 
 /** The panels that get the trace. */
-export const VIEWS = ["lobe", "albedo"];
+export const VIEWS = ["lobe", "albedo", "ndf"];
 /** The label of the trace: "your BRDF: <name>". */
 export const LABEL = "your BRDF";
+/** The NDF panel's trace is not the file's D but f itself at l = v (θ_d = 0, h = l = v):
+ * for a D term file (its BRDF returns D(h)) that is D(θ_h); for a full BRDF, the D-like
+ * slice of Disney's explorer. Its label says which f it is, not the file's name; in
+ * Plotly's markup, as the figure's own "D(θ<sub>m</sub>)" (the legend draws subscripts). */
+export const DLIKE_LABEL = `${LABEL}: f at l = v (θ<sub>d</sub> = 0)`;
+export const DLIKE_COS_LABEL = `${LABEL}: f·cos θ<sub>h</sub> at l = v (θ<sub>d</sub> = 0)`;
 /** The trace's colour: Okabe-Ito reddish purple, apart from the model's blue and the guides' orange and green. */
 const COLOR = "#CC79A7";
 /** The albedo curve's quadrature (measure.js albedoPairs): Gauss-Legendre in μ_l × the
@@ -49,6 +55,22 @@ export function lobePairs(thetaO, thetaI, phiI) {
     v.push(...dir(Math.abs(t), t >= 0 ? phiI + 180 : phiI));
   }
   return { l, v };
+}
+
+/** The NDF panel's directions (app/quantities.py ndf_curve: m at (θ_m, φ)), as l = v = h. */
+export function dlikePairs(thetaM, phiDeg) {
+  const l = [];
+  for (const t of thetaM) l.push(...dir(t, phiDeg));
+  return { l, v: l };
+}
+
+/** y(θ_h) as the NDF panel draws D: f, or f·cos θ_h (`cosine`, its D·cos θ_m); a gap
+ * where not finite (a file dividing by n·l at 90°), or ≤ 0 on its log axis. */
+export function dlikeValues(f, thetaM, { cosine, log }) {
+  return Array.from(thetaM, (t, i) => {
+    const y = luma(f, i) * (cosine ? Math.cos(t * DEG) : 1);
+    return !Number.isFinite(y) || (log && !(y > 0)) ? NaN : y;
+  });
 }
 
 /** r(θ_o) as the lobe panel draws it: f, or f·cos θ_o (`cosine`), NaN where ≤ 0 on a
@@ -101,7 +123,8 @@ export class UserCurves {
     if (!trace && !current.data.some(isMine)) return;
     this.count++;
     this.drawn.set(name, trace);
-    const layout = trace ? rangeOverAll(base.layout) : base.layout;
+    // the NDF figure hides its one-curve legend: with the trace beside it, both are named
+    const layout = trace ? { ...rangeOverAll(base.layout), ...(name === "ndf" ? { showlegend: true } : {}) } : base.layout;
     this.page.overlay(name, { data: trace ? [...base.data, trace] : base.data, layout });
   }
 
@@ -109,7 +132,8 @@ export class UserCurves {
    * redrawn for the registry model (a slider of the page) reuses the user's values. */
   trace(name, base) {
     const q = { ...this.page.defaults(name), ...this.page.params(name) };
-    const nodes = name === "lobe" ? numbers(base.data.find((t) => t.type === "scatterpolar" && t.meta?.role !== "guide")?.theta) : null;
+    const nodes = name === "lobe" ? numbers(base.data.find((t) => t.type === "scatterpolar" && t.meta?.role !== "guide")?.theta)
+      : name === "ndf" ? numbers(base.data.find((t) => t.type === "scatter" && !t.meta?.role)?.x) : null;
     const key = JSON.stringify([this.user.source, this.user.values, this.user.name, q.theta_i_deg, q.phi_i_deg, q.cosine,
                                 q.log, q.n, q.mu, q.phi_deg, nodes && Array.from(nodes)]);
     const kept = this.kept.get(name);
@@ -119,9 +143,22 @@ export class UserCurves {
     return trace;
   }
 
-  /** thetaO: the lobe figure's θ_o nodes (degrees). */
+  /** thetaO: the lobe figure's θ_o nodes, or the NDF figure's θ_m (degrees). */
   compute(name, q, thetaO) {
     const label = `${LABEL}: ${this.user.name}`;
+    const flag = (k) => q[k] === true || q[k] === "true";
+    if (name === "ndf") {
+      if (!thetaO) return null;
+      const { l, v } = dlikePairs(thetaO, Number(q.phi_deg || 0));
+      const f = this.user.evaluate(l, v);
+      if (!f) return null;
+      this.evaluations += thetaO.length;
+      const cosine = flag("cosine");
+      return { type: "scatter", mode: "lines", name: cosine ? DLIKE_COS_LABEL : DLIKE_LABEL, x: Array.from(thetaO),
+               y: dlikeValues(f, thetaO, { cosine, log: flag("log") }),
+               line: { color: COLOR, width: 2, dash: "dot" }, meta: { role: MARK },
+               hovertemplate: `θ_h=%{x:.2f}°<br>${cosine ? "f·cos θ_h" : "f"}=%{y:.4g} (l = v)<extra></extra>` };
+    }
     if (name === "lobe") {
       if (!thetaO) return null;
       const { l, v } = lobePairs(thetaO, Number(q.theta_i_deg), Number(q.phi_i_deg));
