@@ -12,7 +12,7 @@ import { modelQuery } from "../state/model.js";
 import { fam } from "../state/families.js";
 import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
-import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
+import { referenceFrame, compare, diffImage, sphereTruthText } from "./truth.js";
 import { SliceView } from "./sliceview.js";
 import { Lobe3dView } from "./lobe3dview.js";
 import { lightAt } from "../panels/spheredrag.js";
@@ -49,8 +49,6 @@ export const direction = (thetaDeg, phiDeg) => [Math.sin(thetaDeg * DEG) * Math.
 /** The generated code with its comments gone: two models whose code differs only in
  * the comments (the parameter values quoted there) run one compiled program. */
 const structure = (code) => code.replace(/\/\/[^\n]*/g, "").replace(/[ \t]+\n/g, "\n");
-
-const fmt = (x) => (x === 0 ? "0" : x.toExponential(1));
 
 export class GpuPanel {
   /** onLight(θ, φ): the drag's light, written to the page's state at the release;
@@ -529,13 +527,7 @@ export class GpuPanel {
                    nonFinite: r.nonFinite, floor: r.floor };
     const ctx2d = this.diffCanvas.getContext("2d");
     ctx2d.putImageData(new ImageData(diffImage(r.diff, SIZE), SIZE, SIZE), 0, 0);
-    const where = r.at ? ` at pixel (${r.at[0]}, ${r.at[1]})` : "";
-    this.truthText.textContent = `GPU (float32) against the server (float64), same frame: largest relative difference `
-      + `${fmt(r.max)}${where}, mean ${fmt(r.mean)} over the ${r.pixels} pixels with θ_l, θ_v ≤ ${GRAZING_DEG}°; `
-      + `over all ${r.disk} pixels the largest difference is ${fmt(r.absPeak)} of the peak `
-      + `(near the terminator and the rim float32's rounding of n·l alone is ~1e-7)`
-      + (r.nonFinite ? `; ${r.nonFinite} pixels NaN/∞` : "")
-      + `. Right: the relative difference, log scale 1e-8 (dark) to 1e-3 (bright); below ${FLOOR}× the peak it counts against that floor.`;
+    this.truthText.textContent = sphereTruthText(r);
     await sliceDone;
   }
 
