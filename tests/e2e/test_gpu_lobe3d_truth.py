@@ -5,9 +5,10 @@ the server's float64 f (POST /api/v1/eval) at the same float32 directions and li
 The test does its own computation: the mesh's directions formed here (numpy, float64 then
 float32), their angles, its own /eval request and its own read-back of the radii, and
 the statistics truth.js states; the page's line must state the same numbers (to the two
-digits shown), for GGX (the page's default), an anisotropic GGX, a Kulla-Conty GGX and the
-principled BRDF. Moving the light makes the line stale; it is stated again at rest. With
-a .brdf open, the line says the user's lobe has no float64 reference. One page.
+digits shown), for GGX (the page's default), an anisotropic GGX, a Kulla-Conty GGX, a
+two-lobe GTR (its fitted tables in the shader) and the principled BRDF. A model change and
+a light move make the line stale; it is stated again at rest. With a .brdf open, the line
+says the user's lobe has no float64 reference. One page.
 """
 from __future__ import annotations
 
@@ -40,6 +41,7 @@ TRUTH = "() => window.__gpu.lobe3dTruth"
 MODELS = [None,                                                     # the page's default (GGX)
           {"ndf": "ggx", "alpha": 0.25, "alpha_y": 0.5},            # anisotropic
           {"ndf": "ggx", "alpha": 0.5, "multiscatter": "kulla_conty"},
+          {"ndf": "gtr", "gamma": 1.2, "alpha": 0.3, "alpha2": 0.7, "lobe_mix": 0.5},   # two lobes, fitted tables
           {"model": "principled"}]
 
 
