@@ -2,10 +2,12 @@
  * the user's BRDF's, for the panel's light, on one scale (the larger of the two peaks) and
  * turned together by dragging on either (azimuth and elevation; no server round trip).
  * Each lobe has its own WebGL2 context: a user's shader that is lost takes only its own.
+ * Its truth line (lobe3dtruth.js) is shown with the panel's truth toggle.
  */
 import { el } from "../base/dom.js";
 import { makeContext } from "./gl.js";
 import { LobeRenderer, orbit, FILL } from "./lobe3d.js";
+import { LobeTruth } from "./lobe3dtruth.js";
 
 /** Degrees turned per pixel dragged. */
 const TURN_PER_PX = 0.5;
@@ -20,7 +22,9 @@ export class Lobe3dView {
     this.userCanvas = canvas("gpu-user-lobe3d-canvas", "Your BRDF's lobe f·cos θ_o, on the same scale, drawn on the GPU");
     this.input = el("input", { type: "checkbox", id: "gpu-lobe3d-toggle" });
     Object.assign(this, { on: false, azimuth: -30, elevation: 25, reg: null, user: null, registry: null, brdf: null,
-                          light: [0, 0, 1], zoom: 1, key: null, why: null, draws: 0 });
+                          light: [0, 0, 1], zoom: 1, key: null, why: null, draws: 0, truthOn: false });
+    this.truthLine = new LobeTruth();
+    this.truthText = this.truthLine.text;
     for (const c of [this.canvas, this.userCanvas]) this.orbitHandlers(c);
   }
 
@@ -51,6 +55,7 @@ export class Lobe3dView {
     this.on = on;
     this.input.checked = on;
     this.key = null;
+    this.showTruth(this.truthOn);
     return this.update(this.registry, this.brdf, this.light);
   }
 
@@ -61,6 +66,7 @@ export class Lobe3dView {
     const mine = brdf?.file && brdf.glsl ? brdf : null;
     this.canvas.hidden = !this.on;
     this.userCanvas.hidden = !(this.on && mine);
+    this.truthLine.setUser(!this.userCanvas.hidden);
     if (!this.on || !registry) return null;
     const key = JSON.stringify([registry.glsl, registry.uniforms, light, mine && [mine.glsl.glsl, mine.values]]);
     if (key === this.key) return null;
@@ -103,6 +109,23 @@ export class Lobe3dView {
     }
     this.draws++;
   }
+
+  /** truthOn: the panel's toggle; the line is shown while the lobe is. */
+  showTruth(truthOn) {
+    this.truthOn = truthOn;
+    this.truthLine.show(this.on && truthOn);
+  }
+
+  truthStale() { if (this.on && this.truthOn) this.truthLine.stale(); }
+
+  /** The registry lobe as drawn against the server's float64 f of `model` (its query);
+   * current(): this answer is still wanted. */
+  checkTruth(model, current) {
+    if (!this.on) return null;
+    return this.truthLine.check(this.reg, model, current);
+  }
+
+  get truth() { return this.truthLine.truth; }
 
   /** r = f·cos θ_o at directions (θ_o, φ_o) in degrees, read back: {registry, user}. */
   radii(anglesDeg) {

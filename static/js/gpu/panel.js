@@ -12,7 +12,7 @@ import { modelQuery } from "../state/model.js";
 import { fam } from "../state/families.js";
 import { makeContext, ShaderError } from "./gl.js";
 import { SphereRenderer } from "./sphere.js";
-import { referenceFrame, compare, diffImage, FLOOR, GRAZING_DEG } from "./truth.js";
+import { referenceFrame, compare, diffImage, sphereTruthText } from "./truth.js";
 import { SliceView } from "./sliceview.js";
 import { Lobe3dView } from "./lobe3dview.js";
 import { lightAt } from "../panels/spheredrag.js";
@@ -49,8 +49,6 @@ export const direction = (thetaDeg, phiDeg) => [Math.sin(thetaDeg * DEG) * Math.
 /** The generated code with its comments gone: two models whose code differs only in
  * the comments (the parameter values quoted there) run one compiled program. */
 const structure = (code) => code.replace(/\/\/[^\n]*/g, "").replace(/[ \t]+\n/g, "\n");
-
-const fmt = (x) => (x === 0 ? "0" : x.toExponential(1));
 
 export class GpuPanel {
   /** onLight(θ, φ): the drag's light, written to the page's state at the release;
@@ -98,7 +96,7 @@ export class GpuPanel {
         el("div", { class: "gpu-views" }, this.canvas, this.user.canvas, this.envCanvas, this.sliceView.canvas,
                         this.sliceView.user.canvas, this.lobe3d.canvas, this.lobe3d.userCanvas, this.diffCanvas),
         this.user.editor.section),
-      this.message, this.truthText, this.sliceView.truthText, this.envText, this.user.section,
+      this.message, this.truthText, this.sliceView.truthText, this.lobe3d.truthText, this.envText, this.user.section,
       el("p", { class: "gpu-caption", text: "The current model drawn per pixel in your browser's WebGL2 from the generated shader "
         + "(L_o/E = f·cos θ_l, 256²); drag on it to move the light. Truth compares it with the server's float64 frame. "
       + "Open a Disney BRDF Explorer .brdf file, or write one under the spheres, to see yours beside it, measured." }));
@@ -118,7 +116,7 @@ export class GpuPanel {
     this.truthButton.addEventListener("click", () => this.setTruth(!this.truthOn));
     this.envSelect.addEventListener("change", () => this.setEnvironment(this.envSelect.value));
     this.sliceView.input.addEventListener("change", () => this.setSlice(this.sliceView.input.checked));
-    this.lobe3d.input.addEventListener("change", () => { this.lobe3d.setOn(this.lobe3d.input.checked); this.lobe3dDraw(); });
+    this.lobe3d.input.addEventListener("change", () => this.setLobe3d(this.lobe3d.input.checked));
     this.mapInput.addEventListener("change", () => this.mapInput.files[0] && this.openHdr(this.mapInput.files[0]));
     this.start();
   }
@@ -480,6 +478,12 @@ export class GpuPanel {
     if (this.model) this.sliceView.draw(this.code, this.code && structure(this.code.code), this.user);
   }
 
+  setLobe3d(on) {
+    this.lobe3d.setOn(on);
+    this.lobe3dDraw();
+    if (on) this.truthStale();
+  }
+
   /** The 3-D lobes (lobe3dview.js) for the model, the user's BRDF and the light. */
   lobe3dDraw() {
     if (!this.code || !this.model || !this.renderer) return;
@@ -495,6 +499,7 @@ export class GpuPanel {
     this.diffCanvas.hidden = !on;
     this.truthText.hidden = !on;
     this.sliceView.showTruth(on);
+    this.lobe3d.showTruth(on);
     if (on) this.truthStale();
     else this.truthToken++;
   }
@@ -503,6 +508,7 @@ export class GpuPanel {
     if (!this.truthOn) return;
     this.truth = null;
     this.sliceView.truth = null;
+    this.lobe3d.truthStale();
     clearTimeout(this.truthTimer);
     this.truthToken++;
     this.truthText.textContent = "Comparing with the server's float64 frame…";
@@ -516,7 +522,10 @@ export class GpuPanel {
     const light = this.renderer.light, model = this.model;
     const token = ++this.truthToken;           // a later change makes this answer stale
     this.sliceDraw();                          // the slice of this model, drawn before it is read
-    const sliceDone = this.sliceView.checkTruth(model, () => token === this.truthToken);
+    const current = () => token === this.truthToken;
+    const sliceDone = this.sliceView.checkTruth(model, current);
+    this.lobe3dDraw();                         // the lobe of this model and light, likewise
+    const lobeDone = this.lobe3d.checkTruth(model, current);
     let ref;
     try {
       ref = await referenceFrame(model, light, SIZE);
@@ -530,14 +539,8 @@ export class GpuPanel {
                    nonFinite: r.nonFinite, floor: r.floor };
     const ctx2d = this.diffCanvas.getContext("2d");
     ctx2d.putImageData(new ImageData(diffImage(r.diff, SIZE), SIZE, SIZE), 0, 0);
-    const where = r.at ? ` at pixel (${r.at[0]}, ${r.at[1]})` : "";
-    this.truthText.textContent = `GPU (float32) against the server (float64), same frame: largest relative difference `
-      + `${fmt(r.max)}${where}, mean ${fmt(r.mean)} over the ${r.pixels} pixels with θ_l, θ_v ≤ ${GRAZING_DEG}°; `
-      + `over all ${r.disk} pixels the largest difference is ${fmt(r.absPeak)} of the peak `
-      + `(near the terminator and the rim float32's rounding of n·l alone is ~1e-7)`
-      + (r.nonFinite ? `; ${r.nonFinite} pixels NaN/∞` : "")
-      + `. Right: the relative difference, log scale 1e-8 (dark) to 1e-3 (bright); below ${FLOOR}× the peak it counts against that floor.`;
-    await sliceDone;
+    this.truthText.textContent = sphereTruthText(r);
+    await Promise.all([sliceDone, lobeDone]);
   }
 
   /** For tests and bench/gpu_sphere.py. */
@@ -551,7 +554,9 @@ export class GpuPanel {
       get truth() { return self.truth; },
       get sliceTruth() { return self.sliceView.truth; },
       setSlice: (on) => { self.sliceView.input.checked = on; self.setSlice(on); },
-      setLobe3d: (on) => { self.lobe3d.setOn(on); self.lobe3dDraw(); },
+      setLobe3d: (on) => self.setLobe3d(on),
+      /** The 3-D lobe's truth: its statistics, the float32 directions and light compared. */
+      get lobe3dTruth() { return self.lobe3d.truth; },
       /** The 3-D lobes' radii f·cos θ_o at [[θ_o, φ_o], …] (degrees), read back from the
        * vertex shader: {registry, user}; the orbit turned by a drag of (dx, dy) pixels. */
       lobe3d: (angles) => self.lobe3d.radii(angles),

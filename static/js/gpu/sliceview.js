@@ -6,12 +6,10 @@ import { el } from "../base/dom.js";
 import { makeContext } from "./gl.js";
 import { SliceRenderer } from "./slice.js";
 import { UserSlice } from "./userslice.js";
-import { referenceSlice, compareSlice, GRAZING_DEG } from "./truth.js";
+import { referenceSlice, compareSlice, fmt, GRAZING_DEG } from "./truth.js";
 
 /** The GPU slice's azimuths: φ_h = 0, φ_d = 90° (the Disney explorer's default image slice). */
 export const SLICE_PHI_H = 0, SLICE_PHI_D = 90;
-
-const fmt = (x) => (x === 0 ? "0" : x.toExponential(1));
 
 export class SliceView {
   /** say(text, kind): the panel's message line. */

@@ -18,7 +18,9 @@ import { API, apiMessage, query } from "../base/dom.js";
 export const FLOOR = 1e-6;
 /** The well-conditioned band: θ_l, θ_v ≤ 88° (μ ≥ cos 88° ≈ 0.035). */
 export const GRAZING_DEG = 88;
-const MU_MIN = Math.cos((GRAZING_DEG * Math.PI) / 180);
+const DEG = Math.PI / 180;
+/** cos GRAZING_DEG: a direction with n·ω below it is outside the band. */
+export const MU_MIN = Math.cos((GRAZING_DEG * Math.PI) / 180);
 
 /** The server's float64 frame: Float64Array n·n·3, rows from the top, NaN off the disk. */
 export async function referenceFrame(model, light, n) {
@@ -56,17 +58,29 @@ export function compareSlice(gpu, ref, n, l, v) {
 /** gpu: float32 RGBA per pixel; ref: float64 RGB, NaN where the frame has no value;
  * inBand(p): the pixel counts towards the relative statistics. */
 export function compareFrame(gpu, ref, n, inBand) {
+  const r = compareSamples(gpu, ref, n * n, { inBand });
+  return { ...r, at: r.at === null ? null : [r.at % n, Math.floor(r.at / n)] };
+}
+
+/** The statistics of compareFrame over `count` samples of `channels` values each, at
+ * strides gpuStride (float32) and refStride (float64); `at` is the sample's index. */
+export function compareSamples(gpu, ref, count, { gpuStride = 4, refStride = 3, channels = 3, inBand = () => true } = {}) {
   let peak = 0;
-  for (let i = 0; i < n * n * 3; i++) if (Number.isFinite(ref[i]) && Math.abs(ref[i]) > peak) peak = Math.abs(ref[i]);
+  for (let p = 0; p < count; p++) {
+    for (let c = 0; c < channels; c++) {
+      const r = ref[p * refStride + c];
+      if (Number.isFinite(r) && Math.abs(r) > peak) peak = Math.abs(r);
+    }
+  }
   const floor = FLOOR * peak;
-  const diff = new Float32Array(n * n).fill(NaN);
-  let max = 0, sum = 0, count = 0, at = null, nonFinite = 0, absMax = 0, disk = 0;
-  for (let p = 0; p < n * n; p++) {
-    if (Number.isNaN(ref[p * 3])) continue;            // no value here (off the disk, below the horizon)
+  const diff = new Float32Array(count).fill(NaN);
+  let max = 0, sum = 0, inside = 0, at = null, nonFinite = 0, absMax = 0, disk = 0;
+  for (let p = 0; p < count; p++) {
+    if (Number.isNaN(ref[p * refStride])) continue;    // no value here (off the disk, below the horizon)
     disk++;
     let worst = 0, abs = 0;
-    for (let c = 0; c < 3; c++) {
-      const r = ref[p * 3 + c], g = gpu[p * 4 + c];
+    for (let c = 0; c < channels; c++) {
+      const r = ref[p * refStride + c], g = gpu[p * gpuStride + c];
       if (!Number.isFinite(g) || !Number.isFinite(r)) { worst = abs = Infinity; continue; }
       worst = Math.max(worst, Math.abs(g - r) / Math.max(Math.abs(r), floor));
       abs = Math.max(abs, Math.abs(g - r));
@@ -76,11 +90,51 @@ export function compareFrame(gpu, ref, n, inBand) {
     diff[p] = worst;
     if (!inBand(p)) continue;
     sum += worst;
-    count++;
-    if (worst > max) { max = worst; at = [p % n, Math.floor(p / n)]; }
+    inside++;
+    if (worst > max) { max = worst; at = p; }
   }
-  return { diff, max, mean: count ? sum / count : 0, at, pixels: count, disk, nonFinite, floor, peak,
+  return { diff, max, mean: inside ? sum / inside : 0, at, pixels: inside, disk, nonFinite, floor, peak,
            absPeak: peak > 0 ? absMax / peak : absMax };
+}
+
+/** (θ, φ) in degrees of the direction (x, y, z), in float64 (φ in [0, 360)): what the
+ * server's direction_deg turns back into the unit vector along it. */
+export function anglesDeg(x, y, z) {
+  const theta = Math.atan2(Math.hypot(x, y), z) / DEG;
+  const phi = Math.atan2(y, x) / DEG;
+  return [theta, phi < 0 ? phi + 360 : phi];
+}
+
+/** The server's float64 f (POST /api/v1/eval, Rec. 709 luminance for a coloured model)
+ * of `model` for the light `light` and the views `dirs` (flat x, y, z; float32 values),
+ * each sent as its exact angles: Float64Array, NaN where the server has no value. */
+export async function referenceF(model, light, dirs) {
+  const count = dirs.length / 3, to = [], po = [];
+  for (let k = 0; k < count; k++) {
+    const [t, p] = anglesDeg(dirs[3 * k], dirs[3 * k + 1], dirs[3 * k + 2]);
+    to.push(t);
+    po.push(p);
+  }
+  const [ti, pi] = anglesDeg(...light);
+  const res = await fetch(`${API}/eval`, { method: "POST", headers: { "Content-Type": "application/json" },
+    body: JSON.stringify({ ...model, theta_i_deg: [ti], phi_i_deg: [pi], theta_o_deg: to, phi_o_deg: po, quantities: ["f"] }) });
+  const body = await res.json().catch(() => null);
+  if (!res.ok || !body) throw new Error(apiMessage(body, res));
+  return Float64Array.from(body.f, (f) => (f === null ? NaN : f));
+}
+
+/** A relative difference as stated on the page: two significant digits. */
+export const fmt = (x) => (x === 0 ? "0" : x.toExponential(1));
+
+/** The sphere's truth line for compare()'s answer. */
+export function sphereTruthText(r) {
+  const where = r.at ? ` at pixel (${r.at[0]}, ${r.at[1]})` : "";
+  return `GPU (float32) against the server (float64), same frame: largest relative difference `
+    + `${fmt(r.max)}${where}, mean ${fmt(r.mean)} over the ${r.pixels} pixels with θ_l, θ_v ≤ ${GRAZING_DEG}°; `
+    + `over all ${r.disk} pixels the largest difference is ${fmt(r.absPeak)} of the peak `
+    + `(near the terminator and the rim float32's rounding of n·l alone is ~1e-7)`
+    + (r.nonFinite ? `; ${r.nonFinite} pixels NaN/∞` : "")
+    + `. Right: the relative difference, log scale 1e-8 (dark) to 1e-3 (bright); below ${FLOOR}× the peak it counts against that floor.`;
 }
 
 /** The difference as an image: log10 from 1e-8 (black) to 1e-3 (white), magenta where
