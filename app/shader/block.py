@@ -2,14 +2,16 @@
 std140 vec4s, entry i at BRDF_TABLE4[i >> 2][i & 3], read through the same ``data_at(i)``
 as the data texture (texture.py), so a table read is rewritten the same way.
 
-Why not the embedded array: a constant array indexed at run time is copied into each
-shader invocation's private memory by SwiftShader (and by other compilers that lower
-GLSL to SPIR-V), so its cost grows with its length, not with the reads. Measured in
-headless Chromium, 256² pixels, the two-lobe GTR (γ = 1.2) whose Smith fits are 544
-numbers: 25.1 ms a frame embedded, 15.5 ms from a uniform block; one lobe 11.9 → 7.7 ms
-(bench/gpu_sphere.py draws every registry model). Why not the data texture: a scalar
-texelFetch per coefficient cost more than the copy (one lobe 7.3 → 10.7 ms). The const
-form keeps the arrays: it is the self-contained code a developer ships."""
+Why, and when: a constant array indexed at run time is copied into each shader
+invocation's private memory by SwiftShader (and by other compilers that lower GLSL to
+SPIR-V), so its cost grows with its length; a block's grows with its reads. Measured in
+headless Chromium, a 256² quad, the same program drawn warm, side by side: one Smith fit
+(264 numbers, GTR γ = 1.2) 4.7 ms embedded against 5.4 ms from a block; two fits (528, the
+two-lobe GTR) 15.8 ms against 10.3 ms — so tables of at least BLOCK_MIN_FLOATS numbers go
+in the block, fewer stay embedded (bench/gpu_sphere.py draws every registry model). The data texture costs more than either (a scalar texelFetch per
+coefficient: one fit 7.3 → 10.7 ms). The const form keeps its arrays: it is the
+self-contained code a developer ships.
+"""
 from __future__ import annotations
 
 from .dsl import Table
@@ -20,12 +22,16 @@ ARRAY = "BRDF_TABLE4"
 #: floats a block may hold: WebGL2's (and Direct3D's feature level 10) smallest
 #: MAX_UNIFORM_BLOCK_SIZE, 16 384 bytes; larger tables stay embedded arrays
 MAX_FLOATS = 16384 // 4
+#: fewer floats than this stay embedded: the crossover measured above lies between one
+#: Smith fit (264) and two (528)
+BLOCK_MIN_FLOATS = 400
 
 
 def fits(tables: list[Table]) -> bool:
-    """Whether ``tables`` (float tables only) fit one block."""
-    return bool(tables) and all(t.kind == "float" for t in tables) and \
-        sum(len(t.values) for t in tables) <= MAX_FLOATS
+    """Whether ``tables`` (float tables only) belong in one block: large enough to pay
+    for it, small enough to fit."""
+    n = sum(len(t.values) for t in tables)
+    return all(t.kind == "float" for t in tables) and BLOCK_MIN_FLOATS <= n <= MAX_FLOATS
 
 
 def describe(tables: list[Table]) -> dict:

@@ -4,10 +4,16 @@
 h(a) = μΛ/s of the project's table of the Smith integral (app/physics/smith_table.py,
 |ΔG1| ≤ 1e-9) is fitted in x = ln a over the table's range [A_MIN, A_MAX] by PIECES
 Chebyshev series of degree DEGREE, one per equal piece in x (h is analytic in ln a, so
-a series converges geometrically: 16 pieces of width 1.7 at degree 16 reach |ΔG1| ≤ 6e-8
+a series converges geometrically: 24 pieces of width 1.1 at degree 10 reach |ΔG1| ≤ 6e-8
 on the shapes tried — GTR γ 0.5-10, Student-t γ 1.51-1000, Blinn-Phong, exponential power
-p ≤ 1.5 — but 3.2e-6 at exponential power p = 4, the end of its range; 272 numbers instead
-of the table's 8192). Evaluated by Clenshaw's recurrence, stable in float32. The fit's own
+p ≤ 1.5 — and 1.5e-6 at exponential power p = 4, the end of its range; 264 numbers instead
+of the table's 8192). Evaluated by Clenshaw's recurrence, stable in float32.
+
+Why 24 × 10 (16 × 16 before): a shader reads DEGREE + 1 coefficients per evaluation, four
+evaluations a two-lobe pixel, and on the GPU each read costs (block.py): 24 × 10 reads 11
+instead of 17, holds 264 numbers instead of 272, and its worst |ΔG1| is 1.5e-6 instead of
+3.2e-6 (measured on the shapes above, both ends of each range). The two-lobe GTR's point-lit
+256² sphere: 18.9 → 14.5 ms a frame (bench/gpu_sphere.py). The fit's own
 error is measured at generation against the table on FIT_CHECK points and stated as the largest
 |ΔG1| = |a/(a + h_fit) − a/(a + h_table)| (G1 = μ/(μ + s h) = a/(a + h)), to which the
 table's 1e-9 adds. Outside [A_MIN, A_MAX] the table's own end laws are kept.
@@ -19,7 +25,7 @@ import numpy as np
 from ..physics import smith_table
 from .dsl import Const, Fn, Table
 
-PIECES, DEGREE = 16, 16
+PIECES, DEGREE = 24, 10
 #: Coefficients below TRIM × |c_0| of their piece are written as 0 (shorter code): all
 #: of them together change h by < DEGREE × TRIM relative, below float32's 6e-8; the
 #: stated error is measured on the trimmed series.

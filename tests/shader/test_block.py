@@ -11,10 +11,12 @@ from app.model import make_spec
 from app.shader import block
 from app.shader.generate import describe
 
-#: models whose Smith Λ is a fit (one lobe; two lobes of two shapes)
-FITTED = [{"ndf": "gtr", "gamma": 1.2, "alpha": 0.3},
-          {"ndf": "gtr", "gamma": 1.2, "alpha": 0.3, "alpha2": 0.7, "lobe_mix": 0.5},
-          {"ndf": "exp_power", "p": 0.6, "alpha": 0.4}]
+#: two lobes whose Smith Λ is a fit of two shapes (GTR's depends on α): two fits, above
+#: block.BLOCK_MIN_FLOATS
+FITTED = [{"ndf": "gtr", "gamma": 1.2, "alpha": 0.3, "alpha2": 0.7, "lobe_mix": 0.5},
+          {"ndf": "gtr", "gamma": 2.5, "alpha": 0.2, "alpha2": 0.6, "lobe_mix": 0.3}]
+#: one fit: cheaper embedded (block.py's measurement)
+ONE_FIT = {"ndf": "exp_power", "p": 0.6, "alpha": 0.4}
 
 
 def _embedded(code: str) -> dict[str, list[float]]:
@@ -41,6 +43,11 @@ def test_the_block_holds_what_the_const_form_embeds(params, lang):
         # the shader's text rounds to float32 (9 significant digits); the block carries float64
         np.testing.assert_allclose(got, values, rtol=1e-8, atol=1e-30)
     assert uniform["lines"] < const["lines"]
+
+
+def test_one_fit_stays_embedded():
+    body = describe(make_spec(**ONE_FIT), "glsl", "uniform")
+    assert body["blocks"] == {} and _embedded(body["code"])
 
 
 def test_kulla_conty_keeps_its_data_texture_and_large_tables_stay_arrays():
