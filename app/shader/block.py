@@ -35,12 +35,12 @@ def fits(tables: list[Table]) -> bool:
 
 
 def describe(tables: list[Table]) -> dict:
-    """The block as /code's JSON gives it: its layout, its one member and the values
+    """The block as /code's JSON gives it: its packing, its one member and the values
     (padded with 0 to whole vec4s), and where each table lies."""
     values = [float(x) for t in tables for x in t.values]
     vec4s = -(-len(values) // 4)
     values += [0.0] * (4 * vec4s - len(values))
-    return {"name": NAME, "layout": "std140", "member": f"vec4 {ARRAY}[{vec4s}]",
+    return {"name": NAME, "packing": "std140", "member": f"vec4 {ARRAY}[{vec4s}]",
             "index": f"entry i at {ARRAY}[i >> 2][i & 3]", "data": values,
             "parts": {name: {"offset": o, "length": n} for name, (o, n) in layout(tables).items()}}
 

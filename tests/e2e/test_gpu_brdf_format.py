@@ -155,6 +155,13 @@ def schlick_smith(L, V, p):
     return G / ((L @ N) * (V @ N)) if p["includeInvNdotLNdotV"] else G
 
 
+def d_ggx(L, V, p):
+    """Walter et al. 2007 eq. 33, GGX D of the half vector alone (tan-free form)."""
+    H, d = _frame(L, V)
+    a2, nh = p["alpha"] ** 2, d(H, N)
+    return np.where(nh > 0, a2 / (np.pi * (1 + (a2 - 1) * nh * nh) ** 2), 0.0)
+
+
 def fresnel(L, V, p):
     H, d = _frame(L, V)
     return _fresnel_dielectric(d(L, H), p["ior"])
@@ -164,7 +171,8 @@ def fresnel(L, V, p):
 REFERENCE = {"walter_ggx_dielectric.brdf": walter, "cook_torrance_beckmann.brdf": cook_torrance,
              "ashikhmin_shirley.brdf": ashikhmin_shirley, "blinn_phong_normalized.brdf": blinn_phong,
              "ward_anisotropic.brdf": ward, "oren_nayar.brdf": oren_nayar, "disney_principled_2012.brdf": disney,
-             "d_phong_lobe.brdf": phong_lobe, "g_schlick_smith.brdf": schlick_smith, "f_dielectric_exact.brdf": fresnel}
+             "d_phong_lobe.brdf": phong_lobe, "g_schlick_smith.brdf": schlick_smith, "f_dielectric_exact.brdf": fresnel,
+             "d_ggx.brdf": d_ggx}
 
 
 def test_every_file_has_its_reference():

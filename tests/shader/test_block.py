@@ -35,7 +35,7 @@ def test_the_block_holds_what_the_const_form_embeds(params, lang):
     assert not re.search(r"\bLAM_C\[\d+\]\s*=", uniform["code"]), "no embedded array in the uniform form"
     assert f"{block.NAME}" in uniform["code"] and uniform["textures"] == {}
     b = uniform["blocks"][block.NAME]
-    assert b["layout"] == "std140" and len(b["data"]) % 4 == 0
+    assert b["packing"] == "std140" and len(b["data"]) % 4 == 0
     for name, values in arrays.items():
         part = b["parts"][name]
         assert part["length"] == len(values)

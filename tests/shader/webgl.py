@@ -50,7 +50,7 @@ DATA_TEXTURE_JS = """const dataTexture = (prog, name, v, unit) => {
     gl.uniformBlockBinding(prog, index, binding);
     gl.bindBufferBase(gl.UNIFORM_BUFFER, binding, b);
   };
-  const bindData = (prog, name, v, unit, binding) => (v.layout === 'std140'
+  const bindData = (prog, name, v, unit, binding) => (v.packing === 'std140'
     ? uniformBlock(prog, name, v, binding) : dataTexture(prog, name, v, unit));"""
 
 RUN_JS = """async ([vs, fs, w, h, L, V, n, textures]) => {
@@ -153,7 +153,7 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
     for (const set of p.uniforms) {
       let unit = 3, binding = 0;
       for (const [name, value] of Object.entries(set)) {
-        if (typeof value === 'object' && value.layout === 'std140') {      // a uniform block
+        if (typeof value === 'object' && value.packing === 'std140') {      // a uniform block
           uniformBlock(prog, name, value, binding++);
           continue;
         }

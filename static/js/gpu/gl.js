@@ -110,7 +110,7 @@ export function readTarget(gl, target) {
 
 /** Sets each named float uniform whose location exists (one the compiler removed as
  * unused has none); numbers → float, arrays of 2–4 → vecN, a data texture ({width,
- * height, data}) → a sampler (bindData), a uniform block ({layout "std140", data}) → a
+ * height, data}) → a sampler (bindData), a uniform block ({packing "std140", data}) → a
  * buffer (bindBlock). Locations are looked up once per program
  * (uniformLocation). */
 const locations = new WeakMap();
@@ -144,7 +144,7 @@ function bindData(gl, loc, v, unit) {
   gl.activeTexture(active);
 }
 
-/** Uniform blocks (/code's JSON "blocks": {layout "std140", data}: a parameterised
+/** Uniform blocks (/code's JSON "blocks": {packing "std140", data}: a parameterised
  * shader's tables, app/shader/block.py), one buffer per context and value, bound to
  * binding points from 0 up. */
 const blockBuffers = new WeakMap();
@@ -167,7 +167,7 @@ function bindBlock(gl, prog, name, v, binding) {
 export function setUniforms(gl, prog, values) {
   let unit = DATA_UNIT, binding = 0;
   for (const [name, v] of Object.entries(values)) {
-    if (v && typeof v === "object" && v.layout === "std140") {
+    if (v && typeof v === "object" && v.packing === "std140") {
       if (bindBlock(gl, prog, name, v, binding)) binding++;
       continue;
     }
