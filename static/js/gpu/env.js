@@ -10,6 +10,7 @@
  * Alpha accumulates the luminance's square, for the stated standard error.
  */
 import { FULLSCREEN_VS, program, floatTarget, floatTexture, readTarget, setUniforms, uniformLocation } from "./gl.js";
+import { LUMINANCE } from "../panels/average.js";
 import { HEAD } from "./sphere.js";
 
 export const ENVIRONMENTS = ["uniform", "studio", "overcast", "sunset"];
@@ -29,8 +30,6 @@ export const PREVIEW_SIZE = 128;
  * radiance 1 gives a Lambertian surface L_o = ρ, a point light of irradiance 1 gives
  * ρ/π·cos θ — log2 π stops brighter, so one exposure suits both spheres. */
 const ENV_EXPOSURE_OFFSET = Math.log2(Math.PI);
-/** Rec. 709 luminance (render.py's LUMINANCE). */
-const LUMA = [0.2126, 0.7152, 0.0722];
 const DEG = Math.PI / 180;
 /** The soft discs of maps.py, [radius, edge] in degrees: the key box or the sun, and
  * studio's fill box. Their edges' cosines are formed here in float64 and passed as
@@ -179,7 +178,7 @@ void main() {
       est += brdf(n, l, v) * env_radiance(l) * mu / pdf;
     }
     sum_rgb += est;
-    float lum = dot(est, vec3(${LUMA.join(", ")}));
+    float lum = dot(est, vec3(${LUMINANCE.join(", ")}));
     sum_l2 += lum * lum;
   }
   color = prev + vec4(sum_rgb, sum_l2);
@@ -219,7 +218,7 @@ export function mapTextures(gl, { width: w, height: h, rgb }) {
     for (let j = 0; j < w; j++) {
       const q = i * w + j;
       radiance.set([rgb[3 * q], rgb[3 * q + 1], rgb[3 * q + 2], 1], 4 * q);
-      const lum = LUMA[0] * rgb[3 * q] + LUMA[1] * rgb[3 * q + 1] + LUMA[2] * rgb[3 * q + 2];
+      const lum = LUMINANCE[0] * rgb[3 * q] + LUMINANCE[1] * rgb[3 * q + 1] + LUMINANCE[2] * rgb[3 * q + 2];
       weight[q] = Math.max(lum, 0) * cellOmega(i);
       total += weight[q];
     }
@@ -360,7 +359,7 @@ export class EnvSphere {
         const x = -1 + (2 * i + 1) / n, y = -1 + (2 * j + 1) / n;
         if (x * x + y * y >= 1) continue;
         const q = 4 * (j * n + i);
-        const s1 = LUMA[0] * raw[q] + LUMA[1] * raw[q + 1] + LUMA[2] * raw[q + 2], s2 = raw[q + 3];
+        const s1 = LUMINANCE[0] * raw[q] + LUMINANCE[1] * raw[q + 1] + LUMINANCE[2] * raw[q + 2], s2 = raw[q + 3];
         sum += s1 / N;
         varSum += Math.max(s2 - (s1 * s1) / N, 0) / (N - 1) / N;
         P++;

@@ -11,6 +11,7 @@
  * "f" of a coloured model (app/environment/render.py LUMINANCE).
  */
 import { albedoPairs, albedoOf } from "./measure.js";
+import { LUMINANCE } from "../panels/average.js";
 import { numbers } from "../chart/traces.js";
 import { rangeOverAll } from "../panels/layout.js";
 
@@ -34,15 +35,13 @@ export const CURVE_NODES = { mu: 64, phi: 512 };
 /** A BRDF change redraws the lobe at the next frame and the albedo (≈ 0.5 M GPU
  * evaluations at the panel's 16 μ > 0) this long after the last of a burst (a slider). */
 const ALBEDO_DELAY_MS = 200;
-/** Luminance of linear RGB, ITU-R BT.709. */
-const LUMA = [0.2126, 0.7152, 0.0722];
 const DEG = Math.PI / 180;
 /** Set on the trace (and kept through the chart): how it is found again and replaced. */
 const MARK = "user-brdf";
 
 const dir = (thetaDeg, phiDeg) => [Math.sin(thetaDeg * DEG) * Math.cos(phiDeg * DEG),
   Math.sin(thetaDeg * DEG) * Math.sin(phiDeg * DEG), Math.cos(thetaDeg * DEG)];
-const luma = (f, i) => LUMA[0] * f[4 * i] + LUMA[1] * f[4 * i + 1] + LUMA[2] * f[4 * i + 2];
+const luma = (f, i) => LUMINANCE[0] * f[4 * i] + LUMINANCE[1] * f[4 * i + 1] + LUMINANCE[2] * f[4 * i + 2];
 const isMine = (t) => t?.meta?.role === MARK;
 
 /** The lobe panel's directions (app/quantities.py lobe_curve): l at (θ_i, φ_i), v at
@@ -181,7 +180,7 @@ export class UserCurves {
     const f = this.user.evaluate(pairs.l, pairs.v);
     if (!f) return null;
     this.evaluations += pairs.l.length / 3;
-    const E = albedoOf(f, pairs.weights, pairs.per, inside.length).map((e) => LUMA[0] * e[0] + LUMA[1] * e[1] + LUMA[2] * e[2]);
+    const E = albedoOf(f, pairs.weights, pairs.per, inside.length).map((e) => LUMINANCE[0] * e[0] + LUMINANCE[1] * e[1] + LUMINANCE[2] * e[2]);
     const y = mus.map((mu) => (mu > 0 && mu <= 1 ? E[inside.indexOf(mu)] : NaN));
     return { type: "scatter", mode: "lines+markers", name: label,
              x: mus, y, line: { color: COLOR, width: 2, dash: "dot" }, marker: { size: 4, color: COLOR },
