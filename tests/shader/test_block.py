@@ -9,6 +9,7 @@ import pytest
 
 from app.model import make_spec
 from app.shader import block
+from app.shader.dsl import Table
 from app.shader.generate import describe
 
 #: two lobes whose Smith Λ is a fit of two shapes (GTR's depends on α): two fits, above
@@ -50,10 +51,21 @@ def test_one_fit_stays_embedded():
     assert body["blocks"] == {} and _embedded(body["code"])
 
 
-def test_kulla_conty_keeps_its_data_texture_and_large_tables_stay_arrays():
+def test_kulla_conty_keeps_its_data_texture():
     kc = describe(make_spec(ndf="gtr", gamma=1.2, alpha=0.3, multiscatter="kulla_conty"), "glsl", "uniform")
     assert kc["blocks"] == {} and "BRDF_DATA" in kc["textures"]
-    assert block.fits([]) is False
+
+
+@pytest.mark.parametrize("sizes, kind, goes_in", [
+    ((), "float", False),                    # nothing to hold
+    ((399,), "float", False),                # one fit's worth: cheaper embedded
+    ((200, 200), "float", True),             # two tables of 200: 400 numbers
+    ((4096,), "float", True),                # 16 KB: WebGL2's smallest MAX_UNIFORM_BLOCK_SIZE
+    ((4096, 1), "float", False),             # one number over: stays embedded
+    ((500,), "int", False)])                 # the block holds floats
+def test_which_tables_go_in_the_block(sizes, kind, goes_in):
+    tables = [Table(f"T{k}", [0.5] * n, "", kind) for k, n in enumerate(sizes)]
+    assert block.fits(tables) is goes_in
 
 
 def test_the_python_form_embeds_its_tables():
