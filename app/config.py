@@ -9,6 +9,7 @@ settings of the process's environment, for code below the API that has no applic
 from __future__ import annotations
 
 import os
+import re
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
@@ -67,6 +68,10 @@ class Settings:
     #: restarts: BRDF_CACHE_DIR (empty: $XDG_CACHE_HOME/brdf-explorer or
     #: ~/.cache/brdf-explorer; unwritable: tables kept in memory only)
     cache_dir: str = ""
+    #: where uploaded data sets are kept: BRDF_DATA_URL. A directory or file:// URL: every
+    #: worker of one host (empty: datasets/ under the cache directory); any other fsspec
+    #: URL, e.g. s3://bucket/prefix: every worker of every host (the extra [s3])
+    data_url: str = ""
     #: seconds a browser or CDN may reuse a GET /api/v1 response: BRDF_CACHE_MAX_AGE
     cache_max_age: int = 3600
     #: origins allowed to GET cross-origin (embedding): BRDF_CORS_ORIGINS, comma-separated
@@ -147,6 +152,32 @@ def _origins(env: str, cast):
     return lambda raw: tuple(x.strip() for x in raw.split(",") if x.strip())
 
 
+#: how to install fsspec and s3fs, which BRDF_DATA_URL=s3://… needs (pyproject.toml's extra)
+INSTALL_S3 = "pip install 'brdf-lobe-explorer[s3]'"
+
+
+def remote_scheme(location: str) -> str | None:
+    """The scheme of an fsspec URL other than file:// (``s3``), None for a directory."""
+    found = re.match(r"([a-zA-Z][a-zA-Z0-9+.-]*)://", str(location))      # RFC 3986's scheme
+    return found.group(1) if found and found.group(1).lower() != "file" else None
+
+
+def _data_url(env: str, cast):
+    """A directory, or a URL whose fsspec backend is installed: a missing one stops the
+    server at start-up naming the package, not the first upload with a 500."""
+    def parse(raw: str):
+        scheme = remote_scheme(raw)
+        if scheme:
+            try:
+                import fsspec
+                fsspec.get_filesystem_class(scheme)
+            except (ImportError, ValueError) as err:
+                raise ValueError(f"{env}={raw!r}: {err}; for s3:// install the extra: "
+                                 f"{INSTALL_S3}") from None
+        return raw
+    return parse
+
+
 def _non_negative(env: str, cast):
     """A parser for one numeric setting that names the variable when its value is bad
     (a typo must stop the server at start-up, not surface as a 500 later)."""
@@ -172,6 +203,6 @@ def _positive(env: str, cast):
 
 
 #: how each setting that is not a non-negative number is read from its variable
-_PARSERS = {"cache_dir": _text, "static_dir": _text, "chromium": _text, "kernel_dir": _text,
-            "xdg_cache_home": _text, "model_dirs": _text, "fast": _switch, "cors_origins": _origins,
-            "allowed_origins": _origins, "body_idle_seconds": _positive}
+_PARSERS = {"cache_dir": _text, "data_url": _data_url, "static_dir": _text, "chromium": _text,
+            "kernel_dir": _text, "xdg_cache_home": _text, "model_dirs": _text, "fast": _switch,
+            "cors_origins": _origins, "allowed_origins": _origins, "body_idle_seconds": _positive}

@@ -21,8 +21,8 @@ from pydantic import BaseModel
 from starlette.concurrency import run_in_threadpool
 from starlette.responses import Response
 
-from ..config import Settings
-from ..datasets.disk_store import DiskDatasetStore
+from ..config import Settings, remote_scheme
+from ..datasets.backends import open_store
 from ..datasets.examples import WithExamples
 from ..datasets.store import DatasetStore
 from ..export.image import ImageRenderer, get_renderer
@@ -41,19 +41,23 @@ def get_settings(request: Request) -> Settings:
 
 
 def get_datasets(request: Request) -> WithExamples:
-    """The application's data-set store, made on first use: files under the cache
-    directory's ``datasets/``, shared by every worker and kept across restarts (a quarter
-    of BRDF_MAX_DATASETS_BYTES per client); in memory where that directory cannot be
-    written (each worker then has its own). The server's example data sets
-    (app/datasets/examples.py) answer their ids without an upload."""
+    """The application's data-set store, made on first use, kept across restarts (a
+    quarter of BRDF_MAX_DATASETS_BYTES per client): at BRDF_DATA_URL, an fsspec URL such
+    as s3://bucket/prefix shared by every host, or a directory shared by every worker of
+    one host (default: the cache directory's ``datasets/``); in memory where that
+    directory cannot be written (each worker then has its own). The server's example data
+    sets (app/datasets/examples.py) answer their ids without an upload."""
     state = request.app.state
     with _STORE_LOCK:
         if not hasattr(state, "datasets"):
             s = state.settings
+            location = s.data_url or s.cache_directory() / "datasets"
             try:
-                store = DiskDatasetStore(s.cache_directory() / "datasets", s.max_datasets_bytes,
-                                         client_bytes=s.max_datasets_bytes // CLIENT_SHARE)
+                store = open_store(location, s.max_datasets_bytes,
+                                   client_bytes=s.max_datasets_bytes // CLIENT_SHARE)
             except OSError:
+                if remote_scheme(str(location)):
+                    raise                   # several hosts must not each keep their own
                 store = DatasetStore(s.max_datasets_bytes)
             state.datasets = WithExamples(store)
         return state.datasets

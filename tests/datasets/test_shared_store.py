@@ -11,8 +11,11 @@ import numpy as np
 import pytest
 
 from app.datasets import formats
+from app.datasets.backends import open_store
 from app.datasets.disk_store import DiskDatasetStore
+from app.datasets.fsspec_store import FsspecDatasetStore
 from app.errors import ParameterError
+from tests.datasets.s3 import s3_bucket, s3_client, s3_endpoint, s3_url  # noqa: F401  (fixtures)
 from tests.datasets.uploads import CSV, put, random_csv
 
 #: seconds between two uses that every backend tells apart: S3's LastModified counts
@@ -36,15 +39,22 @@ class Backend:
         self.kind, self.base = kind, base
 
     def open(self, name: str, max_bytes: int, client_bytes: int | None = None):
-        return DiskDatasetStore(f"{self.base}/{name}", max_bytes, client_bytes)
+        return open_store(f"{self.base}/{name}", max_bytes, client_bytes)
 
     def tick(self) -> None:
         time.sleep(TELLS_APART[self.kind])
 
 
-@pytest.fixture(params=["directory"])
+@pytest.fixture(params=["directory", "s3"])
 def backend(request, tmp_path):
-    return Backend("directory", str(tmp_path))
+    if request.param == "directory":
+        return Backend("directory", str(tmp_path))
+    return Backend("s3", request.getfixturevalue("s3_url"))
+
+
+def test_a_location_names_its_backend(backend):
+    store = backend.open("x", 10**8)
+    assert isinstance(store, DiskDatasetStore if backend.kind == "directory" else FsspecDatasetStore)
 
 
 def test_an_evicted_id_answers_410_with_the_reason_and_an_unknown_one_404(backend):
