@@ -57,8 +57,8 @@ class Settings:
     #: bytes of one uploaded measured data set (POST /api/v1/datasets; one MERL .binary
     #: is 34 992 012 bytes, plus multipart overhead): BRDF_MAX_UPLOAD_BYTES
     max_upload_bytes: int = 36_000_000
-    #: bytes of uploaded data sets kept in memory (least recently used dropped first):
-    #: BRDF_MAX_DATASETS_BYTES
+    #: bytes of uploaded data sets kept in the store (BRDF_DATA_URL; least recently used
+    #: dropped first, a quarter per client): BRDF_MAX_DATASETS_BYTES
     max_datasets_bytes: int = 256 * 1024 * 1024
     #: bytes of memory one request's computation may hold at its peak (evaluation, Monte
     #: Carlo and grids run in chunks to stay under it; more is refused before any work):
