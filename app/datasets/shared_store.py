@@ -22,7 +22,6 @@ import contextlib
 import json
 import secrets
 import zipfile
-from contextlib import AbstractContextManager
 from typing import NamedTuple, Protocol
 
 from ..errors import TooLarge
@@ -31,8 +30,10 @@ from .stored_form import decode, encode
 
 #: the file of each kind of record, after the id
 DATA, META, GONE = ".npz", ".json", ".gone"
-#: what decoding a damaged data set raises
+#: what decoding a damaged data set raises (a truncated zip, a missing array or key)
 DAMAGED = (ValueError, KeyError, zipfile.BadZipFile)
+#: the 410's reason for a data set whose files no longer decode: writes are whole, so only
+#: other hands (an operator, the storage itself) damage one
 DAMAGED_REASON = "its stored file was damaged"
 
 
@@ -59,7 +60,7 @@ class Files(Protocol):
     def touch(self, name: str) -> None:
         """Record a use of the file now (``list`` then shows it)."""
 
-    def locked(self) -> AbstractContextManager:
+    def locked(self) -> contextlib.AbstractContextManager:
         """Exclusive among the writers this backend can reach (see each backend)."""
 
     def clean(self) -> None:
@@ -67,6 +68,7 @@ class Files(Protocol):
 
 
 class Entry(NamedTuple):
+    """A stored data set, as the eviction order sees it (sorted: least recently used first)."""
     last_use: float
     data_id: str
     size: int
