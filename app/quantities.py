@@ -70,6 +70,61 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
     return {name: value.reshape(shape + value.shape[1:]) for name, value in out.items()}
 
 
+#: The precisions POST/GET /api/v1/eval take: float64 (the default, the reference path)
+#: or float32 (f only, app/kernels/float32.py's loop, on explicit request).
+PRECISIONS = ("float64", "float32")
+
+
+def evaluate_float32(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
+                     param: str = "precision", loc: str = "query") -> dict:
+    """f in float32 (app/kernels/float32.py: generated from the same formulas as float64,
+    never the default) at direction pairs in degrees, in chunks of EVAL_CHUNK pairs, and
+    ``precision``: the dtype and the stated bound on its relative error against float64
+    over these pairs. A model or request float32 does not serve is refused naming
+    ``param`` (ParameterError: 422)."""
+    from .errors import ParameterError
+    from .kernels import float32
+    if tuple(want) != ("f",):
+        raise ParameterError(param, "precision=float32 evaluates f only: ask quantities=f, "
+                                    "or precision=float64 for the other quantities", loc=loc)
+    if getattr(brdf.fresnel, "channels", None) is not None:
+        raise ParameterError(param, "precision=float32 is not offered for a coloured material "
+                                    "(f per channel): use precision=float64", loc=loc)
+    why = float32.unsupported(brdf)
+    if why is not None:
+        raise ParameterError(param, f"precision=float32 is not available for this model: {why}; "
+                                    "use precision=float64", loc=loc)
+    angles = (theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg)
+    shape = np.broadcast_shapes(*(np.shape(x) for x in angles))
+    count = int(np.prod(shape))
+    cost.require_evaluations(brdf, count, count * BYTES_PER_VALUE + min(count, EVAL_CHUNK) * BYTES_PER_PAIR,
+                             "n", f"{count} BRDF evaluations")
+    flat = [np.broadcast_to(np.asarray(a, dtype=float), shape).reshape(-1) for a in angles]
+    out = np.empty(count, dtype=np.float32)
+    mu_sum_min = np.inf
+    for start in range(0, count, EVAL_CHUNK):
+        if start:
+            cost.check_deadline(f"{count} BRDF evaluations")
+        part = slice(start, start + EVAL_CHUNK)
+        l = direction_deg(flat[0][part], flat[1][part])
+        v = direction_deg(flat[2][part], flat[3][part])
+        f = out[part] = float32.f(brdf, l, v)
+        # the bound's pairs: f finite and nonzero (where f64 is 0 or ∞ so is f32)
+        mu_sum = (np.maximum(l[..., 2], 0.0) + np.maximum(v[..., 2], 0.0))[np.isfinite(f) & (f != 0)]
+        mu_sum_min = min(mu_sum_min, float(np.min(mu_sum, initial=np.inf)))
+    alphas = [brdf.ndf] + ([brdf.lobe2] if brdf.lobe2 is not None and brdf.lobe_mix > 0 else [])
+    bound = max(float(float32.rel_error_bound(n.alpha_x, n.alpha_y, mu_sum_min)) if np.isfinite(mu_sum_min)
+                else 0.0 for n in alphas)
+    return {"f": out.reshape(shape), "precision": {
+        "dtype": "float32",
+        "max_rel_error_bound": bound if np.isfinite(bound) else None,
+        "bound": (f"|f32 - f64| <= {float32.REL_ERROR_K:.3g} / (alpha_min (mu_i + mu_o)) f64 per pair "
+                  "(measured over GGX's float32 model classes, app/kernels/float32.py REL_ERROR_K); "
+                  "max_rel_error_bound is its largest value over these pairs, null when a pair with "
+                  "f not 0 has both directions on the horizon (no bound there)"),
+        "reference": "float64 (the default precision)"}}
+
+
 def _f_fused(brdf: BRDF, shape: tuple, count: int, angles: tuple) -> np.ndarray | None:
     """f by the model's compiled loop with degrees in (the directions built inside it),
     in chunks of FUSED_CHUNK pairs written straight into the result, the deadline

@@ -25,6 +25,14 @@ directions → BRDF.evaluate, as GET/POST /eval do). Side by side in one run:
                   ``cd /tmp && apt-get download libllvm19 && dpkg-deb -x libllvm19_*.deb /tmp/llvm19``,
                   then run with ``DRJIT_LIBLLVM_PATH=/tmp/llvm19/usr/lib/x86_64-linux-gnu/libLLVM.so.19.1``.
                   Without it the report says "not measured" and why.
+* ``fast32_mitsuba_model`` the float32 loop (app/kernels/float32.py, on explicit request
+                  only: generated from the same formulas, 8 lanes a step) on the same model
+                  and pairs, given as float32 arrays made before the timing (as Mitsuba's
+                  are): the report prints both ratios, ours float64 / Mitsuba and ours
+                  float32 / Mitsuba, and the float32 loop's largest relative difference to
+                  the float64 numpy path on these pairs (``float32_max_rel_diff``), beside
+                  its stated bound (app.kernels.float32.REL_ERROR_K / (α (μ_l + μ_v)), at
+                  the pairs' smallest μ_l + μ_v).
 
 Run it as installed by the README's first command (numba is a regular dependency); the
 compiled loop is loaded (or compiled) before the timings.
@@ -44,6 +52,7 @@ import numpy as np
 import common  # first: puts the checkout on sys.path
 
 from app import kernels, quantities
+from app.kernels import float32 as float32_module
 from app.kernels import kernel as kernel_module
 from app.model import make_spec
 
@@ -83,6 +92,10 @@ def run(quick: bool = False) -> dict:
         "quantities": lambda: quantities.evaluate(brdf, theta[0], phi[0], theta[1], phi[1], ("f",)),
         "fast_mitsuba_model": lambda: kernels.f(same, l, v),
     }
+    if have_fast:
+        float32_module.kernel(same)                    # compiled (or loaded) before the timings
+        l32, v32 = l.astype(np.float32), v.astype(np.float32)
+        functions["fast32_mitsuba_model"] = lambda: float32_module.f(same, l32, v32)
     if not have_fast:
         common.log("  (numba not installed or BRDF_FAST=0: 'fast' is the numpy path)")
     common.log(f"  {n:,} pairs, {repeat} interleaved rounds ...")
@@ -117,8 +130,20 @@ def run(quick: bool = False) -> dict:
     out["throughput_max_rel_diff"] = float(np.max(np.abs(got[finite] - ref[finite]) / ref[finite]))
     out["throughput_speedup"] = out["evals_per_s"] / out["evals_per_s_numpy"]
     out["quantities_over_fast"] = out["evals_per_s_quantities"] / out["evals_per_s"]
+    if have_fast:
+        ref_same = same.evaluate(l, v, ("f",))["f"]
+        got32 = float32_module.f(same, l, v).astype(np.float64)
+        ok = np.isfinite(ref_same) & (ref_same > 0)
+        out["float32_max_rel_diff"] = float(np.max(np.abs(got32[ok] - ref_same[ok]) / ref_same[ok]))
+        mu_sum = (l[:, 2] + v[:, 2])[ok]
+        out["float32_bound_at_min_mu"] = float(float32_module.rel_error_bound(
+            same.ndf.alpha_x, same.ndf.alpha_y, mu_sum.min()))
+        out["float32_bound_check"] = bool(np.all(np.abs(got32[ok] - ref_same[ok]) <= float32_module.rel_error_bound(
+            same.ndf.alpha_x, same.ndf.alpha_y, mu_sum) * ref_same[ok]))
     if "mitsuba" in times:
         out["ours_over_mitsuba"] = out["evals_per_s_fast_mitsuba_model"] / out["evals_per_s_mitsuba"]
+        if "evals_per_s_fast32_mitsuba_model" in out:
+            out["ours32_over_mitsuba"] = out["evals_per_s_fast32_mitsuba_model"] / out["evals_per_s_mitsuba"]
         out["mitsuba_max_rel_diff"] = mitsuba_check(same, l, v)
     else:
         out["mitsuba_not_measured"] = why
@@ -218,6 +243,12 @@ def report(r: dict) -> list[str]:
          f"{r['evals_per_s_mitsuba'] / 1e6:.1f} M/s (float32, own process): ratio {r['ours_over_mitsuba']:.2f}; "
          f"max rel. difference {r['mitsuba_max_rel_diff'] if r['mitsuba_max_rel_diff'] is not None else float('nan'):.1e}"
          if "ours_over_mitsuba" in r else f"  Mitsuba 3: not measured ({r['mitsuba_not_measured']})"),
+        (f"  GGX separable F=1, float32 loop: {r['evals_per_s_fast32_mitsuba_model'] / 1e6:.1f} M/s; "
+         f"ratio to Mitsuba: float64 {r['ours_over_mitsuba']:.2f}, float32 {r['ours32_over_mitsuba']:.2f}; "
+         f"float32 max rel. difference to float64 {r['float32_max_rel_diff']:.1e} (stated bound "
+         f"{r['float32_bound_at_min_mu']:.1e} at the pairs' smallest mu_l + mu_v; held pair by pair: "
+         f"{r['float32_bound_check']})"
+         if "ours32_over_mitsuba" in r else "  float32 loop / Mitsuba: not measured"),
         f"  speed-up {r['throughput_speedup']:.1f}x; max relative difference to numpy "
         f"{r['throughput_max_rel_diff']:.1e}",
         f"albedo, n = 17 + E_avg, tol 1e-5: compiled p50 {r['albedo17_compiled_ms_p50']:.1f} ms "

@@ -42,7 +42,7 @@ def inputs(*arrays, shape: tuple | None = None) -> tuple[np.ndarray, ...]:
     return tuple(out)
 
 
-def _split(loop, n: int, work: int, before: tuple, after: tuple) -> None:
+def split_work(loop, n: int, work: int, before: tuple, after: tuple) -> None:
     """loop(*before, start, stop, *after) over [0, n), in one block per core on the pool
     when the ``work`` (evaluations) makes it pay."""
     k = min(WORKERS, n)
@@ -95,7 +95,7 @@ class Kernel:
         l2, v2 = inputs(l.reshape(-1), v.reshape(-1))     # flat: x0 y0 z0 x1 ... (f_loop)
         out = np.empty(l2.size // 3)
         ndf = lobe.ndf
-        _split(self._f_loop, out.size, out.size, (l2, v2, out),
+        split_work(self._f_loop, out.size, out.size, (l2, v2, out),
                (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd), *self.params(lobe),
                 self.diffuse_params(lobe)))
         return out.reshape(shape)
@@ -110,7 +110,7 @@ class Kernel:
                           for a in (theta_l, phi_l, theta_v, phi_v)))
         flat = np.empty(angles[0].size) if out is None else out.reshape(-1)
         ndf = lobe.ndf
-        _split(self._f_deg_loop, flat.size, flat.size, (*angles, flat),
+        split_work(self._f_deg_loop, flat.size, flat.size, (*angles, flat),
                (float(ndf.alpha_x), float(ndf.alpha_y), float(lobe.kd), *self.params(lobe),
                 self.diffuse_params(lobe)))
         return flat.reshape(shape) if out is None else out
@@ -123,7 +123,7 @@ class Kernel:
         head, tail, w_u, h, dh = inputs(*(np.ravel(a) for a in (head, tail, w_u, h, dh)))
         rows = np.empty(cp.shape)
         ndf = lobe.ndf
-        _split(self._albedo_rows, rows.size, rows.size * tail.size,
+        split_work(self._albedo_rows, rows.size, rows.size * tail.size,
                (v, cp, sp, U, V0, head, tail, w_u, h, dh, bool(use_log), rows),
                (float(ndf.alpha_x), float(ndf.alpha_y), *self.params(lobe)))
         return rows
@@ -136,7 +136,7 @@ class Kernel:
         a, power, weight, p = inputs(a, one_minus_t ** k, k * one_minus_t ** (k - 1.0) * dt,
                                      ndf.radial_params())
         h, slope, curvature = np.empty(a.size), np.empty(a.size), np.empty(a.size)
-        _split(self._smith_h, a.size, a.size * weight.size,
+        split_work(self._smith_h, a.size, a.size * weight.size,
                (a, power, weight, p, h, slope, curvature), ())
         return h, slope, curvature
 

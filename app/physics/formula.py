@@ -88,11 +88,12 @@ def tokens(text: str) -> list[str]:
     return out
 
 
-def translate(expr: str, lang: str) -> str:
-    """``expr`` (the neutral syntax) in ``lang``."""
+def translate(expr: str, lang: str, overrides: dict | None = None) -> str:
+    """``expr`` (the neutral syntax) in ``lang``; ``overrides``: macro name → template
+    taking the place of MACROS' for this translation (the float32 scalar form)."""
     if lang not in LANGS:
         raise ValueError(f"lang must be one of {', '.join(LANGS)}")
-    text, _ = _emit(tokens(expr), 0, LANGS.index(lang), stop=())
+    text, _ = _emit(tokens(expr), 0, LANGS.index(lang), stop=(), overrides=overrides or {})
     # the templates bracket every argument; a bracketed single name or number needs none
     while True:
         shorter = _REDUNDANT.sub(r"\1", text)
@@ -104,18 +105,19 @@ def translate(expr: str, lang: str) -> str:
 _REDUNDANT = re.compile(r"(?<![\w\]])\(([\w.]+)\)")
 
 
-def _emit(tok: list[str], i: int, k: int, stop: tuple) -> tuple[str, int]:
+def _emit(tok: list[str], i: int, k: int, stop: tuple, overrides: dict | None = None) -> tuple[str, int]:
     parts: list[str] = []
     depth = 0
+    overrides = overrides or {}
     while i < len(tok):
         t = tok[i]
         if depth == 0 and t in stop:
             break
         if t in MACROS and i + 1 < len(tok) and tok[i + 1] == "(":
-            template = MACROS[t][k]
+            template = overrides.get(t, MACROS[t][k])
             if template is None:
                 raise ValueError(f"{t}() has no {LANGS[k]} form")
-            args, i = _args(tok, i + 2, k)
+            args, i = _args(tok, i + 2, k, overrides)
             parts.append(template.format(*args))
             continue
         if t in "([":
@@ -127,12 +129,12 @@ def _emit(tok: list[str], i: int, k: int, stop: tuple) -> tuple[str, int]:
     return _join(parts), i
 
 
-def _args(tok: list[str], i: int, k: int) -> tuple[list[str], int]:
+def _args(tok: list[str], i: int, k: int, overrides: dict | None = None) -> tuple[list[str], int]:
     args = []
     if tok[i] == ")":
         return args, i + 1
     while True:
-        text, i = _emit(tok, i, k, stop=(",", ")"))
+        text, i = _emit(tok, i, k, stop=(",", ")"), overrides=overrides)
         args.append(text)
         if tok[i] == ")":
             return args, i + 1
@@ -195,6 +197,60 @@ class Formula:
         lines += [f"    {name} = {translate(expr, 'scalar')}" for name, expr in self.body]
         lines.append(f"    return {translate(self.result, 'scalar')}")
         return "\n".join(lines) + "\n"
+
+
+    def scalar32_source(self, fn_name: str, extra_args: tuple[str, ...] = ("p",)) -> str:
+        """The formula as plain Python for one point in float32 (app/kernels' float32 f
+        loop): the same assignments as :meth:`scalar_source`, every number typed float32
+        (``f32(c)``, ``f32 = numpy.float32``: numba types a Python float as float64 and
+        float32 · float64 as float64, which would run the loop in double), and the macros
+        whose scalar form is not float32 replaced (SCALAR32). The arguments and ``p`` are
+        float32 from the caller. A number float32 cannot hold (overflow, or a nonzero one
+        that rounds to 0) is refused: the formula has no float32 form."""
+        lines = [f"def {fn_name}({', '.join(self.args + extra_args)}):"]
+        if self.doc:
+            lines.append(f'    """{self.doc.splitlines()[0]} (float32)"""')
+        lines += [f"    {name} = p[{i}]" for i, name in enumerate(self.p)]
+        lines += [f"    {name} = f32({float32_literal(value)})" for name, value, _ in self.consts]
+        lines += [f"    {name} = {translate(_f32_numbers(expr), 'scalar', SCALAR32)}"
+                  for name, expr in self.body]
+        lines.append(f"    return {translate(_f32_numbers(self.result), 'scalar', SCALAR32)}")
+        return "\n".join(lines) + "\n"
+
+
+#: The scalar forms that change in float32 (Formula.scalar32_source): +∞ as a float32;
+#: erfcx has only scipy's float64 routine, so it is called in float64 on the float32
+#: argument and its value rounded to float32 (one rounding more than float64's path);
+#: floor returns an int in numba (an int times a float32 is a float64), so it is made
+#: float32 again. Every other scalar macro (math.sqrt/exp/expm1/log/acos/atan2, abs, min,
+#: max, **, comparisons, selects) keeps float32 arguments float32 in numba (checked in the
+#: loop's LLVM IR by tests/kernels/test_float32.py).
+SCALAR32 = {
+    "INF": "f32(math.inf)",
+    "erfcx": "f32(erfcx(float({0})))",
+    "floor": "f32(math.floor({0}))",
+}
+
+_NUMBER = re.compile(r"[\d.]")
+
+
+def float32_literal(x: float) -> str:
+    """:func:`literal`, refused where float32 cannot hold the number."""
+    import numpy as np
+    with np.errstate(over="ignore", under="ignore"):
+        y = np.float32(x)
+    if not np.isfinite(y) or (x != 0.0 and y == 0.0):
+        raise ValueError(f"constant {x!r} is outside float32's range")
+    return literal(x)
+
+
+def _f32_numbers(expr: str) -> str:
+    """``expr`` with every number written f32(number) (a neutral-syntax call: f32 is no
+    macro, so it passes through every translation as a call of that name)."""
+    out = []
+    for t in tokens(expr):
+        out.append(f"f32({float32_literal(float(t))})" if _NUMBER.match(t) else t)
+    return " ".join(out)
 
 
 _counter = [0]

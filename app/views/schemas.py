@@ -103,6 +103,10 @@ class EvalQuery(ModelQuery):
                                             "(f_diffuse: the diffuse term of f; f_rgb: per channel, "
                                             "for a coloured model)")] = \
         ["f", "f_diffuse", "D", "G1_i", "G1_o", "G2", "F"]
+    precision: Annotated[Literal["float64", "float32"], Field(
+        description="float64 (the default: the reference path) or float32 (f only, GGX models: "
+                    "a float32 compiled loop, faster; the answer states its measured relative "
+                    "error bound against float64 for these pairs)")] = "float64"
 
 
 class CurveQuery(ModelQuery):

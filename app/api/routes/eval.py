@@ -32,6 +32,10 @@ def _evaluate(q: schemas.EvalQuery, limit: int, status: int, env: str, loc: str 
                                        "lists must have equal length, or one value to broadcast", loc=loc)
     spec = schemas.spec_of(q)
     arrays = {k: np.asarray(v, dtype=float) for k, v in lists.items()}
+    if q.precision == "float32":     # explicit only: float64 is the default (the reference)
+        return json_response(quantities.evaluate_float32(
+            spec.brdf(), arrays["theta_i_deg"], arrays["phi_i_deg"],
+            arrays["theta_o_deg"], arrays["phi_o_deg"], tuple(dict.fromkeys(q.quantities)), loc=loc))
     return json_response(quantities.evaluate(
         spec.brdf(), arrays["theta_i_deg"], arrays["phi_i_deg"],
         arrays["theta_o_deg"], arrays["phi_o_deg"], tuple(dict.fromkeys(q.quantities))))
