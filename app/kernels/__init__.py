@@ -37,7 +37,7 @@ from ..physics.g2 import lambda_phi_entry
 from ..physics import smith_table
 from ..physics.ndf import SlopeSpaceNDF
 from . import compose
-from .compiler import Client
+from .compiler import CLIENT
 from .compose import Components
 from .kernel import PARTS, Kernel, loops_of
 
@@ -68,7 +68,7 @@ _told_numpy: set[tuple[Components, str]] = set()
 #: CPU seconds of numpy work done so far on each model part that is not compiled
 _rent: dict[tuple[Components, str], float] = {}
 _compile_locks: dict[tuple[Components, str], threading.Lock] = {}
-_compiler = Client()
+_compiler = CLIENT
 
 
 def components(brdf: BRDF) -> Components | None:

@@ -25,14 +25,18 @@ NICE = 10
 def compile_module(path: Path, part: str | None = None) -> None:
     """Import a generated module and compile (or load) the loops of ``part`` (every loop
     when None)."""
-    from .compose import compiling
+    from .compose import FLOAT32_PREFIX, compiling
+    from .kernel32 import Kernel32
     from .kernel import Kernel
     spec = importlib.util.spec_from_file_location(path.stem, path)
     module = importlib.util.module_from_spec(spec)
     sys.modules[path.stem] = module
     spec.loader.exec_module(module)
     with compiling(module):
-        Kernel(None, module).warm(part)
+        if path.stem.startswith(FLOAT32_PREFIX):      # the float32 f loop: its own argument types
+            Kernel32(None, module).warm()
+        else:
+            Kernel(None, module).warm(part)
 
 
 def main() -> int:
@@ -81,3 +85,8 @@ class Client:
         if answer == f"ok {request}":
             return None
         return answer or "compiler process ended"
+
+
+#: The one compiler process of this server process (started on first use), shared by the
+#: float64 loops (kernels/__init__.py) and the float32 loop (float32.py)
+CLIENT = Client()

@@ -428,9 +428,13 @@ def float32_source(c: Components) -> str:
     return head + float32_code((PAIR + F_LOOP).format(**fields))
 
 
+#: The file-name prefix of a float32 loop's module (compiler.py tells the two kinds apart by it)
+FLOAT32_PREFIX = "brdf_kernel32_"
+
+
 def load32(c: Components) -> ModuleType:
     """Write (if absent) and import the float32 f loop's module of ``c``."""
-    return _import(_write_text(float32_source(c), "brdf_kernel32_"))
+    return _import(_write_text(float32_source(c), FLOAT32_PREFIX))
 
 
 def _fingerprint(text: str) -> str:

@@ -24,15 +24,19 @@ where float32 breaks (NOT_FLOAT32: Beckmann's exp tails, Blinn-Phong's pow).
 """
 from __future__ import annotations
 
+import logging
 import threading
 from dataclasses import replace
+from pathlib import Path
 
 import numpy as np
 
 from ..physics.brdf import CompensatedBRDF, blend_lobes
 from . import compose
+from .compiler import CLIENT
 from .compose import Components, Float32Unsupported
-from .kernel import PARALLEL_MIN, split_work
+from .kernel import PARALLEL_MIN
+from .kernel32 import Kernel32
 
 #: Float32 ε (2⁻²⁴: half a unit in the last place of 1).
 EPS32 = 2.0 ** -24
@@ -44,7 +48,7 @@ EPS32 = 2.0 ** -24
 #: D reads them divided by α, while the half vector's norm falls with μ_l + μ_v where the
 #: two directions graze on opposite sides (the grazing mirror pair): a relative error of
 #: ~ε/(α (μ_l + μ_v)) in D. Every other float32 operation adds a few ε, far below that.
-#: Measured (app.kernels.float32.measure, 2026-05 on this machine): the largest
+#: Measured (app.kernels.float32.measure, 2026-12-08 on this machine): the largest
 #: rel · α_min · (μ_l + μ_v) was 398 ε (2.4e-5) over the five GGX classes of
 #: tests/kernels/test_float32.py's FLOAT32_CASES (every masking that applies to GGX, all
 #: five G2 forms with both λ(φ), the four Fresnel and five diffuse models), α ∈ {1, 0.3,
@@ -78,6 +82,7 @@ def rel_error_bound(alpha_x: float, alpha_y: float, mu_sum) -> float | np.ndarra
         return REL_ERROR_K / (min(alpha_x, alpha_y) * mu_sum)
 
 
+log = logging.getLogger(__name__)
 _kernels: dict[Components, "Kernel32"] = {}
 _lock = threading.Lock()
 
@@ -117,13 +122,19 @@ def unsupported(brdf) -> str | None:
 
 
 def kernel(brdf) -> "Kernel32":
-    """The float32 loop of ``brdf``'s model, compiled (or loaded from numba's cache) in
-    this thread on first use (~1.5 s, once a model class; Float32Unsupported if none)."""
+    """The float32 loop of ``brdf``'s model (Float32Unsupported if none). On first use of
+    a model class the compiler process puts it into numba's disk cache (1.5-4 s, under
+    its own GIL, as for the float64 loops: compiled here it would hold this server's GIL
+    and stall every other request), and this process loads it from there."""
     c = components(brdf)
     with _lock:
         k = _kernels.get(c)
         if k is None:
             module = compose.load32(c)
+            if not compose.cached(module, ("f_loop",)):
+                reason = CLIENT.compile(Path(module.__file__), "f")
+                if reason is not None:       # no compiler process: compile here instead
+                    log.warning("compiler process: %s (compiling the float32 loop here)", reason)
             with compose.compiling(module):
                 k = Kernel32(c, module)
                 k.warm()
@@ -140,49 +151,6 @@ def f(brdf, l, v) -> np.ndarray:
         second = replace(single, ndf=brdf.lobe2)
         out = blend_lobes(np.float32(brdf.lobe_mix), out, kernel(second).f(second, l, v))
     return out.astype(np.float32, copy=False)
-
-
-def inputs32(*arrays) -> tuple[np.ndarray, ...]:
-    """C-contiguous float32 read-only arrays (kernel.inputs in float32)."""
-    out = []
-    for a in arrays:
-        a = np.ascontiguousarray(np.asarray(a, dtype=np.float32)).view()
-        a.flags.writeable = False
-        out.append(a)
-    return tuple(out)
-
-
-class Kernel32:
-    """The float32 f loop of one :class:`Components`; parameters come from the BRDF."""
-
-    def __init__(self, components: Components, module):
-        self.components = components
-        self._f_loop = module.f_loop
-
-    @staticmethod
-    def params(lobe) -> tuple[np.ndarray, ...]:
-        ndf = lobe.ndf
-        return inputs32(ndf.kernel_params(), lobe.masking.kernel_params(ndf),
-                        lobe.g2.kernel_params(ndf), lobe.fresnel.kernel_params(),
-                        lobe.diffuse.kernel_params() if lobe.diffuse is not None else ())
-
-    def f(self, lobe, l, v) -> np.ndarray:
-        """f(l, v) of a single-lobe BRDF in float32, l and v (..., 3) rounded to float32."""
-        l, v = np.broadcast_arrays(np.asarray(l), np.asarray(v))
-        shape = l.shape[:-1]
-        l2, v2 = inputs32(l.reshape(-1), v.reshape(-1))
-        out = np.empty(l2.size // 3, dtype=np.float32)
-        ndf = lobe.ndf
-        split_work(self._f_loop, out.size, out.size, (l2, v2, out),
-               (np.float32(ndf.alpha_x), np.float32(ndf.alpha_y), np.float32(lobe.kd),
-                *self.params(lobe)))
-        return out.reshape(shape)
-
-    def warm(self) -> None:
-        """Compile (or load) the loop for the argument types :meth:`f` passes."""
-        p, = inputs32(np.zeros(16))
-        x = np.float32(0.5)
-        self._f_loop(p, p, np.empty(1, dtype=np.float32), 0, 0, x, x, np.float32(0.0), p, p, p, p, p)
 
 
 def sample_pairs(alpha_x: float, alpha_y: float, n: int, seed: int = 0) -> tuple[np.ndarray, np.ndarray]:
