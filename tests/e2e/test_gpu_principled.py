@@ -1,10 +1,9 @@
 """The principled BRDF's generated GLSL in WebGL2 (headless Chromium's SwiftShader, float32),
 every option in one page session, each program compiled once:
 
-* every option's value (tests/shader/principled_models.py's covering set; the Python
-  form is checked on every combination in tests/shader) against /api/v1/eval's f_rgb
-  (float64, the numpy lobes) — relative 1e-5 where f > 1e-6;
-* one compiled uniform-form program drawing two materials by its uniforms alone;
+* one compiled uniform-form program drawing two materials by its uniforms alone, each
+  against /api/v1/eval's f_rgb (float64, the numpy lobes) — relative 1e-5 where f > 1e-6
+  (every option, both forms, against /eval: tests/e2e/test_webgl_full_product.py);
 * f finite and ≥ 0 on the closed upper hemisphere up to the horizon, at α's floor.
 
 Directions as in the registry's test (tests/e2e/test_webgl_one_source.py): float64 angles
@@ -19,8 +18,8 @@ from app.model import make_spec
 from app.physics.vectors import direction_deg
 from app.shader.generate import describe
 from tests.shader.conftest import client  # noqa: F401  (the fixture: the API in process)
-from tests.shader.principled_models import TWO_MATERIALS, covering_models, model_id
-from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_BATCH_JS, VERTEX, batch_entry
+from tests.shader.principled_models import TWO_MATERIALS, covering_models
+from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, batch_entry, run_packed
 
 SIDE = 32                         # 1024 direction pairs per program
 REL, FLOOR = 1e-5, 1e-6
@@ -62,10 +61,6 @@ def _fs(glsl: str) -> str:
     return FRAGMENT_HEAD + glsl + FRAGMENT_MAIN
 
 
-def _rgb(result) -> np.ndarray:
-    return np.array([np.nan if x is None else x for x in result], dtype=float).reshape(-1, 4)[:, :3]
-
-
 def _f_rgb(client, params, angles) -> np.ndarray:
     res = client.post("/api/v1/eval", json={**params, **{k: a.tolist() for k, a in angles.items()},
                                             "quantities": ["f_rgb"]})
@@ -73,35 +68,22 @@ def _f_rgb(client, params, angles) -> np.ndarray:
     return np.array(res.json()["f_rgb"], dtype=float)
 
 
-def _error(result, ref) -> float:
+def _error(got: np.ndarray, ref) -> float:
     assert np.isfinite(ref).all(), "θ ≤ 88°: no divergence expected"
-    return float(np.max(np.abs(_rgb(result) - ref) / np.maximum(np.abs(ref), FLOOR)))
+    return float(np.max(np.abs(got - ref) / np.maximum(np.abs(ref), FLOOR)))
 
 
-def test_principled_in_webgl2(client, page):
-    """Every option's program (compiled once each), the two-material uniform program, and
-    the float32 finiteness check, in one page: a page session and its programs are what
-    SwiftShader's time goes into."""
+def test_one_uniform_program_draws_two_materials(client, page):
+    """One compiled uniform-form program drawing two materials by its uniforms alone, each
+    against /eval of its own material (every option, both forms, one material each:
+    tests/e2e/test_webgl_full_product.py)."""
     angles, (L, V) = _pairs()
-    models = covering_models()
     a, b = TWO_MATERIALS
     code_a, code_b = describe(make_spec(**a), "glsl", "uniform"), describe(make_spec(**b), "glsl", "uniform")
     assert code_a["uniforms"].keys() == code_b["uniforms"].keys() and code_a["uniforms"] != code_b["uniforms"]
-    programs = [batch_entry(describe(make_spec(**m), "glsl")) for m in models]
-    programs.append(batch_entry(code_a, [code_a["uniforms"], code_b["uniforms"]]))
-    out = page.evaluate(RUN_BATCH_JS, [VERTEX, programs, SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
-    assert "error" not in out, out.get("error")
-    results = out["results"]
-    bad = []
-    for m, r in zip(models, results):
-        if isinstance(r, dict):
-            bad.append((model_id(m), r["error"][:300]))
-            continue
-        err = _error(r[0], _f_rgb(client, m, angles))
-        if not err <= REL:
-            bad.append((model_id(m), f"relative error {err:.2e}"))
-    ra, rb = results[-1]
-    assert not bad, bad[:5]
+    (result,), _ = run_packed(page, [batch_entry(code_a, [code_a["uniforms"], code_b["uniforms"]])], SIDE, L, V)
+    assert not isinstance(result, str), result
+    ra, rb = result
     assert _error(ra, _f_rgb(client, a, angles)) <= REL
     assert _error(rb, _f_rgb(client, b, angles)) <= REL
 
@@ -118,9 +100,8 @@ def test_principled_finite_in_float32_at_the_horizon(page):
         body = describe(make_spec(**m), "glsl", "uniform")
         sets = [{**body["uniforms"], **{k: x for k, x in c.items() if k in body["uniforms"]}} for c in corners]
         programs.append(batch_entry(body, sets))
-    out = page.evaluate(RUN_BATCH_JS, [VERTEX, programs, SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
-    assert "error" not in out, out.get("error")
-    for r in out["results"]:
-        assert not isinstance(r, dict), r
-        for f in map(_rgb, r):
+    results, _ = run_packed(page, programs, SIDE, L, V)
+    for r in results:
+        assert not isinstance(r, str), r
+        for f in r:
             assert np.isfinite(f).all() and (f >= 0).all()

@@ -1,6 +1,8 @@
 """The generated GLSL in WebGL2 (headless Chromium), many models per page load:
 
-* every registry combination (tests/shader/models.py) and every diffuse model, each
+* the registry's models (tests/shader/models.py) beyond the full product (every NDF ×
+  masking × G2 × Fresnel × diffuse: tests/e2e/test_webgl_full_product.py): the shapes at
+  their special points, anisotropy, λ(φ), two lobes, Kulla-Conty, materials, each
   compiled and drawn once, against /api/v1/eval — relative 1e-5 where f > 1e-6;
 * every NDF with Kulla-Conty and its longest options, two lobes, its data texture bound
   (E's pieces and the Smith fit), against /eval to the same 1e-5; and at α = 1e-4 and 1
@@ -35,8 +37,8 @@ from tests.kernels.test_one_file_models import throwaway  # noqa: F401  (the fix
 from tests.shader.conftest import client  # noqa: F401  (the fixture: the API in process)
 from tests.shader.models import registry_models
 from tests.shader.test_code import HLSL_MAIN
-from tests.shader.test_full_product import KULLA_CONTY_LONGEST, kulla_conty_models
-from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_BATCH_JS, VERTEX, batch_entry
+from tests.shader.test_full_product import KULLA_CONTY_LONGEST, SHAPES, full_product, kulla_conty_models
+from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, batch_entry, run_packed
 
 GLSLANG = shutil.which("glslangValidator")
 ROOT = Path(__file__).resolve().parents[2]
@@ -69,10 +71,9 @@ def pairs():
 
 
 def _run(page, pairs, programs):
+    """Each program's f as (uniform sets, pairs, 3), or its compile or link error."""
     _, _, _, (L, V) = pairs
-    out = page.evaluate(RUN_BATCH_JS, [VERTEX, programs, SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
-    assert "error" not in out, out.get("error")
-    return out["results"]
+    return run_packed(page, programs, SIDE, L, V)[0]
 
 
 def _eval(client, params, angles) -> np.ndarray:
@@ -85,8 +86,7 @@ def _eval(client, params, angles) -> np.ndarray:
     return np.array([np.nan if x is None else x for x in body["f"]], dtype=float)[:, None]
 
 
-def _error(result, ref) -> float:
-    got = np.array(result, dtype=float).reshape(-1, 4)[:, :3]
+def _error(got: np.ndarray, ref) -> float:
     assert np.isfinite(ref).all(), "θ ≤ 88°: no divergence expected"
     return float(np.max(np.abs(got - ref) / np.maximum(np.abs(ref), FLOOR)))
 
@@ -95,11 +95,29 @@ def _fs(glsl: str) -> str:
     return FRAGMENT_HEAD + glsl + FRAGMENT_MAIN
 
 
+#: The choices a combination of tests/shader/test_full_product.py's full_product() makes.
+PRODUCT_AXES = ("ndf", "masking", "g2", "fresnel", "diffuse")
+
+
+def _in_the_full_product(params: dict, product: set) -> bool:
+    """Whether tests/e2e/test_webgl_full_product.py draws this model's very program but
+    for its uniforms' values (α, k_d): no option beyond the product's axes, the product's
+    shape, α below 1 (α = 1 is a special point: Blinn-Phong's exponent 0), and its
+    choices (defaults filled in) one of the product's combinations."""
+    values = make_spec(**params).values
+    shape = SHAPES.get(params["ndf"], {})
+    if set(params) - {*PRODUCT_AXES, "alpha", "kd", *shape} or any(params.get(k, v) != v for k, v in shape.items()):
+        return False
+    if not params.get("alpha", 0.35) < 1.0:
+        return False
+    return tuple(values[k] for k in PRODUCT_AXES) in product
+
+
 def _models() -> list[dict]:
-    out = registry_models()
-    out += [{"ndf": "ggx", "alpha": 0.3, "kd": 0.4, "diffuse": d} for d in DIFFUSES]
-    out += [{"ndf": "beckmann", "alpha": 0.5, "kd": 0.7, "diffuse": d, "fresnel": "conductor"} for d in DIFFUSES]
-    return out
+    """The registry's models (tests/shader/models.py) that the full product does not draw:
+    the shapes at their special points, anisotropy, λ(φ), two lobes, Kulla-Conty, materials."""
+    product = {tuple(m[k] for k in PRODUCT_AXES) for m in full_product()}
+    return [m for m in registry_models() if not _in_the_full_product(m, product)]
 
 
 #: Where float32 itself cannot reach 1e-5: Student-t's D in logs at γ = 50 multiplies the
@@ -109,15 +127,16 @@ FLOAT32_LIMITED = {("student_t", 50.0): 3e-5}
 
 
 def test_whole_registry_in_webgl2_agrees_with_eval(client, page, pairs):
-    """Every combination of the registry, batched: one page, each shader compiled once."""
+    """The registry's models beyond the full product, batched: one page, each shader
+    compiled once."""
     models = _models()
     programs = [batch_entry(describe(make_spec(**m), "glsl")) for m in models]
     results = _run(page, pairs, programs)
     angles = pairs[0]
     bad = []
     for m, r in zip(models, results):
-        if isinstance(r, dict):
-            bad.append((m, r["error"][:200]))
+        if isinstance(r, str):
+            bad.append((m, r[:200]))
             continue
         err = _error(r[0], _eval(client, m, angles))
         if not err <= FLOAT32_LIMITED.get((m["ndf"], m.get("gamma")), REL):
@@ -132,7 +151,7 @@ def test_kulla_conty_longest_in_webgl2_agrees_with_eval(client, page, pairs):
     results = _run(page, pairs, [batch_entry(describe(make_spec(**m), "glsl")) for m in models])
     bad = []
     for m, r in zip(models, results):
-        err = r["error"][:200] if isinstance(r, dict) else _error(r[0], _eval(client, m, pairs[0]))
+        err = r[:200] if isinstance(r, str) else _error(r[0], _eval(client, m, pairs[0]))
         if isinstance(err, str) or not err <= REL:
             bad.append((m["ndf"], err))
     assert not bad, bad
@@ -208,7 +227,7 @@ def test_one_file_models_in_webgl2_and_glslang(throwaway, page, pairs, tmp_path)
             assert res.returncode == 0, (m, res.stdout[-1500:])
     results = _run(page, pairs, [{"fs": _fs(got["glsl"]), "uniforms": [{}]} for got in served])
     for m, got, r in zip(ONE_FILE, served, results):
-        assert not isinstance(r, dict), (m, r)
+        assert not isinstance(r, str), (m, r)
         ref = np.array([np.nan if x is None else x for x in got["f"]], dtype=float)[:, None]
         assert _error(r[0], ref) <= REL, m
 
@@ -247,15 +266,13 @@ def test_no_nan_or_inf_in_webgl2_at_grazing_and_tiny_alpha(page):
             pass                                    # e.g. a shape the model refuses at α = 1e-4
     assert len(specs) >= 0.9 * len(models), "most combinations must be accepted at α = 1e-4"
     L, V = _grazing_rgba()
-    out = page.evaluate(RUN_BATCH_JS, [VERTEX, [batch_entry(describe(s, "glsl")) for _, s in specs],
-                                       SIDE, SIDE, L, V, [0.0, 0.0, 1.0]])
-    assert "error" not in out, out.get("error")
+    results, _ = run_packed(page, [batch_entry(describe(s, "glsl")) for _, s in specs], SIDE, L, V)
     bad = []
-    for (m, _), r in zip(specs, out["results"]):
-        if isinstance(r, dict):
-            bad.append((m, r["error"][:200]))
+    for (m, _), r in zip(specs, results):
+        if isinstance(r, str):
+            bad.append((m, r[:200]))
             continue
-        f = np.array([np.nan if x is None else x for x in r[0]], dtype=float).reshape(-1, 4)[:, :3]
+        f = r[0].astype(float)
         if not (np.isfinite(f).all() and (f >= 0).all()):
             bad.append((m, f"{int((~np.isfinite(f)).sum())} non-finite, min {np.nanmin(f):.3g}"))
     assert not bad, bad[:5]

@@ -28,9 +28,11 @@ def principled_models() -> list[dict]:
 
 
 def covering_models() -> list[dict]:
-    """Fewer programs for the browser (SwiftShader compiles each for seconds): every value
-    of every option at least once, each diffuse model with both G2 forms, both encodings
-    and both multiple-scattering choices; then the lobes and corners as above."""
+    """Fewer programs, for the float32 finiteness check at the horizon
+    (tests/e2e/test_gpu_principled.py, its first six): every value of every option at
+    least once, each diffuse model with both G2 forms, both encodings and both
+    multiple-scattering choices; then the lobes and corners as above. Every option
+    against /eval in WebGL2: tests/e2e/test_webgl_full_product.py."""
     rows = [("burley", "separable", "none", "linear"), ("burley", "height_correlated", "kulla_conty", "srgb"),
             ("lambert", "separable", "kulla_conty", "linear"), ("lambert", "height_correlated", "none", "srgb"),
             ("eon", "separable", "none", "srgb"), ("eon", "height_correlated", "kulla_conty", "linear")]

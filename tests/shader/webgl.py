@@ -5,6 +5,10 @@ brdf(n, l, v) into an RGBA32F colour buffer (EXT_color_buffer_float), read back 
 readPixels. Shared by the browser tests; runs in any page (no server code needed)."""
 from __future__ import annotations
 
+import base64
+
+import numpy as np
+
 VERTEX = """#version 300 es
 void main() {
     vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
@@ -102,11 +106,9 @@ RUN_JS = """async ([vs, fs, w, h, L, V, n, textures]) => {
   return {f: Array.from(out), ms: performance.now() - t0};
 }""".replace("${DATA_TEXTURE}", DATA_TEXTURE_JS)
 
-#: Many programs in one page load, each compiled once and drawn once per uniform set (a
-#: set may hold a data texture by name, /code's JSON "textures"):
-#: ([vs, [{fs, uniforms: [{name: value}, ...]}, ...], w, h, L, V, n]) →
-#: {results: [[flat RGBA per uniform set] or {error}], ms}
-RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
+#: The batch runner's body: ${READBACK} is what each uniform set's draw leaves (a
+#: readback into ``outs``), ${RESULT} what the call returns; ${SETUP} runs once first.
+_BATCH_TEMPLATE = """async ([vs, programs, w, h, L, V, n]) => {
   const canvas = document.createElement('canvas');
   canvas.width = w; canvas.height = h;
   const gl = canvas.getContext('webgl2');
@@ -134,6 +136,7 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
     return s;
   };
   ${DATA_TEXTURE}
+  ${SETUP}
   const vsh = compile(gl.VERTEX_SHADER, vs);
   const results = [];
   for (const p of programs) {
@@ -163,15 +166,71 @@ RUN_BATCH_JS = """async ([vs, programs, w, h, L, V, n]) => {
         else gl.uniform1f(loc, value);
       }
       gl.drawArrays(gl.TRIANGLES, 0, 3);
-      const out = new Float32Array(w * h * 4);
-      gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, out);
-      outs.push(Array.from(out));
+      ${READBACK}
     }
     results.push(outs);
     gl.deleteProgram(prog);
   }
-  return {results, ms: performance.now() - t0};
-}""".replace("${DATA_TEXTURE}", DATA_TEXTURE_JS)
+  ${RESULT}
+}"""
+
+
+def _batch_js(setup: str, readback: str, result: str) -> str:
+    return (_BATCH_TEMPLATE.replace("${DATA_TEXTURE}", DATA_TEXTURE_JS).replace("${SETUP}", setup)
+            .replace("${READBACK}", readback).replace("${RESULT}", result))
+
+
+#: Many programs in one page load, each compiled once and drawn once per uniform set (a
+#: set may hold a data texture by name, /code's JSON "textures"):
+#: ([vs, [{fs, uniforms: [{name: value}, ...]}, ...], w, h, L, V, n]) →
+#: {results: [[flat RGBA per uniform set] or {error}], ms}
+RUN_BATCH_JS = _batch_js(
+    "",
+    """const out = new Float32Array(w * h * 4);
+      gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, out);
+      outs.push(Array.from(out));""",
+    "return {results, ms: performance.now() - t0};")
+
+#: RUN_BATCH_JS with a compact answer, for thousands of programs: every draw's RGB read
+#: back into one Float32Array, returned as one base64 string (a JSON array of numbers per
+#: draw through Playwright cost as much as SwiftShader's compiles) — same arguments →
+#: {rgb: base64 of float32 RGB, draw after draw in order, sets: [draws per program, 0 for a
+#: program that failed], errors: {program index: message}, ms}. run_packed decodes it.
+RUN_PACKED_JS = _batch_js(
+    """const draws = programs.reduce((s, p) => s + p.uniforms.length, 0);
+  const rgb = new Float32Array(draws * w * h * 3);
+  const rgba = new Float32Array(w * h * 4);
+  let at = 0;""",
+    """gl.readPixels(0, 0, w, h, gl.RGBA, gl.FLOAT, rgba);
+      for (let i = 0; i < w * h; i++) {
+        rgb[at++] = rgba[4 * i]; rgb[at++] = rgba[4 * i + 1]; rgb[at++] = rgba[4 * i + 2];
+      }
+      outs.push(1);""",
+    """const ms = performance.now() - t0;
+  const bytes = new Uint8Array(rgb.buffer, 0, at * 4);
+  let bin = '';
+  for (let i = 0; i < bytes.length; i += 0x8000) bin += String.fromCharCode.apply(null, bytes.subarray(i, i + 0x8000));
+  const errors = {};
+  results.forEach((r, k) => { if (!Array.isArray(r)) errors[k] = r.error; });
+  return {rgb: btoa(bin), sets: results.map(r => Array.isArray(r) ? r.length : 0), errors, ms};""")
+
+
+def run_packed(page, programs: list[dict], side: int, l_rgba, v_rgba, n=(0.0, 0.0, 1.0)) -> tuple[list, float]:
+    """RUN_PACKED_JS on a page: each program's result as an array (uniform sets, side²,
+    3) of float32 f, or its compile or link error (a string); and the page's milliseconds."""
+    out = page.evaluate(RUN_PACKED_JS, [VERTEX, programs, side, side, l_rgba, v_rgba, list(n)])
+    assert "error" not in out, out.get("error")
+    flat = np.frombuffer(base64.b64decode(out["rgb"]), dtype="<f4")
+    results, at = [], 0
+    for k, sets in enumerate(out["sets"]):
+        if not sets:
+            results.append(str(out["errors"].get(str(k), "no result")))
+            continue
+        size = sets * side * side * 3
+        results.append(flat[at:at + size].reshape(sets, side * side, 3))
+        at += size
+    assert at == flat.size, (at, flat.size)
+    return results, out["ms"]
 
 
 def batch_entry(body: dict, sets=({},)) -> dict:
