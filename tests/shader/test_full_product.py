@@ -4,8 +4,9 @@ parameterised form a developer ships): at most 300 lines, and the GLSL compiles
 that contains every distinct HLSL function and declaration of the whole product (the
 HLSL front end needs one run a file; what the product adds beyond those lines is names
 side by side, which the GLSL run checks with the same names). The numeric agreement of
-each entry: tests/shader/test_code.py and tests/e2e/test_webgl_one_source.py. Kulla-Conty
-with the longest options of every NDF and of the principled BRDF: the last test."""
+each entry: tests/shader/test_code.py; every combination here in WebGL2 against /eval:
+tests/e2e/test_webgl_full_product.py. Kulla-Conty with the longest options of every NDF
+and of the principled BRDF: the last test."""
 from __future__ import annotations
 
 import itertools
