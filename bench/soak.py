@@ -279,6 +279,25 @@ def _whole_tree_slopes(by_kind: list[tuple[float, dict]], at_rest: list[tuple[fl
     return out
 
 
+def _kind_cycle_slopes(by_kind: list[tuple[float, dict]], at_rest: list[tuple[float, dict]],
+                       bursts: list[float], since: float) -> dict:
+    """Each worker's kinds over the window from ``since``: MB/min of anonymous PSS by
+    cycle means and by troughs (the whole tree's two phase-free readings, kind by kind;
+    a renewal inside the window is in them, as it is in the tree)."""
+    workers = sorted({w for _, s in by_kind for w in s})
+    cycles = [b for b in bursts if b >= since]
+    out = {}
+    for n, w in enumerate(workers):
+        out[n] = {}
+        for kind in soak_rss.KINDS:
+            pts = [(t, s[w][kind][soak_rss.ANON] / 2**20) for t, s in by_kind if w in s and t >= since]
+            rest = [(t, s[w][kind][soak_rss.ANON] / 2**20) for t, s in at_rest if w in s and t >= since]
+            out[n][kind] = {"cycles_mb_per_min": soak_rss.slope_mb_per_min(_cycle_means(pts, cycles)),
+                            "troughs_mb_per_min": soak_rss.slope_mb_per_min(rest),
+                            "troughs_mb": [round(b, 1) for _, b in rest]}
+    return out
+
+
 def _tree_line(n: int, row: dict) -> str:
     def f(v):
         return "n/a" if v is None else f"{v:+.1f}"
@@ -437,6 +456,7 @@ def main() -> None:
                    "at_rest_second_half": _kind_slopes(at_rest, total),
                    "anon_by_kind_second_half": _kind_slopes(by_kind, total, soak_rss.ANON),
                    "whole_tree_second_half": _whole_tree_slopes(by_kind, at_rest, bursts, total * 0.55),
+                   "anon_kind_cycles_second_half": _kind_cycle_slopes(by_kind, at_rest, bursts, total * 0.55),
                    "bursts_s": [round(b, 1) for b in bursts],
                    "warmup_s": round(warmup, 1),
                    "samples": [(t, round(b / 2**20)) for t, _, b in rss[::5]],
@@ -445,7 +465,7 @@ def main() -> None:
                                                       for w in sorted(s)]) for t, s in by_kind[::5]],
                    "per_worker_by_kind_anon": [(round(t), [[round(s[w][k][soak_rss.ANON] / 2**20)
                                                             for k in soak_rss.KINDS] for w in sorted(s)])
-                                               for t, s in by_kind[::5]]},
+                                               for t, s in by_kind]},
         "errors": rec.errors,
     }
     c = result["cheap"]
@@ -477,6 +497,11 @@ def main() -> None:
         print(_kind_line(n, kinds))
     for n, kinds in r["anon_by_kind_second_half"].items():
         print(_kind_line(n, kinds).replace("(PSS)", "(anonymous PSS)"))
+    for n, kinds in r["anon_kind_cycles_second_half"].items():
+        print(f"  worker {n}, second half, anonymous MB/min per kind by cycle means (troughs): " + "; ".join(
+            f"{kind} {'n/a' if v['cycles_mb_per_min'] is None else format(v['cycles_mb_per_min'], '+.1f')} "
+            f"({'n/a' if v['troughs_mb_per_min'] is None else format(v['troughs_mb_per_min'], '+.1f')}; "
+            f"troughs {', '.join(f'{b:.0f}' for b in v['troughs_mb'])} MB)" for kind, v in kinds.items()))
     for n, kinds in r["at_rest_second_half"].items():
         print(_kind_line(n, kinds).replace("second half", "second half at rest (before each export burst)"))
     for e in rec.errors:
