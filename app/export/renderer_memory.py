@@ -45,10 +45,13 @@ COMMAND = "HeapProfiler.collectGarbage"
 COLLECT_TIMEOUT_S = 10.0
 
 #: MB of anonymous memory the browser's tree may gain, at rest, over its first reading
-#: (after COLLECT_EVERY images: its working set built) before it is replaced. Its troughs
-#: moved within ~±6 MB over 1 500 images (renderer 95-107 MB, browser 48-51 MB: the
-#: collections' timing), so 24 MB is growth, not noise; a new browser costs ~1-2 s of one
-#: core to start (measured: docs/robustness.md §3), paid off the request path
+#: (after COLLECT_EVERY images: its working set built) before it is replaced. Measured
+#: (2026-12-08, bench/renderer_growth.py: 840 lobe PNGs, read after each collection):
+#: 200 → 210 MB, ~1 MB a hundred images (the browser process with its launcher 48 → 53,
+#: the renderer 96 → 101, ±5 with the collections' timing), so 24 MB is growth, not
+#: noise, and at that pace a browser serves ~2 000 images before it is replaced. A new
+#: browser costs 1.9-2.0 s of CPU and 3.0-4.7 s of wall time to start at load 10-16 on
+#: 2 cores, ~190 MB while both run (docs/robustness.md §3), paid off the request path
 GROWTH_BOUND_MB = 24.0
 #: past the bound by this much more, the browser is replaced even while exports are
 #: queued (otherwise it waits for the export queue to empty: the start's CPU then slows
