@@ -7,6 +7,14 @@ their libraries and the zygote's pages, and as each touches more of them the tre
 sum climbed ~1 MB/min in the soak while its PSS stayed flat (a renderer alone over 280
 lobe PNGs: RSS 396 → 405 MB, PSS 175 → 125 MB).
 
+Beside PSS, each kind's *anonymous* PSS (Pss_Anon + Pss_Shmem): a process's own heap,
+shared only within its tree (fork's copy-on-write pages), so what a leak grows and
+nothing else moves. PSS also holds file-backed pages (the interpreter's and numpy's
+libraries, chromium's ~250 MB binary), clean and bounded by the files' size, whose share
+is divided among every process on the machine that maps them: another engineer's
+browser test starting or ending moved one idle Chromium tree's PSS by ~110 MB while its
+anonymous memory stayed within 199-210 MB (2026-12-08, 1 500 images in one process).
+
 A uvicorn worker (a child of the master) owns a process tree: its heavy pool's
 processes (app/work/pool.py), the headless Chromium of its PNG exports (app/export/
 image.py, with its renderer and helper processes below it) and anything else. Summing
@@ -43,48 +51,56 @@ def _kind(cmdline: str) -> str:
     return "other"
 
 
-def _processes() -> dict[int, tuple[int, int, str]]:
-    """pid → (parent pid, PSS bytes, command line) of every process we can read."""
+def _processes() -> dict[int, tuple[int, int, str, int]]:
+    """pid → (parent pid, PSS bytes, command line, anonymous PSS bytes) of every process
+    we can read."""
     out = {}
     for d in Path("/proc").iterdir():
         if not d.name.isdigit():
             continue
         try:
             ppid = int((d / "stat").read_text().rsplit(")", 1)[1].split()[1])
-            pss = 0
+            pss = anon = 0
             for line in (d / "smaps_rollup").read_text().splitlines():
                 if line.startswith("Pss:"):
                     pss = int(line.split()[1]) * 1024
-                    break
+                elif line.startswith(("Pss_Anon:", "Pss_Shmem:")):
+                    anon += int(line.split()[1]) * 1024
             cmd = (d / "cmdline").read_bytes().replace(b"\0", b" ").decode(errors="replace")
         except (OSError, ValueError, IndexError):
             continue
-        out[int(d.name)] = (ppid, pss, cmd)
+        out[int(d.name)] = (ppid, pss, cmd, anon)
     return out
 
 
-def sample(master: int) -> dict[int, dict[str, tuple[int, frozenset]]]:
+#: where a kind's anonymous PSS is in its tuple (PSS is [0], the pids [1])
+ANON = 2
+
+
+def sample(master: int) -> dict[int, dict[str, tuple[int, frozenset, int]]]:
     """For each uvicorn worker (the master's child): kind → (PSS bytes of that kind's
-    processes and all their descendants, the pids of that kind's direct children)."""
+    processes and all their descendants, the pids of that kind's direct children, their
+    anonymous PSS bytes)."""
     procs = _processes()
     children: dict[int, list[int]] = {}
-    for pid, (ppid, _, _) in procs.items():
+    for pid, (ppid, _, _, _) in procs.items():
         children.setdefault(ppid, []).append(pid)
 
-    def tree(pid: int) -> int:
-        return procs[pid][1] + sum(tree(c) for c in children.get(pid, ()))
+    def tree(pid: int, field: int = 1) -> int:
+        return procs[pid][field] + sum(tree(c, field) for c in children.get(pid, ()))
 
     out = {}
     for worker in children.get(master, ()):
         if "resource_tracker" in procs[worker][2]:     # multiprocessing's, not a worker
             continue
-        kinds: dict[str, list] = {k: [0, set()] for k in KINDS}
-        kinds["own"] = [procs[worker][1], {worker}]
+        kinds: dict[str, list] = {k: [0, set(), 0] for k in KINDS}
+        kinds["own"] = [procs[worker][1], {worker}, procs[worker][3]]
         for child in children.get(worker, ()):
             k = kinds[_kind(procs[child][2])]
             k[0] += tree(child)
             k[1].add(child)
-        out[worker] = {k: (b, frozenset(p)) for k, (b, p) in kinds.items()}
+            k[2] += tree(child, 3)
+        out[worker] = {k: (b, frozenset(p), a) for k, (b, p, a) in kinds.items()}
     return out
 
 

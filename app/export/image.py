@@ -12,11 +12,17 @@ refused at once (:class:`ExportQueueFull`, 503 + Retry-After) rather than hold a
 thread that cheap requests need. A route takes its place with ``renderer.slot()`` before it
 computes the figure. Without Chromium, :class:`ExportUnavailable` says what to install;
 the API answers 503 and the page falls back to Plotly's in-browser export.
-(derivation: docs/robustness.md §1, "Image exports")"""
+(derivation: docs/robustness.md §1, "Image exports")
+
+The browser is replaced when its memory at rest has grown past a bound
+(renderer_memory.GROWTH_BOUND_MB): a new one is started beside it off the request path,
+later exports go to it, and the old one is closed once the drawings it had in hand are
+done, so no export waits for a start or is lost (docs/robustness.md §3)."""
 from __future__ import annotations
 
 import asyncio
 import atexit
+import logging
 import sys
 import threading
 import time
@@ -27,6 +33,8 @@ from ..config import environment
 from ..errors import Busy
 from ..integrate import budget
 from .renderer_memory import Collector
+
+log = logging.getLogger(__name__)
 
 # Tabs rendering in parallel in the one browser. One: every tab is a renderer process,
 # and the service runs on small machines; requests queue for the tab.
@@ -43,6 +51,9 @@ RENDER_TIMEOUT_S = 30.0
 WAIT_TIMEOUT_S = 60.0
 # Seconds allowed for Chromium to start and load plotly.js.
 START_TIMEOUT_S = 60.0
+# Seconds a replaced browser is given to finish the drawings it had in hand before it is
+# closed anyway: kaleido's own limit ends any drawing by then.
+RETIRE_TIMEOUT_S = RENDER_TIMEOUT_S + 5.0
 
 INSTALL_HINT = ("Server-side image export needs a Chromium browser: install it "
                 "(Debian/Ubuntu: apt-get install chromium; elsewhere: kaleido_get_chrome) "
@@ -83,8 +94,17 @@ class ImageRenderer:
         self.places = TABS + WAITING
         self._places = threading.BoundedSemaphore(self.places)
         self._held = threading.local()
-        #: a full JavaScript collection every few images (renderer_memory.py)
+        self._taken = 0                  # places taken now (the queue is empty at 0)
+        #: a full JavaScript collection every few images, and the browser's size at rest
+        #: after each (renderer_memory.py): past its bound, a new browser is swapped in
         self.memory = Collector()
+        self.memory.on_read = self._maybe_replace
+        self._inflight: dict[int, int] = {}     # id(kaleido) → drawings it has in hand
+        self._drawn = threading.Condition(self._lock)
+        self._replacing = False
+        #: browsers replaced, and the last replacement's seconds to start the new one
+        self.replaced = 0
+        self.replace_seconds: float | None = None
 
     @contextmanager
     def slot(self):
@@ -92,21 +112,35 @@ class ImageRenderer:
         rendering it), or ExportQueueFull at once; a thread that holds one already
         (render() inside slot()) takes no second."""
         depth = getattr(self._held, "depth", 0)
-        if depth == 0 and not self._places.acquire(blocking=False):
-            raise ExportQueueFull(self.places)
+        if depth == 0:
+            if not self._places.acquire(blocking=False):
+                raise ExportQueueFull(self.places)
+            with self._lock:
+                self._taken += 1
         self._held.depth = depth + 1
         try:
             yield
         finally:
             self._held.depth = depth
             if depth == 0:
+                with self._lock:
+                    self._taken -= 1
                 self._places.release()
+                self._maybe_replace()
 
     @property
     def running(self) -> bool:
         return self._kaleido is not None
 
     def _start(self) -> None:
+        """Start the browser and make it the one exports use."""
+        t0 = time.perf_counter()
+        loop, k = self._open()
+        self._loop, self._kaleido = loop, k
+        self.started_seconds = time.perf_counter() - t0
+
+    def _open(self):
+        """A new browser: (its loop, running in a daemon thread, and its kaleido)."""
         # kaleido's logging library (logistro) parses sys.argv when imported and exits on
         # options it finds ambiguous ("--log" of our own CLI): hide our arguments from it.
         saved_argv, sys.argv = sys.argv, sys.argv[:1]
@@ -117,7 +151,6 @@ class ImageRenderer:
             raise ExportUnavailable(f"kaleido is not installed ({e}). {INSTALL_HINT}") from None
         finally:
             sys.argv = saved_argv
-        t0 = time.perf_counter()
         loop = asyncio.new_event_loop()
         thread = threading.Thread(target=loop.run_forever, name="kaleido", daemon=True)
         thread.start()
@@ -139,8 +172,7 @@ class ImageRenderer:
             loop.call_soon_threadsafe(loop.stop)
             raise ExportUnavailable(f"Chromium did not start ({type(e).__name__}). "
                                     f"{INSTALL_HINT}") from None
-        self._loop, self._kaleido = loop, k
-        self.started_seconds = time.perf_counter() - t0
+        return loop, k
 
     def render(self, figure: dict, fmt: str, width: int, height: int, scale: float) -> bytes:
         """The figure as ``fmt`` ('svg' or 'png'), ``width``×``height`` CSS pixels, PNG
@@ -158,7 +190,7 @@ class ImageRenderer:
         while the start goes on for the next request."""
         with self._lock:
             if self.running:
-                return self._loop, self._kaleido
+                return self._take()
             if self._starting is None:
                 self._starting = Future()
                 threading.Thread(target=self._start_into, args=(self._starting,),
@@ -176,7 +208,24 @@ class ImageRenderer:
         with self._lock:
             if not self.running:      # closed meanwhile (a crash): the caller's retry starts it
                 raise ExportUnavailable(f"Chromium stopped as it started. {INSTALL_HINT}")
-            return self._loop, self._kaleido
+            return self._take()
+
+    def _take(self):
+        """(loop, kaleido) of the current browser, counted as having one more drawing in
+        hand until ``_done`` (under self._lock: a replacement cannot close it between)."""
+        key = id(self._kaleido)
+        self._inflight[key] = self._inflight.get(key, 0) + 1
+        return self._loop, self._kaleido
+
+    def _done(self, k) -> None:
+        """A drawing taken with ``_take`` from ``k`` has ended (drawn, failed or cut)."""
+        with self._lock:
+            left = self._inflight.get(id(k), 1) - 1
+            if left > 0:
+                self._inflight[id(k)] = left
+            else:
+                self._inflight.pop(id(k), None)
+            self._drawn.notify_all()
 
     def _start_into(self, started: Future) -> None:
         try:
@@ -193,8 +242,11 @@ class ImageRenderer:
             loop, k = self._browser()
             wait, cut = _wait_seconds()
             if cut and wait <= 0:
+                self._done(k)
                 raise _past_budget()
             future = asyncio.run_coroutine_threadsafe(_calc_fig(k, figure, opts), loop)
+            # counted until Chromium is done with it, not until the request stops waiting
+            future.add_done_callback(lambda _f, k=k: self._done(k))
             try:
                 image = future.result(wait)
             except TimeoutError:
@@ -206,11 +258,66 @@ class ImageRenderer:
                 # A crashed or closed browser: start a fresh one, once.
                 if attempt == 2:
                     raise
-                self.close()
+                self._close_if_current(k)
                 continue
-            self.memory.rendered(k, loop)
+            if k is self._kaleido:     # not a browser being replaced: its counts are done
+                self.memory.rendered(k, loop)
             return image
         raise AssertionError("unreachable")
+
+    def _maybe_replace(self) -> None:
+        """Start replacing the browser if its memory is past its bound (renderer_memory:
+        ``due``) and no export is queued, or far past it (``overdue``) whatever the queue;
+        once at a time, in a thread of its own."""
+        if not (self.memory.due and self._taken == 0 or self.memory.overdue):
+            return
+        with self._lock:
+            if self._replacing or not self.running:
+                return
+            self._replacing = True
+        threading.Thread(target=self._replace, name="kaleido-replace", daemon=True).start()
+
+    def _replace(self) -> None:
+        """Make before break: open a new browser while the old one goes on drawing, swap
+        it in (later exports take it), then close the old one once the drawings it had in
+        hand are done (RETIRE_TIMEOUT_S at most). A start that fails leaves the old one."""
+        try:
+            t0 = time.perf_counter()
+            try:
+                loop, k = self._open()
+            except Exception as exc:  # noqa: BLE001 - keep drawing with the old one
+                log.warning("image renderer: a new browser did not start (%r); "
+                            "the old one goes on", exc)
+                return
+            seconds = time.perf_counter() - t0
+            with self._lock:
+                old_loop, old = self._loop, self._kaleido
+                if old is None:                      # closed meanwhile: nothing to replace
+                    current = False
+                else:
+                    self._loop, self._kaleido = loop, k
+                    self.replaced += 1
+                    self.replace_seconds = seconds
+                    current = True
+            if not current:
+                _close_browser(loop, k)
+                return
+            log.info("image renderer: browser replaced (%.0f MB over its first reading at "
+                     "rest; the new one started in %.1f s)", self.memory.growth_mb(), seconds)
+            with self._lock:
+                self._drawn.wait_for(lambda: id(old) not in self._inflight, RETIRE_TIMEOUT_S)
+            _close_browser(old_loop, old)
+        finally:
+            with self._lock:
+                self._replacing = False
+
+    def _close_if_current(self, k) -> None:
+        """Close the browser ``k`` failed on, unless it was replaced meanwhile (then the
+        retry draws on the new one and the replacement closes ``k``)."""
+        with self._lock:
+            if self._kaleido is not k:
+                return
+        self.close()
 
     def close(self) -> None:
         with self._lock:
@@ -218,11 +325,16 @@ class ImageRenderer:
             self._loop = self._kaleido = None
         if k is None:
             return
-        try:
-            asyncio.run_coroutine_threadsafe(k.close(), loop).result(10)
-        except Exception:  # noqa: BLE001 - closing a browser that already died
-            pass
-        loop.call_soon_threadsafe(loop.stop)
+        _close_browser(loop, k)
+
+
+def _close_browser(loop: asyncio.AbstractEventLoop, k) -> None:
+    """Close kaleido's browser ``k`` and stop its loop."""
+    try:
+        asyncio.run_coroutine_threadsafe(k.close(), loop).result(10)
+    except Exception:  # noqa: BLE001 - closing a browser that already died
+        pass
+    loop.call_soon_threadsafe(loop.stop)
 
 
 async def _calc_fig(k, figure: dict, opts: dict) -> bytes:

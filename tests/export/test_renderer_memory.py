@@ -65,3 +65,55 @@ def test_the_renderer_does_not_keep_each_images_garbage(client):
     finally:
         r.close()
     assert after - before < GROWTH_BOUND_MB, (before, after)
+
+
+def _tree(pid: int) -> set[int]:
+    """``pid`` and its descendants now."""
+    parent = {}
+    for d in os.listdir("/proc"):
+        if d.isdigit():
+            try:
+                parent[int(d)] = int(open(f"/proc/{d}/stat").read().rsplit(")", 1)[1].split()[1])
+            except (OSError, ValueError, IndexError):
+                continue
+    out, todo = set(), [pid]
+    while todo:
+        p = todo.pop()
+        out.add(p)
+        todo.extend(c for c, pp in parent.items() if pp == p)
+    return out
+
+
+def _gone(pids: set[int], seconds: float) -> set[int]:
+    """Those of ``pids`` still alive after up to ``seconds``."""
+    t0 = time.monotonic()
+    while True:
+        alive = {p for p in pids if os.path.exists(f"/proc/{p}")}
+        if not alive or time.monotonic() - t0 > seconds:
+            return alive
+        time.sleep(0.1)
+
+
+def test_a_replaced_chromium_leaves_no_process_behind_and_the_next_image_is_drawn(client):
+    """A real Chromium due for replacement (its bound set below any growth): a new one
+    is swapped in, the old one's whole process tree exits, images go on being drawn."""
+    figures = [client.get(f"/api/v1/figures/lobe?alpha={0.05 + 0.01 * k:.2f}").json()
+               for k in range(4)]
+    r = ImageRenderer(os.environ.get("BRDF_CHROMIUM") or None)
+    r.memory.every = 2
+    r.memory.bound_mb = -1e9          # due at its first reading
+    try:
+        for k in range(2):
+            r.render(figures[k], "png", 400, 250, 1)
+        first = renderer_memory.browser_pid(r._kaleido)
+        old = _tree(first)
+        assert len(old) >= 3, old     # the launcher, the browser, its renderer...
+        r.memory.last.result(30)
+        t0 = time.monotonic()
+        while r.replaced < 1 and time.monotonic() - t0 < 60:
+            time.sleep(0.1)
+        assert r.replaced >= 1 and renderer_memory.browser_pid(r._kaleido) != first
+        assert not _gone(old, 20)
+        assert r.render(figures[2], "png", 400, 250, 1)[:8] == b"\x89PNG\r\n\x1a\n"
+    finally:
+        r.close()
