@@ -59,7 +59,7 @@ def _kill_tree(proc) -> None:
     """This test's processes, by pid, deepest first."""
     procs, mine = soak_rss._processes(), [proc.pid]
     for pid in mine:
-        mine += [c for c, (ppid, _, _) in procs.items() if ppid == pid]
+        mine += [c for c, (ppid, *_) in procs.items() if ppid == pid]
     for pid in reversed(mine):
         try:
             os.kill(pid, signal.SIGKILL)
@@ -96,7 +96,7 @@ def test_pages_a_tree_shares_count_once():
         time.sleep(0.5)                   # the fork has happened by now
         kinds = soak_rss.sample(os.getpid())[proc.pid]
         procs = soak_rss._processes()
-        tree = [c for c, (ppid, _, _) in procs.items() if ppid in kinds["other"][1]]
+        tree = [c for c, (ppid, *_) in procs.items() if ppid in kinds["other"][1]]
         assert len(tree) == 1, "the fork's copy"
         assert 64 * MB < kinds["other"][0] < 64 * MB + 40 * MB, kinds["other"][0] / MB
     finally:
