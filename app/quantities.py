@@ -75,13 +75,10 @@ def evaluate(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
 PRECISIONS = ("float64", "float32")
 
 
-def evaluate_float32(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
-                     param: str = "precision", loc: str = "query") -> dict:
-    """f in float32 (app/kernels/float32.py: generated from the same formulas as float64,
-    never the default) at direction pairs in degrees, in chunks of EVAL_CHUNK pairs, and
-    ``precision``: the dtype and the stated bound on its relative error against float64
-    over these pairs. A model or request float32 does not serve is refused naming
-    ``param`` (ParameterError: 422)."""
+def check_float32(brdf: BRDF, want, param: str = "precision", loc: str = "query") -> None:
+    """Refuse (ParameterError naming ``param``: 422) a request precision=float32 does not
+    serve: a quantity other than f, a coloured material, a model without a float32 loop
+    (app/kernels/float32.py says which and why). Nothing is compiled or evaluated."""
     from .errors import ParameterError
     from .kernels import float32
     if tuple(want) != ("f",):
@@ -94,6 +91,16 @@ def evaluate_float32(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg,
     if why is not None:
         raise ParameterError(param, f"precision=float32 is not available for this model: {why}; "
                                     "use precision=float64", loc=loc)
+
+
+def evaluate_float32(brdf: BRDF, theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg, want,
+                     param: str = "precision", loc: str = "query") -> dict:
+    """f in float32 (app/kernels/float32.py: generated from the same formulas as float64,
+    never the default) at direction pairs in degrees, in chunks of EVAL_CHUNK pairs, and
+    ``precision``: the dtype and the stated bound on its relative error against float64
+    over these pairs. A request float32 does not serve is refused first (check_float32)."""
+    from .kernels import float32
+    check_float32(brdf, want, param, loc)
     angles = (theta_i_deg, phi_i_deg, theta_o_deg, phi_o_deg)
     shape = np.broadcast_shapes(*(np.shape(x) for x in angles))
     count = int(np.prod(shape))

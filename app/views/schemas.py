@@ -108,6 +108,13 @@ class EvalQuery(ModelQuery):
                     "a float32 compiled loop, faster; the answer states its measured relative "
                     "error bound against float64 for these pairs)")] = "float64"
 
+    def check(self, loc: str = "query") -> None:
+        """The rule the schema cannot state (before any work): precision=float32 only for
+        f of a model that has a float32 loop. The fuzz test's oracle calls this too."""
+        if self.precision == "float32":
+            from ..quantities import check_float32
+            check_float32(spec_of(self).brdf(), tuple(dict.fromkeys(self.quantities)), loc=loc)
+
 
 class CurveQuery(ModelQuery):
     phi_deg: Phi = 0.0

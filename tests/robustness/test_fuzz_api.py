@@ -324,6 +324,8 @@ def consistent(case) -> None:
             _drop_until_accepted(case.query, _query_refusal(model), f"{case.path} check")
     if isinstance(case.body, dict):
         _drop_until_accepted(case.body, _model_refusal, "make_spec")
+        if (model := _query_model_of(case.path, case.method.upper())) is not None:
+            _drop_until_accepted(case.body, _query_refusal(model), f"{case.path} check")
         _equal_lists(case.body)
 
 

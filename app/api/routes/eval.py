@@ -30,6 +30,7 @@ def _evaluate(q: schemas.EvalQuery, limit: int, status: int, env: str, loc: str 
         if size not in (1, n):
             raise ParameterError(name, f"{name} has {size} values but another list has {n}: "
                                        "lists must have equal length, or one value to broadcast", loc=loc)
+    q.check(loc)
     spec = schemas.spec_of(q)
     arrays = {k: np.asarray(v, dtype=float) for k, v in lists.items()}
     if q.precision == "float32":     # explicit only: float64 is the default (the reference)
