@@ -17,9 +17,8 @@ from urllib.parse import urlencode
 import numpy as np
 import pytest
 
-from app.physics.vectors import direction_deg
 from tests.shader.models import model_id
-from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_JS, VERTEX
+from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, RUN_JS, VERTEX, random_pairs
 
 pytestmark = pytest.mark.e2e
 
@@ -65,13 +64,7 @@ def _eval(base: str, params: dict, angles: dict) -> np.ndarray:
 
 @pytest.fixture(scope="module")
 def pairs():
-    rng = np.random.default_rng(11)
-    n = SIDE * SIDE
-    angles = {"theta_i_deg": rng.uniform(0, 88, n), "phi_i_deg": rng.uniform(-180, 180, n),
-              "theta_o_deg": rng.uniform(0, 88, n), "phi_o_deg": rng.uniform(-180, 180, n)}
-    l = direction_deg(angles["theta_i_deg"], angles["phi_i_deg"])
-    v = direction_deg(angles["theta_o_deg"], angles["phi_o_deg"])
-    rgba = [np.concatenate([d, np.zeros((n, 1))], axis=1).astype(np.float32).ravel().tolist() for d in (l, v)]
+    angles, rgba = random_pairs(SIDE, 11)
     return {k: a.tolist() for k, a in angles.items()}, rgba
 
 

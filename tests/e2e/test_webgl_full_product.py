@@ -31,13 +31,12 @@ import pytest
 
 from app import quantities
 from app.model import make_spec
-from app.physics.vectors import direction_deg
 from app.shader.generate import describe
 from tests.shader.conftest import client  # noqa: F401  (the fixture: the API in process)
 from tests.shader.principled_models import model_id as principled_id
 from tests.shader.principled_models import principled_models
 from tests.shader.test_full_product import full_product
-from tests.shader.webgl import batch_entry, run_packed
+from tests.shader.webgl import batch_entry, random_pairs, run_packed
 
 SIDE = 16                         # 256 direction pairs a program
 REL, FLOOR = 1e-5, 1e-6
@@ -66,14 +65,8 @@ def page(_profile):
 
 
 def _pairs(name: str):
-    """256 random pairs, θ ≤ 88°: the float64 angles for /eval, the float32 RGBA texels."""
-    rng = np.random.default_rng(zlib.crc32(name.encode()))
-    n = SIDE * SIDE
-    angles = {"theta_i_deg": rng.uniform(0, 88, n), "phi_i_deg": rng.uniform(-180, 180, n),
-              "theta_o_deg": rng.uniform(0, 88, n), "phi_o_deg": rng.uniform(-180, 180, n)}
-    l = direction_deg(angles["theta_i_deg"], angles["phi_i_deg"])
-    v = direction_deg(angles["theta_o_deg"], angles["phi_o_deg"])
-    rgba = [np.concatenate([d, np.zeros((n, 1))], axis=1).astype(np.float32).ravel().tolist() for d in (l, v)]
+    """256 random pairs, θ ≤ 88°, a seed per chunk: the angles for /eval (lists), the RGBA texels."""
+    angles, rgba = random_pairs(SIDE, zlib.crc32(name.encode()))
     return {k: a.tolist() for k, a in angles.items()}, rgba
 
 

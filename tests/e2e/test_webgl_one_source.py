@@ -32,14 +32,13 @@ import pytest
 from app.errors import ParameterError
 from app.model import make_spec
 from app.physics.diffuse import DIFFUSES
-from app.physics.vectors import direction_deg
 from app.shader.generate import describe
 from tests.kernels.test_one_file_models import throwaway  # noqa: F401  (the fixture)
 from tests.shader.conftest import client  # noqa: F401  (the fixture: the API in process)
 from tests.shader.models import registry_models
 from tests.shader.test_code import HLSL_MAIN
 from tests.shader.test_full_product import KULLA_CONTY_LONGEST, SHAPES, full_product, kulla_conty_models
-from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, batch_entry, run_packed
+from tests.shader.webgl import FRAGMENT_HEAD, FRAGMENT_MAIN, batch_entry, random_pairs, run_packed
 
 GLSLANG = shutil.which("glslangValidator")
 ROOT = Path(__file__).resolve().parents[2]
@@ -61,19 +60,12 @@ def page(_profile):
 
 @pytest.fixture(scope="module")
 def pairs():
-    rng = np.random.default_rng(5)
-    n = SIDE * SIDE
-    angles = {"theta_i_deg": rng.uniform(0, 88, n), "phi_i_deg": rng.uniform(-180, 180, n),
-              "theta_o_deg": rng.uniform(0, 88, n), "phi_o_deg": rng.uniform(-180, 180, n)}
-    l = direction_deg(angles["theta_i_deg"], angles["phi_i_deg"])
-    v = direction_deg(angles["theta_o_deg"], angles["phi_o_deg"])
-    rgba = [np.concatenate([d, np.zeros((n, 1))], axis=1).astype(np.float32).ravel().tolist() for d in (l, v)]
-    return angles, l, v, rgba
+    return random_pairs(SIDE, 5)
 
 
 def _run(page, pairs, programs):
     """Each program's f as (uniform sets, pairs, 3), or its compile or link error."""
-    _, _, _, (L, V) = pairs
+    _, (L, V) = pairs
     return run_packed(page, programs, SIDE, L, V)[0]
 
 

@@ -9,6 +9,8 @@ import base64
 
 import numpy as np
 
+from app.physics.vectors import direction_deg
+
 VERTEX = """#version 300 es
 void main() {
     vec2 p = vec2(float((gl_VertexID << 1) & 2), float(gl_VertexID & 2));
@@ -231,6 +233,20 @@ def run_packed(page, programs: list[dict], side: int, l_rgba, v_rgba, n=(0.0, 0.
         at += size
     assert at == flat.size, (at, flat.size)
     return results, out["ms"]
+
+
+def random_pairs(side: int, seed: int) -> tuple[dict, list]:
+    """side² random direction pairs with θ ≤ 88° (off the horizon, where a float32 rounding
+    below it gives 0): the float64 angles in degrees (theta_i_deg, phi_i_deg, theta_o_deg,
+    phi_o_deg: what /eval takes) and [l, v] as the flat float32 RGBA texels a shader reads."""
+    rng = np.random.default_rng(seed)
+    n = side * side
+    angles = {"theta_i_deg": rng.uniform(0, 88, n), "phi_i_deg": rng.uniform(-180, 180, n),
+              "theta_o_deg": rng.uniform(0, 88, n), "phi_o_deg": rng.uniform(-180, 180, n)}
+    l = direction_deg(angles["theta_i_deg"], angles["phi_i_deg"])
+    v = direction_deg(angles["theta_o_deg"], angles["phi_o_deg"])
+    rgba = [np.concatenate([d, np.zeros((n, 1))], axis=1).astype(np.float32).ravel().tolist() for d in (l, v)]
+    return angles, rgba
 
 
 def batch_entry(body: dict, sets=({},)) -> dict:
