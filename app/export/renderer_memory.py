@@ -61,9 +61,9 @@ OVERDUE_MB = 24.0
 log = logging.getLogger(__name__)
 
 
-def tree_anon_mb(pid: int) -> float | None:
-    """MB of anonymous memory (Pss_Anon + Pss_Shmem) of process ``pid`` and all its
-    descendants; None where /proc cannot tell (not Linux, or the process gone)."""
+def descendants(pid: int) -> set[int] | None:
+    """``pid`` and every process below it now (/proc's parent links); None where /proc
+    cannot tell (not Linux, or the process gone)."""
     parent: dict[int, int] = {}
     try:
         entries = [d for d in os.listdir("/proc") if d.isdigit()]
@@ -79,10 +79,22 @@ def tree_anon_mb(pid: int) -> float | None:
     children: dict[int, list[int]] = {}
     for p, pp in parent.items():
         children.setdefault(pp, []).append(p)
-    total, todo = 0, [pid]
+    out, todo = set(), [pid]
     while todo:
         p = todo.pop()
+        out.add(p)
         todo.extend(children.get(p, ()))
+    return out
+
+
+def tree_anon_mb(pid: int) -> float | None:
+    """MB of anonymous memory (Pss_Anon + Pss_Shmem) of process ``pid`` and all its
+    descendants; None where /proc cannot tell (not Linux, or the process gone)."""
+    tree = descendants(pid)
+    if tree is None:
+        return None
+    total = 0
+    for p in tree:
         try:
             for line in Path(f"/proc/{p}/smaps_rollup").read_text().splitlines():
                 if line.startswith(("Pss_Anon:", "Pss_Shmem:")):

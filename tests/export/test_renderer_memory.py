@@ -68,20 +68,8 @@ def test_the_renderer_does_not_keep_each_images_garbage(client):
 
 
 def _tree(pid: int) -> set[int]:
-    """``pid`` and its descendants now."""
-    parent = {}
-    for d in os.listdir("/proc"):
-        if d.isdigit():
-            try:
-                parent[int(d)] = int(open(f"/proc/{d}/stat").read().rsplit(")", 1)[1].split()[1])
-            except (OSError, ValueError, IndexError):
-                continue
-    out, todo = set(), [pid]
-    while todo:
-        p = todo.pop()
-        out.add(p)
-        todo.extend(c for c, pp in parent.items() if pp == p)
-    return out
+    """``pid`` and its descendants now (none left: the empty set)."""
+    return renderer_memory.descendants(pid) or set()
 
 
 def _gone(pids: set[int], seconds: float) -> set[int]:
