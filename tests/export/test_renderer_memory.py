@@ -14,27 +14,20 @@ from app.export.image import ImageRenderer
 GROWTH_BOUND_MB = 40
 
 
-def _renderers() -> dict[int, int]:
-    """pid → resident MB of the Chromium renderer processes below this test's process."""
-    parent, rss, cmd = {}, {}, {}
-    for d in os.listdir("/proc"):
-        if not d.isdigit():
-            continue
+def _renderers(r: ImageRenderer) -> dict[int, int]:
+    """pid → resident MB of the renderer processes of ``r``'s own browser (not those of
+    another Chromium this test process drives: the session's Playwright browser keeps its
+    pages, and their memory moved by 44 MB during one full run)."""
+    out = {}
+    for pid in renderer_memory.descendants(renderer_memory.browser_pid(r._kaleido)) or ():
         try:
-            parent[int(d)] = int(open(f"/proc/{d}/stat").read().rsplit(")", 1)[1].split()[1])
-            cmd[int(d)] = open(f"/proc/{d}/cmdline", "rb").read()
-            rss[int(d)] = next(int(line.split()[1]) // 1024 for line in open(f"/proc/{d}/status")
-                               if line.startswith("VmRSS:"))
+            if b"--type=renderer" not in open(f"/proc/{pid}/cmdline", "rb").read():
+                continue
+            out[pid] = next(int(line.split()[1]) // 1024 for line in open(f"/proc/{pid}/status")
+                            if line.startswith("VmRSS:"))
         except (OSError, ValueError, IndexError, StopIteration):
             continue
-
-    def mine(pid: int) -> bool:
-        while pid > 1:
-            if pid == os.getpid():
-                return True
-            pid = parent.get(pid, 0)
-        return False
-    return {p: rss[p] for p in cmd if b"--type=renderer" in cmd[p] and mine(p)}
+    return out
 
 
 def _settled(r: ImageRenderer) -> int:
@@ -43,7 +36,9 @@ def _settled(r: ImageRenderer) -> int:
     if last is not None:
         last.result(30)
     time.sleep(0.5)
-    return sum(_renderers().values())
+    rss = _renderers(r)
+    assert rss, "no renderer process found below the export browser"
+    return sum(rss.values())
 
 
 def test_the_renderer_does_not_keep_each_images_garbage(client):
